@@ -1,0 +1,138 @@
+"""The ``toyroom`` command line.
+
+Each subcommand is a small typed function; ``main()`` parses the arguments and dispatches.
+Nodes (engine, brain, viewer) are started as their own processes by the commands that
+need them; this module never imports ``sim2d`` or ``brain``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import signal
+import sys
+import threading
+from collections.abc import Sequence
+from pathlib import Path
+
+from protocol import Error as ProtocolErrorBase
+
+from .errors import BridgeError
+from .session import SessionSettings
+
+log = logging.getLogger("toyroom")
+
+
+def add_zenoh_args(parser: argparse.ArgumentParser, *, world: bool = True) -> None:
+    """Add the flags that choose the world and override the Zenoh session."""
+    group = parser.add_argument_group("network (default: loopback only, no multicast)")
+    if world:
+        group.add_argument("--world", default="default", help="world name (default: %(default)s)")
+    group.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
+    group.add_argument("--mode", choices=("peer", "client", "router"), help="Zenoh mode (default: peer)")
+    group.add_argument(
+        "--listen", action="append", metavar="ENDPOINT", help="listen endpoint, e.g. tcp/127.0.0.1:7447"
+    )
+    group.add_argument(
+        "--connect", action="append", metavar="ENDPOINT", help="connect endpoint (a router or peer)"
+    )
+
+
+def settings_from_args(args: argparse.Namespace) -> SessionSettings:
+    """The session settings the network flags ask for."""
+    return SessionSettings(
+        mode=args.mode,
+        listen=tuple(args.listen) if args.listen else None,
+        connect=tuple(args.connect) if args.connect else None,
+        config_file=args.zenoh_config,
+    )
+
+
+def schema_main(check: bool, directory: Path | None = None) -> int:
+    """Write the JSON Schemas, or with ``check`` report stale ones and return 1."""
+    from protocol.schema import SCHEMA_DIR, stale_schemas, write_schemas
+
+    target = directory or SCHEMA_DIR
+    if check:
+        problems = stale_schemas(target)
+        for line in problems:
+            print(f"stale schema {target / line}", file=sys.stderr)
+        if problems:
+            print("run `toyroom schema` to regenerate them", file=sys.stderr)
+            return 1
+        print(f"schemas in {target} are up to date")
+        return 0
+    for path in write_schemas(target):
+        print(f"wrote {path}")
+    return 0
+
+
+def router_main(listen: Sequence[str], config_file: Path | None) -> int:
+    """Run a Zenoh router until interrupted."""
+    from .router import run_router
+
+    stop = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stop.set())
+    run_router(listen, config_file=config_file, stop=stop)
+    return 0
+
+
+def doctor_main(world: str, settings: SessionSettings) -> int:
+    """Check the installation end to end; see :mod:`bridge.doctor`."""
+    from .doctor import run_doctor
+
+    return run_doctor(world, settings)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``toyroom``."""
+    parser = argparse.ArgumentParser(
+        prog="toyroom", description="Theory-of-Mind robot brain, 2D engine and their Zenoh wire."
+    )
+    parser.add_argument("--log-level", default="INFO", help="logging level (default: %(default)s)")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    schema = commands.add_parser("schema", help="write the JSON Schemas into protocol/schema/")
+    schema.add_argument("--check", action="store_true", help="exit 1 when the checked-in schemas are stale")
+    schema.add_argument("--dir", type=Path, help="schema directory (default: the package's)")
+
+    router = commands.add_parser("router", help="run a Zenoh router for multi-machine setups")
+    router.add_argument(
+        "--listen", action="append", metavar="ENDPOINT", help="endpoint (default: tcp/127.0.0.1:7447)"
+    )
+    router.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
+
+    doctor = commands.add_parser(
+        "doctor", help="check the install: schemas, and every message over loopback Zenoh"
+    )
+    add_zenoh_args(doctor)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``toyroom`` console script."""
+    args = build_parser().parse_args(argv)
+    logging.basicConfig(
+        level=getattr(logging, str(args.log_level).upper(), logging.INFO),
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+    )
+    try:
+        if args.command == "schema":
+            return schema_main(args.check, args.dir)
+        if args.command == "router":
+            from .router import DEFAULT_ROUTER_ENDPOINT
+
+            return router_main(args.listen or [DEFAULT_ROUTER_ENDPOINT], args.zenoh_config)
+        if args.command == "doctor":
+            return doctor_main(args.world, settings_from_args(args))
+    except (BridgeError, ProtocolErrorBase) as err:
+        print(f"toyroom {args.command}: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+    raise AssertionError(f"unhandled command {args.command}")  # argparse rejects others
+
+
+if __name__ == "__main__":
+    sys.exit(main())

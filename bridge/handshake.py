@@ -1,0 +1,83 @@
+"""The handshake, both sides: a client asks ``engine/info`` with a ``Hello``; the engine
+answers with its ``EngineInfo`` or refuses a client of another major version.
+
+A major-version mismatch is an error naming both versions; a minor mismatch is a warning.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+
+from protocol import PROTOCOL_VERSION, EngineInfo, Hello, Message, check_version, validate_scene
+
+from .errors import NoReply
+from .node import Bridge
+from .typed import Queryable
+
+log = logging.getLogger("toyroom.bridge")
+
+
+def handshake(
+    bridge: Bridge,
+    *,
+    client: str,
+    role: str = "client",
+    timeout: float | None = 5.0,
+    hello: Hello | None = None,
+) -> EngineInfo:
+    """Ask the world's engine who it is.
+
+    Returns:
+        the engine's :class:`~protocol.EngineInfo`, its scene checked for consistency.
+
+    Raises:
+        VersionMismatch: the engine speaks another major version (both versions named).
+        InvalidScene: the engine's scene is inconsistent (every problem listed).
+        NoReply: no engine answered within ``timeout`` seconds.
+    """
+    request = hello if hello is not None else Hello(client=client, role=role)
+    deadline = None if timeout is None else time.monotonic() + timeout
+    while True:  # an engine that is still starting is waited for, until the deadline
+        remaining = None if deadline is None else deadline - time.monotonic()
+        try:
+            info = bridge.query(bridge.keys.info, request, EngineInfo, timeout=remaining)
+            break
+        except NoReply as err:
+            if remaining is not None and deadline is not None and time.monotonic() + 0.05 >= deadline:
+                raise NoReply(
+                    f"no engine answered the handshake on '{bridge.keys.info}' within "
+                    f"{timeout:g} s ({err})"
+                ) from None
+            time.sleep(0.05)
+    if not check_version(info.protocol, message_type="engine_info"):
+        log.warning(
+            "engine '%s' speaks protocol %s and this side %s: minor versions differ, continuing",
+            info.engine,
+            info.protocol,
+            PROTOCOL_VERSION,
+        )
+    validate_scene(info.scene)
+    return info
+
+
+def serve_info(bridge: Bridge, current: Callable[[], EngineInfo]) -> Queryable[Message]:
+    """Engine side: answer ``engine/info`` with ``current()``.
+
+    Clients of another major version get a ``version_mismatch`` error reply (the queryable
+    does that while decoding their ``Hello``); a minor mismatch is logged as a warning.
+    """
+
+    def answer(hello: Hello | None, key: str) -> EngineInfo:
+        if hello is not None and not check_version(hello.protocol, message_type="hello"):
+            log.warning(
+                "client '%s' (%s) speaks protocol %s and this engine %s: minor versions differ",
+                hello.client,
+                hello.role,
+                hello.protocol,
+                PROTOCOL_VERSION,
+            )
+        return current()
+
+    return bridge.queryable(bridge.keys.info, answer, expected=(Hello,))

@@ -1,0 +1,163 @@
+"""Zenoh sessions with a safe default and explicit overrides.
+
+The default is a *peer* that never leaves the machine: multicast scouting off, listening
+on ``127.0.0.1`` only, on a port derived from the world name (so two worlds on one machine
+do not meet). The first session of a world listens on that port; later ones find it taken,
+listen on an ephemeral loopback port instead and connect to the world port, and gossip
+joins them all into a mesh. When the listener goes away, the next session to open takes
+the port over and the others reconnect to it.
+
+Overrides: a Zenoh JSON5 config file, or flags for the mode (``peer``, ``client``,
+``router``) and the listen / connect endpoints (e.g. a router on another machine).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import re
+import zlib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Literal
+
+import zenoh
+
+from protocol import check_name
+
+from .errors import ConfigError
+
+log = logging.getLogger("toyroom.bridge")
+
+Mode = Literal["peer", "client", "router"]
+
+PORT_BASE = 17000
+PORT_SPAN = 10000
+LOOPBACK = "127.0.0.1"
+_ENDPOINT_RE = re.compile(r"^(?P<proto>[a-z0-9]+)/(?P<host>\[[^\]]+\]|[^:/?#]+)(:(?P<port>\d+))?")
+
+
+def world_port(world: str) -> int:
+    """The default TCP port of a world: ``17000 + crc32(world) % 10000`` (stable, below
+    Linux's ephemeral range)."""
+    return PORT_BASE + zlib.crc32(check_name(world).encode()) % PORT_SPAN
+
+
+def world_endpoint(world: str) -> str:
+    """The default loopback endpoint of a world, e.g. ``tcp/127.0.0.1:23511``."""
+    return f"tcp/{LOOPBACK}:{world_port(world)}"
+
+
+def is_loopback(endpoint: str) -> bool:
+    """Whether a Zenoh endpoint (``tcp/127.0.0.1:7447``) stays on this machine."""
+    match = _ENDPOINT_RE.match(endpoint)
+    if match is None:
+        return False
+    host = match.group("host").strip("[]").lower()
+    return host == "localhost" or host == "::1" or host.startswith("127.")
+
+
+@dataclass(frozen=True)
+class SessionSettings:
+    """How to open a session. Fields left ``None`` take the safe default.
+
+    Attributes:
+        mode: ``peer`` (default), ``client`` (through a router) or ``router``;
+            ``None`` keeps the config file's mode, or ``peer`` without a file.
+        listen: endpoints to listen on; default: the world port on loopback (peer, router).
+        connect: endpoints to connect to; default: the world port on loopback.
+        config_file: a Zenoh JSON5 config to start from (flags still override it).
+        lease_ms: how long a silent link is kept, in milliseconds; a killed peer is
+            noticed within this time.
+    """
+
+    mode: Mode | None = None
+    listen: tuple[str, ...] | None = None
+    connect: tuple[str, ...] | None = None
+    config_file: Path | None = None
+    lease_ms: int = 800
+    extra: tuple[tuple[str, str], ...] = field(default=())
+    """Further ``(path, json5 value)`` config insertions, applied last."""
+
+
+def _insert(config: zenoh.Config, path: str, value: object) -> None:
+    try:
+        config.insert_json5(path, json.dumps(value))
+    except Exception as err:  # zenoh.ZError
+        raise ConfigError(f"cannot set Zenoh config '{path}' to {value!r}: {err}") from None
+
+
+def build_config(
+    world: str, settings: SessionSettings, *, listen: tuple[str, ...] | None = None
+) -> zenoh.Config:
+    """The Zenoh config for ``world`` under ``settings`` (``listen`` overrides both)."""
+    if settings.config_file is not None:
+        try:
+            config = zenoh.Config.from_file(str(settings.config_file))
+        except Exception as err:
+            raise ConfigError(f"cannot read Zenoh config file {settings.config_file}: {err}") from None
+    else:
+        config = zenoh.Config()
+        _insert(config, "scouting/multicast/enabled", False)
+        _insert(config, "transport/link/tx/lease", settings.lease_ms)
+        _insert(config, "transport/link/tx/keep_alive", 4)
+        _insert(
+            config,
+            "connect/retry",
+            {"period_init_ms": 100, "period_max_ms": 1000, "period_increase_factor": 2},
+        )
+    defaults = settings.config_file is None  # fill in the safe defaults only without a file
+    mode = settings.mode or ("peer" if defaults else None)
+    if mode is not None:
+        _insert(config, "mode", mode)
+    endpoints_listen = listen if listen is not None else settings.listen
+    if endpoints_listen is None and defaults and mode != "client":
+        endpoints_listen = (world_endpoint(world),)
+    if endpoints_listen is not None:
+        _insert(config, "listen/endpoints", list(endpoints_listen))
+        for endpoint in endpoints_listen:
+            if not is_loopback(endpoint):
+                log.warning(
+                    "listening on non-loopback endpoint %s: other machines can reach this "
+                    "session; use TLS and access control (docs/deployment.md)",
+                    endpoint,
+                )
+    connect = settings.connect
+    if connect is None and defaults and mode != "router":
+        connect = (world_endpoint(world),)
+    if connect is not None:
+        _insert(config, "connect/endpoints", list(connect))
+    for path, value in settings.extra:
+        try:
+            config.insert_json5(path, value)
+        except Exception as err:
+            raise ConfigError(f"cannot set Zenoh config '{path}' to {value}: {err}") from None
+    return config
+
+
+def open_session(world: str, settings: SessionSettings | None = None) -> zenoh.Session:
+    """Open a Zenoh session on ``world``'s network.
+
+    With the default settings the session listens on the world port when it is free and
+    on an ephemeral loopback port otherwise (see the module docstring).
+
+    Raises:
+        ConfigError: the config is invalid or the session cannot be opened; the message
+            says which endpoint or setting is at fault.
+    """
+    settings = settings or SessionSettings()
+    default_listen = (
+        settings.listen is None and settings.config_file is None and settings.mode in (None, "peer")
+    )
+    try:
+        return zenoh.open(build_config(world, settings))
+    except ConfigError:
+        raise
+    except Exception as err:
+        if default_listen and "in use" in str(err):
+            fallback = (f"tcp/{LOOPBACK}:0",)
+            try:
+                return zenoh.open(build_config(world, settings, listen=fallback))
+            except Exception as again:
+                err = again
+        raise ConfigError(f"cannot open a Zenoh session for world '{world}': {err}") from None

@@ -1,0 +1,381 @@
+"""Typed publish, subscribe, query and queryable over protocol messages.
+
+Every payload is encoded with :mod:`protocol.codec`, and the encoding travels in Zenoh's
+encoding field. Receivers decode with the type they expect: a payload that fails to decode
+(malformed, unknown type, another major version) is logged with its key and the reason,
+counted, and dropped; the receiver keeps running. A handler that raises is logged the same
+way and never kills the node.
+"""
+
+from __future__ import annotations
+
+import enum
+import logging
+import queue
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Generic, TypeVar
+
+import zenoh
+
+from protocol import (
+    Encoding,
+    ErrorCode,
+    ErrorReply,
+    Message,
+    ProtocolError,
+    VersionMismatch,
+    decode,
+    encode,
+    tag_of,
+)
+
+from .errors import NoReply, Refused, RemoteError
+
+log = logging.getLogger("toyroom.bridge")
+
+M = TypeVar("M", bound=Message)
+Q = TypeVar("Q", bound=Message)
+
+FOREVER = 10 * 365 * 24 * 3600.0
+"""What a disabled timeout means to Zenoh: ten years, in seconds."""
+
+
+class Congestion(enum.Enum):
+    """What a publisher does when the network cannot keep up.
+
+    ``DROP`` suits state streams (a newer state replaces a dropped one); ``BLOCK`` suits
+    commands, statuses and events, which must all arrive.
+    """
+
+    DROP = "drop"
+    BLOCK = "block"
+
+    def to_zenoh(self) -> zenoh.CongestionControl:
+        return zenoh.CongestionControl.DROP if self is Congestion.DROP else zenoh.CongestionControl.BLOCK
+
+
+@dataclass(frozen=True)
+class Received:
+    """Where a decoded message came from: its key and its encoding."""
+
+    key: str
+    encoding: Encoding
+
+
+def zenoh_encoding(encoding: Encoding) -> zenoh.Encoding:
+    """The Zenoh encoding object that signals ``encoding``."""
+    return zenoh.Encoding(encoding.value)
+
+
+def decode_payload(
+    payload: zenoh.ZBytes,
+    zenoh_enc: zenoh.Encoding | None,
+    key: str,
+    expected: type[M] | None,
+) -> tuple[Message, Encoding]:
+    """Decode a Zenoh payload; raise :class:`ProtocolError` naming the key on failure."""
+    encoding = Encoding.from_mime(str(zenoh_enc) if zenoh_enc is not None else None)
+    try:
+        return decode(payload.to_bytes(), expected, encoding), encoding
+    except ProtocolError as err:
+        raise err.on_key(key) from None
+
+
+class DropLog:
+    """Logs dropped payloads: every malformed one, but each version mismatch only once per
+    key and version (a peer of another major version would otherwise flood the log)."""
+
+    def __init__(self) -> None:
+        self._warned: set[tuple[str, str]] = set()
+        self._lock = threading.Lock()
+
+    def report(self, err: ProtocolError) -> None:
+        if isinstance(err, VersionMismatch):
+            marker = (err.key or "", err.theirs)
+            with self._lock:
+                first = marker not in self._warned
+                self._warned.add(marker)
+            if not first:
+                log.debug("dropped: %s", err)
+                return
+            log.warning("dropped (further ones from this version are not logged): %s", err)
+            return
+        log.warning("dropped: %s", err)
+
+
+class Publisher(Generic[M]):
+    """Publishes messages on one key. Use as a context manager, or call :meth:`close`."""
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        key: str,
+        *,
+        encoding: Encoding = Encoding.JSON,
+        congestion: Congestion = Congestion.BLOCK,
+        express: bool = False,
+    ) -> None:
+        self.key = key
+        self.encoding = encoding
+        self._publisher = session.declare_publisher(
+            key,
+            encoding=zenoh_encoding(encoding),
+            congestion_control=congestion.to_zenoh(),
+            express=express,
+        )
+        self._matched = threading.Event()
+        self._matching = self._publisher.declare_matching_listener(self._on_matching)
+        if self._publisher.matching_status.matching:
+            self._matched.set()
+        self._closed = False
+
+    def _on_matching(self, status: zenoh.MatchingStatus) -> None:
+        if status.matching:
+            self._matched.set()
+        else:
+            self._matched.clear()
+
+    def wait_matched(self, timeout: float | None = 5.0) -> bool:
+        """Wait until at least one subscriber matches this publisher's key; ``False`` on timeout.
+
+        Zenoh delivers a put only to subscribers it already knows of, so a sender that must
+        not lose its first message waits for this.
+        """
+        return self._matched.wait(timeout)
+
+    def put(self, message: M) -> None:
+        """Encode and publish ``message``."""
+        self._publisher.put(encode(message, self.encoding))
+
+    def close(self) -> None:
+        """Undeclare the publisher; safe to call twice."""
+        if not self._closed:
+            self._closed = True
+            try:
+                self._matching.undeclare()
+                self._publisher.undeclare()
+            except Exception:  # the session may already be closed
+                pass
+
+    def __enter__(self) -> "Publisher[M]":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class Subscriber(Generic[M]):
+    """Receives messages of type ``expected`` on a key expression and calls ``callback``.
+
+    The callback runs on a Zenoh thread: keep it short (hand work to a queue). Counters
+    :attr:`received` and :attr:`dropped` say how many payloads were delivered and dropped.
+    """
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        key: str,
+        callback: Callable[[M, Received], None],
+        *,
+        expected: type[M] | None = None,
+    ) -> None:
+        self.key = key
+        self.expected = expected
+        self.received = 0
+        self.dropped = 0
+        self._callback = callback
+        self._drops = DropLog()
+        self._closed = False
+        self._subscriber = session.declare_subscriber(key, self._on_sample)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        key = str(sample.key_expr)
+        try:
+            message, encoding = decode_payload(sample.payload, sample.encoding, key, self.expected)
+        except ProtocolError as err:
+            self.dropped += 1
+            self._drops.report(err)
+            return
+        self.received += 1
+        try:
+            self._callback(message, Received(key, encoding))  # type: ignore[arg-type]
+        except Exception:
+            log.exception("handler of key '%s' failed on a '%s' message", key, tag_of(type(message)))
+
+    def close(self) -> None:
+        """Undeclare the subscriber; safe to call twice."""
+        if not self._closed:
+            self._closed = True
+            try:
+                self._subscriber.undeclare()
+            except Exception:
+                pass
+
+    def __enter__(self) -> "Subscriber[M]":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def query(
+    session: zenoh.Session,
+    key: str,
+    request: Message | None,
+    expected: type[M],
+    *,
+    timeout: float | None = 5.0,
+    encoding: Encoding = Encoding.JSON,
+) -> M:
+    """Send a query and return the first answer, decoded as ``expected``.
+
+    Args:
+        request: the query's payload (``None``: no payload).
+        timeout: seconds to wait for an answer; ``None`` waits forever (for debugging).
+
+    Raises:
+        NoReply: nobody serves ``key``, or no answer came within ``timeout``.
+        RemoteError: the peer refused the request; :class:`~protocol.VersionMismatch`
+            when it refused it for speaking another major version.
+        ProtocolError: the answer could not be decoded.
+    """
+    started = time.monotonic()
+    kwargs: dict[str, Any] = {"timeout": FOREVER if timeout is None else timeout}
+    if request is not None:
+        kwargs["payload"] = encode(request, encoding)
+        kwargs["encoding"] = zenoh_encoding(encoding)
+    for reply in session.get(key, **kwargs):
+        if reply.ok is not None:
+            message, _ = decode_payload(reply.ok.payload, reply.ok.encoding, key, expected)
+            return message  # type: ignore[return-value]
+        err = reply.err
+        try:
+            refusal, _ = decode_payload(err.payload, err.encoding, key, ErrorReply)
+        except ProtocolError:
+            # not a peer's refusal but Zenoh's own error reply, e.g. its query timeout
+            text = err.payload.to_bytes()[:200].decode("utf-8", "replace")
+            raise NoReply(
+                f"no answer on '{key}' within {timeout:g} s (zenoh: {text})"
+                if timeout is not None
+                else f"no answer on '{key}' (zenoh: {text})"
+            ) from None
+        assert isinstance(refusal, ErrorReply)
+        if refusal.code is ErrorCode.VERSION_MISMATCH:
+            ours = request.protocol if request is not None else refusal.protocol
+            raise VersionMismatch(ours, refusal.protocol, key=key)
+        raise RemoteError(key, refusal.code, refusal.message)
+    waited = time.monotonic() - started
+    if timeout is not None and waited >= timeout * 0.9:
+        raise NoReply(f"no answer on '{key}' within {timeout:g} s")
+    raise NoReply(f"nobody answers on '{key}' (is the engine running, on the same world?)")
+
+
+Handler = Callable[[Q, str], Message]
+
+
+class Queryable(Generic[Q]):
+    """Answers queries on a key with ``handler(request, key) -> reply message``.
+
+    Queries are handled one at a time, in arrival order, on a worker thread of this
+    queryable (so a long handler, such as a lock-step ``step``, never blocks Zenoh). The
+    request payload is decoded as one of ``expected`` (``None`` accepts a query without
+    payload, delivered as ``None``). Failures become ``error`` replies: a malformed request
+    ``bad_request``, another major version ``version_mismatch``, a handler raising
+    :class:`~bridge.errors.Refused` its code, any other exception ``internal``.
+    """
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        key: str,
+        handler: Callable[[Any, str], Message],
+        *,
+        expected: tuple[type[Message], ...] | None = None,
+        allow_empty: bool = True,
+    ) -> None:
+        self.key = key
+        self.expected = expected
+        self.allow_empty = allow_empty
+        self.handled = 0
+        self._handler = handler
+        self._queue: queue.Queue[zenoh.Query | None] = queue.Queue()
+        self._drops = DropLog()
+        self._closed = False
+        self._worker = threading.Thread(target=self._run, name=f"queryable {key}", daemon=True)
+        self._worker.start()
+        self._queryable = session.declare_queryable(key, self._queue.put)
+
+    def _run(self) -> None:
+        while True:
+            item = self._queue.get()
+            if item is None:
+                return
+            try:
+                self._answer(item)
+            except Exception:
+                log.exception("answering a query on '%s' failed", self.key)
+            finally:
+                del item
+
+    def _refuse(self, query: zenoh.Query, code: ErrorCode, message: str, encoding: Encoding) -> None:
+        reply = ErrorReply(code=code, message=message)
+        query.reply_err(encode(reply, encoding), encoding=zenoh_encoding(encoding))
+
+    def _answer(self, query: zenoh.Query) -> None:
+        key = str(query.key_expr)
+        encoding = Encoding.from_mime(str(query.encoding) if query.encoding is not None else None)
+        request: Message | None = None
+        if query.payload is None or len(query.payload.to_bytes()) == 0:
+            if not self.allow_empty:
+                self._refuse(query, ErrorCode.BAD_REQUEST, f"a query on '{key}' needs a payload", encoding)
+                return
+        else:
+            try:
+                request, encoding = decode_payload(query.payload, query.encoding, key, None)
+            except VersionMismatch as err:
+                self._drops.report(err)
+                self._refuse(query, ErrorCode.VERSION_MISMATCH, str(err), encoding)
+                return
+            except ProtocolError as err:
+                self._drops.report(err)
+                self._refuse(query, ErrorCode.BAD_REQUEST, str(err), encoding)
+                return
+            if self.expected is not None and not isinstance(request, self.expected):
+                wanted = ", ".join(f"'{tag_of(t)}'" for t in self.expected)
+                message = f"'{key}' accepts {wanted} requests, got a '{tag_of(type(request))}' message"
+                log.warning("refused: %s", message)
+                self._refuse(query, ErrorCode.BAD_REQUEST, message, encoding)
+                return
+        try:
+            answer = self._handler(request, key)
+        except Refused as err:
+            self._refuse(query, err.code, err.message, encoding)
+            return
+        except Exception as err:
+            log.exception("handler of '%s' failed", key)
+            self._refuse(query, ErrorCode.INTERNAL, f"{type(err).__name__}: {err}", encoding)
+            return
+        self.handled += 1
+        query.reply(query.key_expr, encode(answer, encoding), encoding=zenoh_encoding(encoding))
+
+    def close(self) -> None:
+        """Undeclare the queryable and stop its worker; safe to call twice."""
+        if self._closed:
+            return
+        self._closed = True
+        try:
+            self._queryable.undeclare()
+        except Exception:
+            pass
+        self._queue.put(None)
+        if threading.current_thread() is not self._worker:
+            self._worker.join(timeout=5.0)
+
+    def __enter__(self) -> "Queryable[Q]":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,55 @@
+"""Discrete events an engine publishes on ``engine/events``, one message per event."""
+
+from __future__ import annotations
+
+import enum
+from typing import Annotated
+
+import msgspec
+
+from .message import Id, Message, Seconds, Tick
+
+
+class EventKind(enum.Enum):
+    """What happened. Fields used by each kind are listed with it.
+
+    - ``enter`` / ``leave``: ``actor`` entered / left region ``location``.
+    - ``take``: ``actor`` took ``item`` from ``location``.
+    - ``drop``: ``actor`` put ``item`` down at ``location``.
+    - ``play`` / ``stop``: ``actor`` started / stopped playing with ``item`` at ``location``.
+    - ``give``: ``actor`` handed ``item`` to ``target``.
+    - ``say``: ``actor`` told ``target`` something about ``item`` (``location`` where it is,
+      or ``detail`` ``"occupied by <id>"``).
+    - ``request``: ``actor`` asked ``target`` for ``item``, offering ``offer`` (or nothing).
+    - ``reply``: ``actor`` answered ``target``'s request: ``answer`` true (yes) or false.
+    - ``waypoint``: a scripted ``actor`` completed the scenario step ``label``.
+    """
+
+    ENTER = "enter"
+    LEAVE = "leave"
+    TAKE = "take"
+    DROP = "drop"
+    PLAY = "play"
+    STOP = "stop"
+    GIVE = "give"
+    SAY = "say"
+    REQUEST = "request"
+    REPLY = "reply"
+    WAYPOINT = "waypoint"
+
+
+class Event(Message, frozen=True, kw_only=True, tag="event"):
+    """One discrete event, stamped with the tick at which it happened."""
+
+    episode: Annotated[int, msgspec.Meta(ge=0)]
+    tick: Tick
+    time: Seconds
+    kind: EventKind
+    actor: Id
+    item: Id | None = None
+    location: Id | None = None
+    target: Id | None = None
+    offer: Id | None = None
+    answer: bool | None = None
+    label: str | None = None
+    detail: str = ""

@@ -1,0 +1,48 @@
+"""The envelope every message shares.
+
+Every message is a flat JSON object whose first two fields are the envelope::
+
+    {"type": "state", "protocol": "1.0", ...the message's own fields...}
+
+``type`` names the message (its tag) and ``protocol`` the ``major.minor`` version of the
+sender. Unknown fields are ignored on decode, which is what lets a minor version add
+optional fields without breaking older peers.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import msgspec
+
+from .version import PROTOCOL_VERSION
+
+Id = Annotated[
+    str,
+    msgspec.Meta(
+        pattern=r"^[A-Za-z][A-Za-z0-9_-]{0,63}$",
+        description="An identifier: a letter, then up to 63 letters, digits, '_' or '-'.",
+    ),
+]
+"""Identifiers of agents, items, regions, doors, locations and commands (safe in Zenoh keys)."""
+
+Probability = Annotated[float, msgspec.Meta(ge=0.0, le=1.0)]
+"""A probability in [0, 1]."""
+
+Tick = Annotated[int, msgspec.Meta(ge=0, description="Engine tick count since the last reset.")]
+
+Seconds = Annotated[float, msgspec.Meta(ge=0.0, description="Simulated seconds since reset.")]
+
+
+class Message(msgspec.Struct, frozen=True, kw_only=True, tag_field="type"):
+    """Base of every top-level message: the ``type`` tag and the ``protocol`` version."""
+
+    protocol: str = PROTOCOL_VERSION
+    """Protocol version of the sender, ``major.minor``."""
+
+
+class Header(msgspec.Struct, frozen=True):
+    """The envelope alone, read first to route and version-check a payload."""
+
+    type: str
+    protocol: str

@@ -1,0 +1,72 @@
+"""What the brain infers, published on ``brain/mind`` every brain step.
+
+Probabilities are online estimates (filtered on everything seen so far). Distributions are
+lists of ``{id, p}`` pairs (not JSON maps) so that clients without dictionary support,
+such as Unity's ``JsonUtility``, can read them.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import msgspec
+
+from .message import Id, Message, Probability, Tick
+
+
+class Prob(msgspec.Struct, frozen=True):
+    """One entry of a distribution: ``id`` (a location, an item, or ``out``) and its probability."""
+
+    id: Id
+    p: Probability
+
+
+class ItemBelief(msgspec.Struct, frozen=True):
+    """A person's believed location of ``item``: a distribution over location ids."""
+
+    item: Id
+    locations: tuple[Prob, ...]
+
+
+class Intention(msgspec.Struct, frozen=True):
+    """The most probable joint of preference and belief: heading for ``item`` at ``location``.
+
+    ``item`` is ``None`` when the person most likely wants to leave ("out").
+    """
+
+    item: Id | None
+    location: Id | None
+    p: Probability
+
+
+class AgentMind(msgspec.Struct, frozen=True):
+    """The brain's estimate of one person's mind.
+
+    ``preference`` is a distribution over item ids plus ``out``; ``false_beliefs`` lists the
+    items whose most probable believed location differs from their true location.
+    """
+
+    agent: Id
+    beliefs: tuple[ItemBelief, ...]
+    preference: tuple[Prob, ...]
+    intention: Intention | None = None
+    false_beliefs: tuple[Id, ...] = ()
+
+
+class RobotActivity(msgspec.Struct, frozen=True):
+    """What a robot is doing: its current ``task`` and the last thing it said."""
+
+    robot: Id
+    task: str
+    """e.g. ``"idle"``, ``"inform A1 of skate"``, ``"bring skate to A1"``, ``"go home"``."""
+    detail: str = ""
+    utterance: str | None = None
+
+
+class Mind(Message, frozen=True, kw_only=True, tag="mind"):
+    """The brain's estimates at engine tick ``tick``."""
+
+    episode: Annotated[int, msgspec.Meta(ge=0)]
+    tick: Tick
+    agents: tuple[AgentMind, ...]
+    robots: tuple[RobotActivity, ...] = ()

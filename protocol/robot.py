@@ -1,0 +1,127 @@
+"""Robot commands (``robot/<id>/command``, brain -> engine) and their statuses
+(``robot/<id>/status``, engine -> brain).
+
+Each command carries an ``id`` chosen by the brain; the engine answers with statuses for
+that id: ``accepted`` (or ``failed`` at once), then ``running``, then exactly one of
+``succeeded``, ``failed`` (with a ``reason``) or ``cancelled``. The engine never decides
+anything for the robot: it only carries out what it is told, or says why it cannot.
+"""
+
+from __future__ import annotations
+
+import enum
+
+import msgspec
+
+from .geometry import Cell
+from .message import Id, Message, Tick
+
+
+class Navigate(msgspec.Struct, frozen=True, tag_field="kind", tag="navigate"):
+    """Drive to ``cell`` along walkable cells."""
+
+    cell: Cell
+
+
+class Pick(msgspec.Struct, frozen=True, tag_field="kind", tag="pick"):
+    """Pick up ``item`` from the location the robot stands on (or next to)."""
+
+    item: Id
+
+
+class Place(msgspec.Struct, frozen=True, tag_field="kind", tag="place"):
+    """Put the carried item down at ``location`` (the robot stands on or next to it)."""
+
+    location: Id
+
+
+class Give(msgspec.Struct, frozen=True, tag_field="kind", tag="give"):
+    """Hand the carried item to ``person`` (within reach: same or neighbouring cell)."""
+
+    person: Id
+
+
+class SayTopic(enum.Enum):
+    """What the robot tells a person about an item."""
+
+    LOCATION = "location"
+    """``item`` is at ``location``."""
+    OCCUPIED = "occupied"
+    """``item`` is held by ``holder``."""
+
+
+class Say(msgspec.Struct, frozen=True, tag_field="kind", tag="say"):
+    """Tell ``person`` where ``item`` is (``topic=location``) or who holds it (``occupied``)."""
+
+    person: Id
+    item: Id
+    topic: SayTopic
+    location: Id | None = None
+    holder: Id | None = None
+
+    def __post_init__(self) -> None:
+        if self.topic is SayTopic.LOCATION and self.location is None:
+            raise ValueError("say with topic 'location' needs field 'location'")
+        if self.topic is SayTopic.OCCUPIED and self.holder is None:
+            raise ValueError("say with topic 'occupied' needs field 'holder'")
+
+
+class Request(msgspec.Struct, frozen=True, tag_field="kind", tag="request"):
+    """Ask ``person`` to hand over ``item``, offering ``offer`` in exchange (or nothing).
+
+    Succeeds when the person answers (the answer comes as a ``reply`` event and in the
+    status' ``answer``); fails when they cannot be asked (unknown, out of reach of speech).
+    """
+
+    person: Id
+    item: Id
+    offer: Id | None = None
+
+
+class Cancel(msgspec.Struct, frozen=True, tag_field="kind", tag="cancel"):
+    """Cancel the running command ``command``; it ends with status ``cancelled``."""
+
+    command: Id
+
+
+Action = Navigate | Pick | Place | Give | Say | Request | Cancel
+"""Every command kind the robot body executes."""
+
+
+class RobotCommand(Message, frozen=True, kw_only=True, tag="robot_command"):
+    """A command for robot ``robot``; ``id`` is echoed in every status about it."""
+
+    id: Id
+    robot: Id
+    action: Action
+
+
+class CommandState(enum.Enum):
+    """The life of a command: accepted -> running -> succeeded | failed | cancelled."""
+
+    ACCEPTED = "accepted"
+    RUNNING = "running"
+    SUCCEEDED = "succeeded"
+    FAILED = "failed"
+    CANCELLED = "cancelled"
+
+    @property
+    def final(self) -> bool:
+        """Whether no further status follows this one."""
+        return self in (CommandState.SUCCEEDED, CommandState.FAILED, CommandState.CANCELLED)
+
+
+class CommandStatus(Message, frozen=True, kw_only=True, tag="command_status"):
+    """Where command ``command`` of robot ``robot`` stands, at engine tick ``tick``.
+
+    ``reason`` says why on ``failed`` (e.g. ``"unreachable: no path to (3,4)"``,
+    ``"item not there: 'ball' is at S1"``, ``"item held by A2"``, ``"unknown id 'A9'"``).
+    ``answer`` is the person's yes/no for a finished ``request``.
+    """
+
+    command: Id
+    robot: Id
+    state: CommandState
+    tick: Tick
+    reason: str = ""
+    answer: bool | None = None

@@ -1,0 +1,144 @@
+"""The scene description an engine sends in its handshake.
+
+The scene is general: any set of regions made of grid cells, one-cell doors that join two
+regions, item locations ("spots": a storage shelf, a play spot, a basket, a box), agents and
+items, and *visibility given per walkable cell* as the set of item locations visible from it.
+Room groups (the paper's "from P1 or S1 you see P1 and S1") are one way to fill the
+visibility table; line of sight on an open map, or a one-room Sally-Anne map with two
+containers, are others, with no change to the protocol.
+
+The walkable cells are the union of the regions' cells and the door cells. A door cell
+belongs to no region; it sees what both regions it joins see.
+"""
+
+from __future__ import annotations
+
+import enum
+from typing import Annotated
+
+import msgspec
+
+from .geometry import Cell, Vec2
+from .message import Id
+
+Metres = Annotated[float, msgspec.Meta(gt=0.0)]
+
+
+class RegionKind(enum.Enum):
+    """What a region is for. ``playground`` regions hold play spots."""
+
+    PLAYGROUND = "playground"
+    STORAGE = "storage"
+    ENTRANCE = "entrance"
+    OUTSIDE = "outside"
+    ROOM = "room"
+
+
+class Region(msgspec.Struct, frozen=True):
+    """A room or area: an id, what kind it is, and the walkable cells it covers."""
+
+    id: Id
+    kind: RegionKind
+    cells: tuple[Cell, ...]
+    name: str = ""
+    """Human-readable name, e.g. ``"Playground 1"``."""
+
+
+class Door(msgspec.Struct, frozen=True):
+    """A one-cell door joining two regions; the cell touches a cell of each (4-neighbour)."""
+
+    id: Id
+    cell: Cell
+    joins: tuple[Id, Id]
+
+
+class Location(msgspec.Struct, frozen=True):
+    """An item location (a spot where items rest), inside one region.
+
+    ``play`` marks a play spot: a person holding an item may play with it there.
+    """
+
+    id: Id
+    region: Id
+    cell: Cell
+    play: bool = False
+
+
+class Visibility(msgspec.Struct, frozen=True):
+    """The item locations a person standing on ``cell`` sees (and so sees items at, or missing from)."""
+
+    cell: Cell
+    locations: tuple[Id, ...]
+
+
+class AgentKind(enum.Enum):
+    """People are observed by the brain; robots are driven by it."""
+
+    PERSON = "person"
+    ROBOT = "robot"
+
+
+class AgentSpec(msgspec.Struct, frozen=True):
+    """An agent of the scene.
+
+    ``home`` is the cell the agent starts on (the robot returns there when idle).
+    ``acts`` matters for robots only: ``True`` when the robot may act (the brain sends it
+    commands), ``False`` when it only observes.
+    """
+
+    id: Id
+    kind: AgentKind
+    home: Cell
+    name: str = ""
+    radius: Metres = 0.25
+    """Body radius in metres."""
+    acts: bool = True
+
+
+class ItemShape(enum.Enum):
+    """How viewers draw an item."""
+
+    BALL = "ball"
+    BOARD = "board"
+    MARBLE = "marble"
+    BLOCK = "block"
+
+
+class ItemSpec(msgspec.Struct, frozen=True):
+    """A movable item (a toy)."""
+
+    id: Id
+    shape: ItemShape = ItemShape.BLOCK
+    name: str = ""
+
+
+class Scene(msgspec.Struct, frozen=True):
+    """Everything a brain or viewer needs to know about the world that does not change.
+
+    Units: ``cell_size`` and ``origin`` in metres; the grid is ``columns`` x ``rows`` cells.
+    """
+
+    name: str
+    cell_size: Metres
+    origin: Vec2
+    columns: Annotated[int, msgspec.Meta(ge=1)]
+    rows: Annotated[int, msgspec.Meta(ge=1)]
+    regions: tuple[Region, ...]
+    doors: tuple[Door, ...]
+    locations: tuple[Location, ...]
+    visibility: tuple[Visibility, ...]
+    agents: tuple[AgentSpec, ...]
+    items: tuple[ItemSpec, ...]
+
+    def walkable(self) -> frozenset[tuple[int, int]]:
+        """The walkable cells as ``(col, row)`` tuples: region cells and door cells."""
+        cells = {(c.col, c.row) for region in self.regions for c in region.cells}
+        cells.update((d.cell.col, d.cell.row) for d in self.doors)
+        return frozenset(cells)
+
+    def cell_centre(self, cell: Cell) -> Vec2:
+        """The centre of ``cell`` in world metres."""
+        return Vec2(
+            self.origin.x + (cell.col + 0.5) * self.cell_size,
+            self.origin.y + (cell.row + 0.5) * self.cell_size,
+        )

@@ -1,0 +1,81 @@
+"""JSON Schemas of the messages, generated from the Structs and checked in.
+
+``protocol/schema/<type>.json`` holds the schema of each message (draft 2020-12), so a
+client in another language can validate or generate code without reading Python.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import msgspec
+
+from .registry import MESSAGE_TYPES, tag_of
+from .version import PROTOCOL_VERSION
+
+SCHEMA_DIR = Path(__file__).parent / "schema"
+"""Where the checked-in schemas live."""
+
+
+def message_schema(cls: type[msgspec.Struct]) -> dict[str, Any]:
+    """The JSON Schema of one message class, self-contained (its ``$defs`` included)."""
+    tag = tag_of(cls)  # type: ignore[arg-type]
+    body = msgspec.json.schema(cls)
+    # The envelope's ``protocol`` has a default for senders, but decoders require it.
+    definition = body["$defs"][cls.__name__]
+    definition["required"] = ["type", "protocol"] + [
+        name for name in definition.get("required", []) if name not in ("type", "protocol")
+    ]
+    definition["properties"]["protocol"] = {
+        "type": "string",
+        "pattern": r"^(0|[1-9][0-9]{0,5})\.(0|[1-9][0-9]{0,5})$",
+        "description": f"Protocol version of the sender, major.minor (this schema: {PROTOCOL_VERSION}).",
+    }
+    schema: dict[str, Any] = {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "$id": f"toyroom/protocol/{PROTOCOL_VERSION}/{tag}.json",
+        "title": f"toyroom '{tag}' message, protocol {PROTOCOL_VERSION}",
+    }
+    schema.update(body)
+    return schema
+
+
+def render_all() -> dict[str, str]:
+    """Every schema file's name and exact text (sorted keys, 2-space indent, final newline)."""
+    return {
+        f"{tag_of(cls)}.json": json.dumps(message_schema(cls), indent=2, sort_keys=True) + "\n"
+        for cls in MESSAGE_TYPES
+    }
+
+
+def write_schemas(directory: Path = SCHEMA_DIR) -> list[Path]:
+    """Write every schema into ``directory`` (removing stale ``*.json`` there); return the paths."""
+    directory.mkdir(parents=True, exist_ok=True)
+    wanted = render_all()
+    for old in directory.glob("*.json"):
+        if old.name not in wanted:
+            old.unlink()
+    paths = []
+    for name, text in wanted.items():
+        path = directory / name
+        path.write_text(text, encoding="utf-8")
+        paths.append(path)
+    return paths
+
+
+def stale_schemas(directory: Path = SCHEMA_DIR) -> list[str]:
+    """What differs between ``directory`` and freshly generated schemas, one line per file."""
+    wanted = render_all()
+    problems = []
+    for name, text in wanted.items():
+        path = directory / name
+        if not path.exists():
+            problems.append(f"{name}: missing")
+        elif path.read_text(encoding="utf-8") != text:
+            problems.append(f"{name}: out of date")
+    for old in sorted(directory.glob("*.json")) if directory.exists() else []:
+        if old.name not in wanted:
+            problems.append(f"{old.name}: no such message any more")
+    return problems

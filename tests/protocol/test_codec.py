@@ -1,0 +1,135 @@
+"""The codec: golden examples round-trip, and every failure is a ProtocolError that names
+the message type and the offending field."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from protocol import (
+    BY_TAG,
+    MESSAGE_TYPES,
+    PROTOCOL_VERSION,
+    Encoding,
+    ProtocolError,
+    RobotCommand,
+    State,
+    VersionMismatch,
+    decode,
+    encode,
+    tag_of,
+)
+from protocol.examples import example_paths
+
+
+def _example_doc(tag: str) -> dict:
+    return json.loads(example_paths()[tag].read_text())
+
+
+def test_there_is_one_golden_example_per_message_type() -> None:
+    have = set(example_paths())
+    want = {tag_of(cls) for cls in MESSAGE_TYPES}
+    assert have == want, f"examples missing: {want - have}, examples of no message: {have - want}"
+
+
+@pytest.mark.parametrize("tag", sorted(BY_TAG))
+@pytest.mark.parametrize("encoding", list(Encoding))
+def test_golden_example_round_trips(tag: str, encoding: Encoding) -> None:
+    message = decode(example_paths()[tag].read_bytes(), BY_TAG[tag])
+    again = decode(encode(message, encoding), BY_TAG[tag], encoding)
+    assert again == message, f"{tag} changed in a {encoding.name} round trip: {message} -> {again}"
+
+
+def test_json_starts_with_the_envelope() -> None:
+    doc = encode(decode(example_paths()["step"].read_bytes()))
+    assert doc.startswith(b'{"type":"step","protocol":"' + PROTOCOL_VERSION.encode()), doc
+
+
+def test_bad_field_names_type_and_path() -> None:
+    doc = _example_doc("state")
+    doc["agents"][1]["cell"]["col"] = "three"
+    with pytest.raises(ProtocolError) as caught:
+        decode(json.dumps(doc).encode(), State)
+    err = caught.value
+    assert (err.message_type, err.field) == ("state", "$.agents[1].cell.col"), str(err)
+    assert "Expected `int`, got `str`" in err.reason
+
+
+def test_out_of_range_value_is_refused() -> None:
+    doc = _example_doc("state")
+    doc["tick"] = -1
+    with pytest.raises(ProtocolError) as caught:
+        decode(json.dumps(doc).encode())
+    assert caught.value.field == "$.tick", str(caught.value)
+
+
+def test_missing_envelope_fields_are_named() -> None:
+    for missing in ("type", "protocol"):
+        doc = _example_doc("step")
+        del doc[missing]
+        with pytest.raises(ProtocolError) as caught:
+            decode(json.dumps(doc).encode())
+        assert caught.value.field == f"$.{missing}", f"dropping {missing}: {caught.value}"
+
+
+def test_unknown_message_type_is_named() -> None:
+    doc = _example_doc("step")
+    doc["type"] = "teleport"
+    with pytest.raises(ProtocolError) as caught:
+        decode(json.dumps(doc).encode())
+    assert caught.value.message_type == "teleport" and caught.value.field == "$.type"
+    assert "unknown message type 'teleport'" in str(caught.value)
+
+
+def test_unexpected_message_type_is_refused() -> None:
+    with pytest.raises(ProtocolError, match="expected a 'state' message, got a 'step' message"):
+        decode(example_paths()["step"].read_bytes(), State)
+
+
+def test_major_version_mismatch_names_both_versions() -> None:
+    doc = _example_doc("state")
+    doc["protocol"] = "2.0"
+    with pytest.raises(VersionMismatch) as caught:
+        decode(json.dumps(doc).encode())
+    assert caught.value.ours == PROTOCOL_VERSION and caught.value.theirs == "2.0"
+    assert PROTOCOL_VERSION in str(caught.value) and "2.0" in str(caught.value)
+
+
+def test_newer_minor_version_with_unknown_fields_decodes() -> None:
+    doc = _example_doc("state")
+    doc["protocol"] = "1.7"
+    doc["weather"] = "sunny"
+    message = decode(json.dumps(doc).encode(), State)
+    assert message.protocol == "1.7" and message.tick == doc["tick"]
+
+
+def test_malformed_version_is_named() -> None:
+    doc = _example_doc("step")
+    doc["protocol"] = "one"
+    with pytest.raises(ProtocolError) as caught:
+        decode(json.dumps(doc).encode())
+    assert caught.value.field == "$.protocol"
+
+
+def test_inconsistent_say_is_refused() -> None:
+    doc = _example_doc("robot_command")
+    doc["action"]["location"] = None
+    with pytest.raises(ProtocolError, match="needs field 'location'") as caught:
+        decode(json.dumps(doc).encode(), RobotCommand)
+    assert caught.value.message_type == "robot_command"
+
+
+def test_non_json_and_non_object_payloads() -> None:
+    for payload in (b"", b"not json", b"[1, 2]", b"\xff\xfe", b'"text"'):
+        with pytest.raises(ProtocolError):
+            decode(payload)
+    with pytest.raises(ProtocolError):
+        decode(b"\x93\x01\x02\x03", encoding=Encoding.MSGPACK)
+
+
+def test_msgpack_mime_is_recognised() -> None:
+    assert Encoding.from_mime("application/msgpack") is Encoding.MSGPACK
+    assert Encoding.from_mime("application/json") is Encoding.JSON
+    assert Encoding.from_mime("zenoh/bytes") is Encoding.JSON
+    assert Encoding.from_mime(None) is Encoding.JSON

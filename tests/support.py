@@ -1,0 +1,20 @@
+"""Helpers shared by the tests (importable as ``support``)."""
+
+from __future__ import annotations
+
+import socket
+
+from protocol import BY_TAG, Message, decode
+from protocol.examples import example_paths
+
+
+def free_port() -> int:
+    """A TCP port on 127.0.0.1 that nothing listens on right now."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+def golden_examples() -> dict[str, Message]:
+    """Every golden example, decoded, keyed by message type."""
+    return {tag: decode(path.read_bytes(), BY_TAG[tag]) for tag, path in example_paths().items()}
