@@ -83,7 +83,9 @@ def run_doctor(world: str, settings: SessionSettings | None = None, repeats: int
             for encoding, sender in senders.items():
                 size = len(encode(message, encoding))
                 try:
-                    seconds = _round_trip(sender, client, message, f"{client.keys.prefix}/doctor/{tag}", repeats)
+                    seconds = _round_trip(
+                        sender, client, message, f"{client.keys.prefix}/doctor/{tag}", repeats
+                    )
                     row += [str(size), f"{seconds * 1e6:.0f}"]
                 except RuntimeError as err:
                     failures += 1

@@ -47,8 +47,7 @@ def handshake(
         except NoReply as err:
             if remaining is not None and deadline is not None and time.monotonic() + 0.05 >= deadline:
                 raise NoReply(
-                    f"no engine answered the handshake on '{bridge.keys.info}' within "
-                    f"{timeout:g} s ({err})"
+                    f"no engine answered the handshake on '{bridge.keys.info}' within {timeout:g} s ({err})"
                 ) from None
             time.sleep(0.05)
     if not check_version(info.protocol, message_type="engine_info"):

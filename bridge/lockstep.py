@@ -54,9 +54,7 @@ class LockstepClient:
     def _control(self, request: Message, deadline: float | None) -> ControlReply:
         remaining = None if deadline is None else max(deadline - time.monotonic(), 0.001)
         try:
-            return self.bridge.query(
-                self.bridge.keys.control, request, ControlReply, timeout=remaining
-            )
+            return self.bridge.query(self.bridge.keys.control, request, ControlReply, timeout=remaining)
         except NoReply as err:
             raise StepTimeout(self._explain(request, str(err))) from None
 
@@ -118,7 +116,7 @@ class LockstepClient:
         """Stop following the state; safe to call twice."""
         self._subscriber.close()
 
-    def __enter__(self) -> "LockstepClient":
+    def __enter__(self) -> LockstepClient:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -95,9 +95,7 @@ class Bridge:
         allow_empty: bool = True,
     ) -> Queryable[Message]:
         """Answer queries on ``key`` with ``handler`` (see :class:`bridge.typed.Queryable`)."""
-        return self._track(
-            Queryable(self.session, key, handler, expected=expected, allow_empty=allow_empty)
-        )
+        return self._track(Queryable(self.session, key, handler, expected=expected, allow_empty=allow_empty))
 
     def token(self, role: str, name: str) -> Token:
         """Declare this node alive as ``role``/``name`` until closed."""
@@ -123,7 +121,7 @@ class Bridge:
             except Exception:
                 log.debug("closing the Zenoh session failed", exc_info=True)
 
-    def __enter__(self) -> "Bridge":
+    def __enter__(self) -> Bridge:
         return self
 
     def __exit__(self, *exc: object) -> None:

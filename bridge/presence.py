@@ -64,7 +64,7 @@ class Token:
             except Exception:
                 pass
 
-    def __enter__(self) -> "Token":
+    def __enter__(self) -> Token:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -140,7 +140,7 @@ class PresenceWatcher:
             except Exception:
                 pass
 
-    def __enter__(self) -> "PresenceWatcher":
+    def __enter__(self) -> PresenceWatcher:
         return self
 
     def __exit__(self, *exc: object) -> None:

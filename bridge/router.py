@@ -14,8 +14,8 @@ from pathlib import Path
 
 import zenoh
 
-from .session import SessionSettings, build_config
 from .errors import ConfigError
+from .session import SessionSettings, build_config
 
 log = logging.getLogger("toyroom.bridge")
 
@@ -46,7 +46,7 @@ class Router:
             self._closed = True
             self.session.close()
 
-    def __enter__(self) -> "Router":
+    def __enter__(self) -> Router:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -128,7 +128,7 @@ class Publisher(Generic[M]):
         )
         self._matched = threading.Event()
         self._matching = self._publisher.declare_matching_listener(self._on_matching)
-        if self._publisher.matching_status.matching:
+        if self._publisher.matching_status.matching:  # type: ignore[attr-defined]
             self._matched.set()
         self._closed = False
 
@@ -160,7 +160,7 @@ class Publisher(Generic[M]):
             except Exception:  # the session may already be closed
                 pass
 
-    def __enter__(self) -> "Publisher[M]":
+    def __enter__(self) -> Publisher[M]:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -214,7 +214,7 @@ class Subscriber(Generic[M]):
             except Exception:
                 pass
 
-    def __enter__(self) -> "Subscriber[M]":
+    def __enter__(self) -> Subscriber[M]:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -374,7 +374,7 @@ class Queryable(Generic[Q]):
         if threading.current_thread() is not self._worker:
             self._worker.join(timeout=5.0)
 
-    def __enter__(self) -> "Queryable[Q]":
+    def __enter__(self) -> Queryable[Q]:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -32,7 +32,7 @@ class Encoding(enum.Enum):
     MSGPACK = "application/msgpack"
 
     @classmethod
-    def from_mime(cls, mime: str | None) -> "Encoding":
+    def from_mime(cls, mime: str | None) -> Encoding:
         """The encoding for a Zenoh encoding string; anything but MessagePack reads as JSON."""
         if mime and mime.split(";", 1)[0].strip() == cls.MSGPACK.value:
             return cls.MSGPACK
@@ -41,7 +41,7 @@ class Encoding(enum.Enum):
 
 _json_encoder = msgspec.json.Encoder()
 _msgpack_encoder = msgspec.msgpack.Encoder()
-_header_decoders = {
+_header_decoders: dict[Encoding, msgspec.json.Decoder[Header] | msgspec.msgpack.Decoder[Header]] = {
     Encoding.JSON: msgspec.json.Decoder(Header),
     Encoding.MSGPACK: msgspec.msgpack.Decoder(Header),
 }
@@ -96,9 +96,7 @@ def decode(data: bytes, expected: type[M], encoding: Encoding = ...) -> M: ...
 def decode(data: bytes, expected: None = ..., encoding: Encoding = ...) -> Message: ...
 
 
-def decode(
-    data: bytes, expected: type[M] | None = None, encoding: Encoding = Encoding.JSON
-) -> Message:
+def decode(data: bytes, expected: type[M] | None = None, encoding: Encoding = Encoding.JSON) -> Message:
     """Decode a payload into a message.
 
     Args:

@@ -42,7 +42,7 @@ class ProtocolError(Error):
         on = f" on key '{self.key}'" if self.key else ""
         return f"invalid {what}{on}{where}: {self.reason}"
 
-    def on_key(self, key: str) -> "ProtocolError":
+    def on_key(self, key: str) -> ProtocolError:
         """Return the same error with the Zenoh key it arrived on filled in."""
         self.key = key
         self.args = (self._render(),)

@@ -93,9 +93,7 @@ def scene_problems(scene: Scene) -> list[str]:
                 continue
             touching = any(region_of.get((key[0] + dc, key[1] + dr)) == joined for dc, dr in _NEIGHBOURS)
             if not touching:
-                problems.append(
-                    f"{name}: cell ({key[0]},{key[1]}) does not touch region '{joined}' it joins"
-                )
+                problems.append(f"{name}: cell ({key[0]},{key[1]}) does not touch region '{joined}' it joins")
 
     walkable = set(region_of) | door_cells
     location_ids = {loc.id for loc in scene.locations}
@@ -131,9 +129,7 @@ def scene_problems(scene: Scene) -> list[str]:
     for i, agent in enumerate(scene.agents):
         key = (agent.home.col, agent.home.row)
         if key not in walkable:
-            problems.append(
-                f"agents[{i}] '{agent.id}': home cell ({key[0]},{key[1]}) is not walkable"
-            )
+            problems.append(f"agents[{i}] '{agent.id}': home cell ({key[0]},{key[1]}) is not walkable")
 
     if walkable:
         start = min(walkable)

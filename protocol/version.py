@@ -26,7 +26,7 @@ class Version:
     minor: int
 
     @classmethod
-    def parse(cls, text: str, *, message_type: str | None = None) -> "Version":
+    def parse(cls, text: str, *, message_type: str | None = None) -> Version:
         """Parse ``"1.0"``; raise :class:`ProtocolError` naming the field when malformed."""
         match = _VERSION_RE.match(text) if isinstance(text, str) else None
         if match is None:

@@ -6,10 +6,10 @@ import logging
 
 import msgspec
 import pytest
+from support import golden_examples
 
 from bridge import Bridge, NoReply, handshake, serve_info
 from protocol import PROTOCOL_VERSION, EngineInfo, Hello, InvalidScene, VersionMismatch
-from support import golden_examples
 
 
 def _info(protocol: str = PROTOCOL_VERSION) -> EngineInfo:

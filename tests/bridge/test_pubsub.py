@@ -8,10 +8,10 @@ import threading
 
 import pytest
 import zenoh
+from support import golden_examples
 
 from bridge import Bridge, Received
 from protocol import Encoding, Message, State, encode
-from support import golden_examples
 
 
 def _collector() -> tuple[queue.Queue, object]:

@@ -6,9 +6,10 @@ import queue
 import subprocess
 import sys
 
+from support import free_port, golden_examples
+
 from bridge import Bridge, SessionSettings
 from protocol import State
-from support import free_port, golden_examples
 
 
 def test_clients_meet_through_the_router(world: str) -> None:

@@ -8,10 +8,10 @@ import queue
 from pathlib import Path
 
 import pytest
+from support import free_port, golden_examples
 
 from bridge import Bridge, ConfigError, SessionSettings, build_config, is_loopback, world_port
 from protocol import State
-from support import free_port, golden_examples
 
 
 def test_world_port_is_stable_and_distinct() -> None:
@@ -30,7 +30,9 @@ def test_default_config_is_loopback_peer_without_multicast(world: str) -> None:
 
 
 def test_loopback_detection() -> None:
-    assert is_loopback("tcp/127.0.0.1:7447") and is_loopback("tcp/localhost:1") and is_loopback("tcp/[::1]:7447")
+    assert (
+        is_loopback("tcp/127.0.0.1:7447") and is_loopback("tcp/localhost:1") and is_loopback("tcp/[::1]:7447")
+    )
     assert not is_loopback("tcp/0.0.0.0:7447") and not is_loopback("tls/192.168.1.4:7447")
 
 
@@ -73,7 +75,9 @@ def test_config_file_override(world: str, tmp_path: Path) -> None:
         f" listen: {{ endpoints: ['tcp/127.0.0.1:{port}'] }} }}"
     )
     with Bridge(world, SessionSettings(config_file=config)) as listener:
-        with Bridge(world, SessionSettings(connect=(f"tcp/127.0.0.1:{port}",), listen=("tcp/127.0.0.1:0",))) as talker:
+        with Bridge(
+            world, SessionSettings(connect=(f"tcp/127.0.0.1:{port}",), listen=("tcp/127.0.0.1:0",))
+        ) as talker:
             inbox: queue.Queue = queue.Queue()
             listener.subscribe(listener.keys.state, lambda m, _: inbox.put(m), expected=State)
             publisher = talker.publisher(talker.keys.state)

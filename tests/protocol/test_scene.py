@@ -39,7 +39,10 @@ def test_golden_scene_is_sound() -> None:
 @pytest.mark.parametrize(
     ("breakage", "expected"),
     [
-        (lambda s: msgspec.structs.replace(s, items=s.items + (ItemSpec(id="sally"),)), "duplicate agent/item id 'sally'"),
+        (
+            lambda s: msgspec.structs.replace(s, items=s.items + (ItemSpec(id="sally"),)),
+            "duplicate agent/item id 'sally'",
+        ),
         (
             lambda s: msgspec.structs.replace(
                 s, locations=(Location(id="basket", region="room", cell=Cell(0, 1)),) + s.locations[1:]
@@ -59,16 +62,22 @@ def test_golden_scene_is_sound() -> None:
             "unreachable: no path from region 'O' to region(s) 'room'",
         ),
         (
-            lambda s: msgspec.structs.replace(s, doors=(Door(id="door", cell=Cell(3, 1), joins=("room", "attic")),)),
+            lambda s: msgspec.structs.replace(
+                s, doors=(Door(id="door", cell=Cell(3, 1), joins=("room", "attic")),)
+            ),
             "doors[0] 'door': joins unknown region 'attic'",
         ),
         (
             lambda s: msgspec.structs.replace(
-                s, visibility=s.visibility[:-1] + (Visibility(cell=s.visibility[-1].cell, locations=("sofa",)),)
+                s,
+                visibility=s.visibility[:-1] + (Visibility(cell=s.visibility[-1].cell, locations=("sofa",)),),
             ),
             "names unknown location 'sofa'",
         ),
-        (lambda s: msgspec.structs.replace(s, visibility=s.visibility[1:]), "visibility: no entry for walkable cell(s)"),
+        (
+            lambda s: msgspec.structs.replace(s, visibility=s.visibility[1:]),
+            "visibility: no entry for walkable cell(s)",
+        ),
         (
             lambda s: msgspec.structs.replace(
                 s, agents=(AgentSpec(id="sally", kind=AgentKind.PERSON, home=Cell(2, 1)),) + s.agents[1:]
@@ -93,7 +102,10 @@ def test_breakage_is_named(breakage, expected: str) -> None:  # type: ignore[no-
 def test_open_map_with_line_of_sight_fits() -> None:
     """An open 6x3 room with a screen in the middle: visibility differs cell by cell."""
     cells = tuple(Cell(c, r) for r in range(3) for c in range(6) if (c, r) != (3, 1))
-    spots = (Location(id="west", region="hall", cell=Cell(0, 1)), Location(id="east", region="hall", cell=Cell(5, 1)))
+    spots = (
+        Location(id="west", region="hall", cell=Cell(0, 1)),
+        Location(id="east", region="hall", cell=Cell(5, 1)),
+    )
 
     def sees(cell: Cell) -> tuple[str, ...]:
         # the screen at (3,1) hides the far spot from cells on row 1
