@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import signal
 import sys
 import threading
@@ -85,6 +86,16 @@ def doctor_main(world: str, settings: SessionSettings) -> int:
     return run_doctor(world, settings)
 
 
+NODES = {"sim": "sim2d"}
+"""Subcommands that run a node package as its own process (``toyroom sim`` -> ``python -m sim2d``)."""
+
+
+def exec_node(package: str, argv: Sequence[str]) -> int:
+    """Replace this process with ``python -m package argv...`` (signals go straight to it)."""
+    os.execv(sys.executable, [sys.executable, "-m", package, *argv])
+    return 0  # pragma: no cover - execv does not return
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``toyroom``."""
     parser = argparse.ArgumentParser(
@@ -103,6 +114,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     router.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
 
+    for name, package in NODES.items():
+        commands.add_parser(name, help=f"run the {package} node (`toyroom {name} --help` for its options)")
+
     doctor = commands.add_parser(
         "doctor", help="check the install: schemas, and every message over loopback Zenoh"
     )
@@ -112,6 +126,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``toyroom`` console script."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] in NODES:
+        return exec_node(NODES[argv[0]], argv[1:])
     args = build_parser().parse_args(argv)
     logging.basicConfig(
         level=getattr(logging, str(args.log_level).upper(), logging.INFO),

@@ -54,3 +54,6 @@ class State(Message, frozen=True, kw_only=True, tag="state"):
     time: Seconds
     agents: tuple[AgentState, ...]
     items: tuple[ItemState, ...]
+    done: bool = False
+    """The scenario has ended (its scripts are over and the robot idle, or its time limit
+    is reached). The engine still steps when asked."""

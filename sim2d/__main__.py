@@ -1,0 +1,67 @@
+"""``python -m sim2d --scenario NAME [--world W] [--lockstep | --realtime RATE]``: run the
+engine node until interrupted (``toyroom sim`` starts this as a process)."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import signal
+import sys
+from collections.abc import Sequence
+
+from bridge import Bridge, BridgeError
+from bridge.cli import add_zenoh_args, settings_from_args
+from protocol import ClockMode
+
+from .engine import Engine
+from .errors import Sim2dError
+from .node import EngineNode
+from .scenario import scenario_names
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m sim2d", description="The pymunk engine node.")
+    parser.add_argument(
+        "--scenario", default="paper-robot", help="scenario name or .toml path (default: %(default)s)"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="episode seed (default: %(default)s)")
+    clock = parser.add_mutually_exclusive_group()
+    clock.add_argument("--lockstep", action="store_true", help="advance only on step requests (the default)")
+    clock.add_argument("--realtime", type=float, metavar="RATE", help="free-run at RATE x wall-clock speed")
+    parser.add_argument("--robot", choices=("act", "observe"), help="override the scenario's robot mode")
+    parser.add_argument("--list", action="store_true", help="list the bundled scenarios and exit")
+    parser.add_argument("--log-level", default="INFO")
+    add_zenoh_args(parser)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    logging.basicConfig(
+        level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(name)s: %(message)s"
+    )
+    if args.list:
+        print("\n".join(scenario_names()))
+        return 0
+    if args.realtime is not None and args.realtime <= 0:
+        print("sim2d: --realtime RATE must be > 0", file=sys.stderr)
+        return 2
+    try:
+        engine = Engine(args.scenario, seed=args.seed, robot=args.robot)
+        clock = ClockMode.REALTIME if args.realtime is not None else ClockMode.LOCKSTEP
+        node = EngineNode(
+            engine, Bridge(args.world, settings_from_args(args)), clock=clock, rate=args.realtime or 1.0
+        )
+    except (Sim2dError, BridgeError) as err:
+        print(f"sim2d: {err}", file=sys.stderr)
+        return 2
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: node.stop())
+    print(f"sim2d: scenario '{engine.scenario.name}' on world '{args.world}' ({clock.value})", flush=True)
+    node.wait()
+    node.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,165 @@
+"""The engine core: a scenario's world advanced tick by tick, with no I/O.
+
+:class:`Engine` owns the pymunk world, the scripted people and the robot body. The node
+(:mod:`sim2d.node`) wraps it with Zenoh; tests drive it directly or over the wire.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from protocol import (
+    AgentKind,
+    Capability,
+    ClockMode,
+    CommandState,
+    CommandStatus,
+    EngineInfo,
+    Event,
+    ItemSpec,
+    RobotCommand,
+    Scene,
+    State,
+)
+
+from .maps import agent_spec
+from .people import ScriptedPerson
+from .robot import RobotBody
+from .scenario import RobotMode, Scenario, load_scenario
+from .world import World
+
+ENGINE_NAME = "sim2d 0.1.0"
+
+
+@dataclass(frozen=True)
+class TickResult:
+    """What one tick (or a reset) produced, in publication order: events, statuses, state."""
+
+    state: State
+    events: tuple[Event, ...]
+    statuses: tuple[CommandStatus, ...]
+
+
+class Engine:
+    """A scenario running in pymunk.
+
+    Args:
+        scenario: a loaded scenario or its name.
+        seed: seeds the episode's random generator (scripted scenarios use none).
+        substeps: physics steps per tick.
+        robot: ``act`` or ``observe`` to override what the scenario says.
+    """
+
+    def __init__(
+        self, scenario: Scenario | str, *, seed: int = 0, substeps: int = 5, robot: RobotMode | None = None
+    ) -> None:
+        self.substeps = substeps
+        self.robot_override = robot
+        self.episode = 0
+        self._load(scenario if isinstance(scenario, Scenario) else load_scenario(scenario), seed)
+
+    def _load(self, scenario: Scenario, seed: int) -> None:
+        self.scenario = scenario
+        self.seed = seed
+        self.rng = np.random.default_rng(seed)
+        self.world = World(scenario, self.substeps)
+        self.world.episode = self.episode
+        self.people = {a.id: ScriptedPerson(a) for a in scenario.people}
+        acts = (self.robot_override or scenario.robot) == "act"
+        self.robots = {r.id: RobotBody(r.id, acts, scenario.name) for r in scenario.robots}
+        self.settled = 0
+        self.done = False
+
+    # ----- description ----------------------------------------------------------------
+
+    @property
+    def acts(self) -> bool:
+        return (self.robot_override or self.scenario.robot) == "act"
+
+    def scene(self) -> Scene:
+        """The protocol scene of the loaded scenario."""
+        agents = tuple(
+            agent_spec(a.id, a.kind, a.home, a.name, self.acts if a.kind is AgentKind.ROBOT else True)
+            for a in self.scenario.agents
+        )
+        items = tuple(ItemSpec(id=i.id, shape=i.shape, name=i.name) for i in self.scenario.items)
+        return self.scenario.map.scene(agents, items)
+
+    def info(self, world: str, clock: ClockMode) -> EngineInfo:
+        """The handshake answer for ``world``."""
+        return EngineInfo(
+            engine=ENGINE_NAME,
+            world=world,
+            scenario=self.scenario.name,
+            capabilities=(Capability.LOCKSTEP, Capability.REALTIME, Capability.ROBOT),
+            clock=clock,
+            tick_seconds=self.scenario.tick_seconds,
+            episode=self.episode,
+            scene=self.scene(),
+        )
+
+    # ----- clock ----------------------------------------------------------------------
+
+    def reset(self, scenario: Scenario | str | None = None, seed: int = 0) -> TickResult:
+        """Start a new episode (of ``scenario``, or the current one) and return tick 0."""
+        self.episode += 1
+        chosen = self.scenario if scenario is None else scenario
+        self._load(chosen if isinstance(chosen, Scenario) else load_scenario(chosen), seed)
+        return TickResult(self.state(), (), ())
+
+    def step(self) -> TickResult:
+        """Advance one tick."""
+        world = self.world
+        world.tick += 1
+        world.events = []
+        for person in self.people.values():
+            person.update(world)
+        for robot in self.robots.values():
+            robot.update(world, self.people)
+        world.physics.step()
+        world.after_physics()
+        quiet = all(p.finished for p in self.people.values()) and all(r.idle for r in self.robots.values())
+        self.settled = self.settled + 1 if quiet else 0
+        if self.settled >= self.scenario.settle_ticks or world.tick >= self.scenario.max_ticks:
+            self.done = True
+        return TickResult(self.state(), tuple(world.events), self._drain())
+
+    def command(self, command: RobotCommand) -> tuple[CommandStatus, ...]:
+        """A robot command arrived: the statuses it produces at once (accepted or failed)."""
+        robot = self.robots.get(command.robot)
+        if robot is None:
+            robot = next(iter(self.robots.values()), None)
+            if robot is None:
+                return (
+                    CommandStatus(
+                        command=command.id,
+                        robot=command.robot,
+                        state=CommandState.FAILED,
+                        tick=self.world.tick,
+                        reason=f"unknown robot '{command.robot}': "
+                        f"scenario '{self.scenario.name}' has no robot",
+                    ),
+                )
+        robot.receive(self.world, command)
+        return self._drain()
+
+    def _drain(self) -> tuple[CommandStatus, ...]:
+        out: list[CommandStatus] = []
+        for robot in self.robots.values():
+            out.extend(robot.pending)
+            robot.pending.clear()
+        return tuple(out)
+
+    def state(self) -> State:
+        """The world now."""
+        world = self.world
+        return State(
+            episode=self.episode,
+            tick=world.tick,
+            time=round(world.tick * self.scenario.tick_seconds, 9),
+            agents=world.agent_states(),
+            items=world.item_states(),
+            done=self.done,
+        )

@@ -1,0 +1,172 @@
+"""The engine node: an :class:`~sim2d.engine.Engine` on the wire.
+
+It answers ``engine/info`` (the handshake) and ``engine/control`` (reset, step, pause,
+resume), publishes ``engine/state`` every tick (dropped rather than queued when the
+network is congested: a newer state supersedes it), ``engine/events`` for every event and
+``robot/<id>/status`` for every command status (both never dropped), takes commands on
+``robot/<id>/command``, and holds the liveliness token ``@alive/engine/sim2d``.
+
+In lock-step the world advances only on ``step``; in real time it runs at ``rate`` times
+wall-clock speed, and ``pause`` / ``resume`` stop and restart it.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+
+from bridge import Bridge, Congestion, Received, Refused, serve_info
+from protocol import (
+    ClockMode,
+    ControlReply,
+    EngineInfo,
+    ErrorCode,
+    Message,
+    Pause,
+    Reset,
+    Resume,
+    RobotCommand,
+    Step,
+)
+
+from .engine import Engine, TickResult
+from .errors import ScenarioError
+from .scenario import scenario_names
+
+log = logging.getLogger("toyroom.sim2d")
+
+
+class EngineNode:
+    """Serves one engine on one world. A context manager; :meth:`close` is idempotent.
+
+    Args:
+        engine: the engine core.
+        bridge: an open bridge on the world.
+        clock: lock-step or real time.
+        rate: real-time speed factor (2.0: twice as fast as wall-clock).
+    """
+
+    def __init__(
+        self, engine: Engine, bridge: Bridge, *, clock: ClockMode = ClockMode.LOCKSTEP, rate: float = 1.0
+    ) -> None:
+        self.engine = engine
+        self.bridge = bridge
+        self.clock = clock
+        self.rate = rate
+        self.paused = False
+        self._lock = threading.RLock()
+        self._stop = threading.Event()
+        keys = bridge.keys
+        self._state = bridge.publisher(keys.state, congestion=Congestion.DROP)
+        self._events = bridge.publisher(keys.events)
+        self._status = {rid: bridge.publisher(keys.status(rid)) for rid in engine.robots}
+        serve_info(bridge, self.info)
+        bridge.queryable(keys.control, self._control, expected=(Reset, Step, Pause, Resume))
+        bridge.subscribe(keys.command(), self._on_command, expected=RobotCommand)
+        bridge.token("engine", "sim2d")
+        self._ticker: threading.Thread | None = None
+        if clock is ClockMode.REALTIME:
+            self._ticker = threading.Thread(target=self._run_realtime, name="sim2d clock", daemon=True)
+            self._ticker.start()
+
+    def info(self) -> EngineInfo:
+        with self._lock:
+            return self.engine.info(self.bridge.world, self.clock)
+
+    def _publish(self, result: TickResult) -> None:
+        for event in result.events:
+            self._events.put(event)
+        self._publish_statuses(result)
+        self._state.put(result.state)
+
+    def _publish_statuses(self, result: TickResult) -> None:
+        for status in result.statuses:
+            publisher = self._status.get(status.robot)
+            if publisher is None:
+                publisher = self._status[status.robot] = self.bridge.publisher(
+                    self.bridge.keys.status(status.robot)
+                )
+            publisher.put(status)
+
+    def _reply(self, result: TickResult | None = None) -> ControlReply:
+        state = result.state if result is not None else self.engine.state()
+        return ControlReply(
+            episode=state.episode, tick=state.tick, time=state.time, paused=self.paused, state=state
+        )
+
+    def _control(self, request: Message | None, key: str) -> ControlReply:
+        with self._lock:
+            if isinstance(request, Reset):
+                try:
+                    result = self.engine.reset(request.scenario, request.seed)
+                except ScenarioError as err:
+                    known = ", ".join(scenario_names())
+                    if request.scenario is not None and request.scenario not in scenario_names():
+                        raise Refused(
+                            ErrorCode.UNKNOWN_SCENARIO,
+                            f"no scenario named '{request.scenario}'; known: {known}",
+                        ) from None
+                    raise Refused(ErrorCode.BAD_REQUEST, str(err)) from None
+                self._publish(result)
+                return self._reply(result)
+            if isinstance(request, Step):
+                if self.clock is not ClockMode.LOCKSTEP:
+                    raise Refused(
+                        ErrorCode.UNSUPPORTED, "step needs a lock-step engine; this one runs in real time"
+                    )
+                stepped: TickResult | None = None
+                for _ in range(request.n):
+                    stepped = self.engine.step()
+                    self._publish(stepped)
+                return self._reply(stepped)
+            if isinstance(request, Pause):
+                self.paused = True
+            elif isinstance(request, Resume):
+                self.paused = False
+            return self._reply()
+
+    def _on_command(self, command: RobotCommand, received: Received) -> None:
+        robot_in_key = received.key.split("/")[-2]
+        with self._lock:
+            if robot_in_key != command.robot:
+                log.warning(
+                    "command '%s' names robot '%s' but came on '%s'", command.id, command.robot, received.key
+                )
+            statuses = self.engine.command(command)
+            self._publish_statuses(TickResult(self.engine.state(), (), statuses))
+
+    def _run_realtime(self) -> None:
+        period = self.engine.scenario.tick_seconds / self.rate
+        next_at = time.monotonic()
+        while not self._stop.is_set():
+            if not self.paused:
+                with self._lock:
+                    result = self.engine.step()
+                    self._publish(result)
+            next_at += period
+            delay = next_at - time.monotonic()
+            if delay < -1.0:  # far behind (a debugger, a stall): do not race to catch up
+                next_at = time.monotonic()
+            self._stop.wait(max(delay, 0.0))
+
+    def stop(self) -> None:
+        """Ask :meth:`wait` to return (safe from a signal handler)."""
+        self._stop.set()
+
+    def wait(self) -> None:
+        """Block until :meth:`close` is called (from another thread or a signal)."""
+        self._stop.wait()
+
+    def close(self) -> None:
+        """Stop the clock and leave the network; safe to call twice."""
+        self._stop.set()
+        if self._ticker is not None and self._ticker is not threading.current_thread():
+            self._ticker.join(timeout=5.0)
+        self.bridge.close()
+
+    def __enter__(self) -> EngineNode:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

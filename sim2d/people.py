@@ -1,0 +1,177 @@
+"""Scripted people: they follow their scenario route step by step and react to the robot.
+
+Reactions (they replace what is left of the route):
+- handed an item: walk to the nearest play spot and play with it;
+- told where the item they want is: go there, take it, play with it at the nearest play spot;
+- asked to hand over what they hold: answer as the scenario says; on yes, hand it over and wait.
+A person performs at most one discrete action (take, drop, start playing) per tick, and
+never in the tick it arrives somewhere, so each is a separate decision an observer can see.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+from protocol import EventKind
+
+from .scenario import AgentSetup, Drop, Enter, Goto, Play, Step, Take, Wait
+from .world import World
+
+log = logging.getLogger("toyroom.sim2d")
+
+
+@dataclass(frozen=True)
+class GotoPlaySpot:
+    """Walk to the nearest play spot (resolved when the step starts)."""
+
+    label: str | None = None
+
+
+PlanStep = Step | GotoPlaySpot
+
+
+class ScriptedPerson:
+    """Drives one person of a scenario."""
+
+    def __init__(self, setup: AgentSetup) -> None:
+        self.setup = setup
+        self.id = setup.id
+        self.plan: list[PlanStep] = list(setup.script)
+        self.index = 0
+        self.started = False
+        self.ticks_left = 0
+        self.goal: object = None
+
+    @property
+    def finished(self) -> bool:
+        """Whether the route is done (or the person has settled into playing or waiting for good)."""
+        if self.index >= len(self.plan):
+            return True
+        step = self.plan[self.index]
+        return self.started and isinstance(step, (Play, Wait)) and step.ticks is None and step.until is None
+
+    def _advance(self, world: World, label: str | None) -> None:
+        world.complete(self.id, label)
+        self.index += 1
+        self.started = False
+
+    def _replace(self, plan: list[PlanStep]) -> None:
+        self.plan = plan
+        self.index = 0
+        self.started = False
+
+    def update(self, world: World) -> None:
+        """Carry the route forward by one tick."""
+        agent = world.agents[self.id]
+        acted = False
+        while self.index < len(self.plan):
+            step = self.plan[self.index]
+            if isinstance(step, (Enter, Goto, GotoPlaySpot)):
+                if not self.started:
+                    self.started = True
+                    if isinstance(step, Enter):
+                        ok = (
+                            agent.region == step.region
+                            and agent.cell in world.region_of
+                            or (world.plan_to_region(self.id, step.region))
+                        )
+                    elif isinstance(step, Goto):
+                        ok = world.plan_to(self.id, step.cell)
+                    else:
+                        ok = world.plan_to_region_cells(self.id, world.play_spots())
+                    if not ok:
+                        log.warning("%s cannot reach the target of %s; skipping it", self.id, step)
+                        self._advance(world, None)
+                        continue
+                if not world.arrived(self.id):
+                    return
+                if isinstance(step, Enter) and world.region_of.get(agent.cell) != step.region:
+                    return
+                self._advance(world, step.label)
+                continue
+            if isinstance(step, (Take, Drop)):
+                if acted or not world.arrived(self.id):
+                    return
+                acted = True
+                location = world.location_at.get(agent.cell)
+                if isinstance(step, Take):
+                    reason = world.take(self.id, step.item)
+                elif location is None:
+                    reason = f"no item spot at {agent.cell}"
+                else:
+                    reason = world.drop(self.id, location.id)
+                if reason is not None:
+                    log.info("%s: %s failed: %s", self.id, type(step).__name__.lower(), reason)
+                self._advance(world, step.label if reason is None else None)
+                continue
+            if isinstance(step, Play):
+                if not self.started:
+                    if acted:
+                        return
+                    self.started = True
+                    self.ticks_left = step.ticks or 0
+                    if agent.holding is None:
+                        log.info("%s has nothing to play with; skipping the play step", self.id)
+                        self._advance(world, None)
+                        continue
+                    acted = True
+                    agent.playing = True
+                    spot = world.location_at.get(agent.cell)
+                    world.emit(
+                        EventKind.PLAY, self.id, item=agent.holding, location=spot.id if spot else None
+                    )
+                    if step.label is not None:
+                        world.complete(self.id, step.label)
+                    return
+                if not agent.playing:  # the item was handed over meanwhile
+                    self._advance(world, None)
+                    continue
+                if self._still_going(step, world):
+                    return
+                agent.playing = False
+                world.emit(EventKind.STOP, self.id, item=agent.holding)
+                self._advance(world, None)
+                continue
+            assert isinstance(step, Wait)
+            if not self.started:
+                self.started = True
+                self.ticks_left = step.ticks or 0
+                if step.label is not None:
+                    world.complete(self.id, step.label)
+            if self._still_going(step, world):
+                return
+            self._advance(world, None)
+
+    def _still_going(self, step: Play | Wait, world: World) -> bool:
+        if step.ticks is not None:
+            self.ticks_left -= 1
+            return self.ticks_left > 0
+        if step.until is not None:
+            return (step.until.agent, step.until.label) not in world.labels
+        return True
+
+    # ----- reactions to the robot ----------------------------------------------------
+
+    def on_given(self, world: World) -> None:
+        """Handed an item: go and play with it."""
+        world.stop(self.id)
+        self._replace([GotoPlaySpot(), Play()])
+
+    def on_informed(self, world: World, item: str, location: str) -> None:
+        """Told where ``item`` is: fetch it when it is the item this person wants."""
+        agent = world.agents[self.id]
+        if item != self.setup.wants or agent.holding == item or agent.holding is not None:
+            return
+        loc = world.locations[location]
+        world.stop(self.id)
+        self._replace([Goto((loc.cell.col, loc.cell.row), loc.id), Take(item), GotoPlaySpot(), Play()])
+
+    def answer(self, world: World, item: str) -> bool:
+        """Answer a request to hand over ``item``."""
+        return self.setup.answers and world.agents[self.id].holding == item
+
+    def on_handed_over(self, world: World) -> None:
+        """Gave away what they held: stop and wait."""
+        world.stop(self.id)
+        self._replace([Wait()])

@@ -1,0 +1,317 @@
+"""The simulated world's state: agents' and items' bodies, who holds what, and the
+actions every agent (scripted person or robot) performs on it. Events are collected per
+tick; the physics moves bodies along planned paths of cells."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from protocol import (
+    Activity,
+    AgentKind,
+    AgentState,
+    Cell,
+    Event,
+    EventKind,
+    ItemState,
+    Location,
+    Pose,
+    Vec2,
+)
+
+from .maps import GameMap, GridCell
+from .paths import path_to_any, shortest_path
+from .physics import Physics
+from .scenario import Scenario
+from .walls import wall_segments
+
+PERSON_SPEED = 1.5
+"""Walking speed of people and the robot, metres per second."""
+ARRIVED = 1e-3
+"""Distance (m) at which a body has reached a cell centre."""
+
+
+@dataclass
+class Agent:
+    """An agent's mutable state besides its pymunk body."""
+
+    id: str
+    kind: AgentKind
+    radius: float
+    speed: float
+    cell: GridCell
+    region: str
+    path: list[GridCell] = field(default_factory=list)
+    holding: str | None = None
+    playing: bool = False
+    heading: float = 0.0
+
+
+@dataclass
+class Item:
+    """Where an item is: resting at ``location``, or held by ``holder``."""
+
+    id: str
+    location: str | None = None
+    holder: str | None = None
+
+
+class World:
+    """Bodies, ownership and actions; one instance per episode."""
+
+    def __init__(self, scenario: Scenario, substeps: int = 5) -> None:
+        self.scenario = scenario
+        self.map: GameMap = scenario.map
+        self.walkable = self.map.walkable
+        self.region_of = self.map.region_of
+        self.locations: dict[str, Location] = {loc.id: loc for loc in self.map.locations}
+        self.location_at: dict[GridCell, Location] = {
+            (loc.cell.col, loc.cell.row): loc for loc in self.map.locations
+        }
+        self.region_cells: dict[str, list[GridCell]] = {}
+        for cell, region in sorted(self.region_of.items()):
+            self.region_cells.setdefault(region, []).append(cell)
+        self.physics = Physics(
+            wall_segments(self.walkable, self.map.cell_size), scenario.tick_seconds, substeps
+        )
+        self.tick = 0
+        self.episode = 0
+        self.events: list[Event] = []
+        self.labels: set[tuple[str, str]] = set()
+        self.agents: dict[str, Agent] = {}
+        self.items: dict[str, Item] = {}
+        for setup in scenario.agents:
+            radius = 0.3 if setup.kind is AgentKind.ROBOT else 0.25
+            agent = Agent(setup.id, setup.kind, radius, PERSON_SPEED, setup.home, self.region_of[setup.home])
+            self.agents[setup.id] = agent
+            self.physics.add_agent(setup.id, self.map.centre(setup.home), radius, self._controller(setup.id))
+        for item_setup in scenario.items:
+            item = Item(item_setup.id)
+            self.items[item.id] = item
+            if item_setup.at in self.agents:
+                self.physics.add_item(item.id, self.map.centre(self.agents[item_setup.at].cell))
+                item.holder = item_setup.at
+                self.agents[item_setup.at].holding = item.id
+                self.physics.attach(item.id, item_setup.at)
+            else:
+                loc = self.locations[item_setup.at]
+                item.location = loc.id
+                self.physics.add_item(item.id, self.map.centre((loc.cell.col, loc.cell.row)))
+
+    # ----- events ---------------------------------------------------------------------
+
+    def emit(self, kind: EventKind, actor: str, **fields: object) -> None:
+        """Record an event of this tick."""
+        self.events.append(
+            Event(
+                episode=self.episode,
+                tick=self.tick,
+                time=round(self.tick * self.scenario.tick_seconds, 9),
+                kind=kind,
+                actor=actor,
+                **fields,  # type: ignore[arg-type]
+            )
+        )
+
+    def complete(self, agent_id: str, label: str | None) -> None:
+        """A scripted step is done: publish its label, if any."""
+        if label is not None:
+            self.labels.add((agent_id, label))
+            self.emit(EventKind.WAYPOINT, agent_id, label=label, location=self.agents[agent_id].region)
+
+    # ----- movement -------------------------------------------------------------------
+
+    def plan_to(self, agent_id: str, goal: GridCell) -> bool:
+        """Plan the shortest path to ``goal``; ``False`` when unreachable."""
+        agent = self.agents[agent_id]
+        path = shortest_path(self.walkable, agent.cell, goal)
+        if path is None:
+            return False
+        agent.path = path
+        return True
+
+    def plan_to_region(self, agent_id: str, region: str) -> bool:
+        """Plan the shortest path into ``region`` (its nearest cell)."""
+        agent = self.agents[agent_id]
+        path = path_to_any(self.walkable, agent.cell, self.region_cells[region])
+        if path is None:
+            return False
+        agent.path = path
+        return True
+
+    def plan_to_region_cells(self, agent_id: str, cells: list[GridCell]) -> bool:
+        """Plan the shortest path to the nearest of ``cells``."""
+        agent = self.agents[agent_id]
+        path = path_to_any(self.walkable, agent.cell, cells)
+        if path is None:
+            return False
+        agent.path = path
+        return True
+
+    def arrived(self, agent_id: str) -> bool:
+        """Whether the agent has no path left and stands at its cell's centre."""
+        agent = self.agents[agent_id]
+        if agent.path:
+            return False
+        x, y = self.physics.position(agent_id)
+        cx, cy = self.map.centre(agent.cell)
+        return math.hypot(cx - x, cy - y) < 0.05
+
+    def stop(self, agent_id: str) -> None:
+        """Drop the agent's path after the cell it is heading to."""
+        agent = self.agents[agent_id]
+        agent.path = agent.path[:1]
+
+    def _controller(self, agent_id: str) -> Callable[[tuple[float, float], float], tuple[float, float]]:
+        """Velocity control of one agent toward the next cell of its path (every substep)."""
+
+        def velocity(position: tuple[float, float], sub_dt: float) -> tuple[float, float]:
+            agent = self.agents[agent_id]
+            x, y = position
+            target = agent.path[0] if agent.path else agent.cell
+            tx, ty = self.map.centre(target)
+            dist = math.hypot(tx - x, ty - y)
+            while dist < ARRIVED and agent.path:
+                agent.path.pop(0)
+                target = agent.path[0] if agent.path else target
+                tx, ty = self.map.centre(target)
+                dist = math.hypot(tx - x, ty - y)
+            if dist < ARRIVED:
+                return (0.0, 0.0)
+            speed = min(agent.speed, dist / sub_dt)
+            agent.heading = math.atan2(ty - y, tx - x)
+            return ((tx - x) / dist * speed, (ty - y) / dist * speed)
+
+        return velocity
+
+    def after_physics(self) -> None:
+        """Update cells and regions from the bodies; emit enter/leave events."""
+        for agent_id, agent in self.agents.items():
+            x, y = self.physics.position(agent_id)
+            cell = self.map.cell_at(x, y)
+            if cell not in self.walkable:  # numerically on an edge: keep the last cell
+                continue
+            agent.cell = cell
+            region = self.region_of.get(cell)
+            if region is not None and region != agent.region:
+                self.emit(EventKind.LEAVE, agent_id, location=agent.region)
+                self.emit(EventKind.ENTER, agent_id, location=region)
+                agent.region = region
+
+    # ----- items ----------------------------------------------------------------------
+
+    def within_reach(self, a: GridCell, b: GridCell) -> bool:
+        """Same or 4-neighbouring cells."""
+        return abs(a[0] - b[0]) + abs(a[1] - b[1]) <= 1
+
+    def item_cell(self, item_id: str) -> GridCell:
+        item = self.items[item_id]
+        if item.holder is not None:
+            return self.agents[item.holder].cell
+        loc = self.locations[item.location or ""]
+        return (loc.cell.col, loc.cell.row)
+
+    def take(self, agent_id: str, item_id: str) -> str | None:
+        """``agent_id`` takes a resting item within reach; the reason when it cannot."""
+        agent, item = self.agents[agent_id], self.items[item_id]
+        if agent.holding is not None:
+            return f"hands full: {agent_id} holds '{agent.holding}'"
+        if item.holder is not None:
+            return f"item held by {item.holder}"
+        if not self.within_reach(agent.cell, self.item_cell(item_id)):
+            loc = self.locations[item.location or ""]
+            return f"item not there: '{item_id}' is at {loc.id} ({loc.cell.col},{loc.cell.row})"
+        location = item.location
+        item.location, item.holder = None, agent_id
+        agent.holding = item_id
+        self.physics.attach(item_id, agent_id)
+        self.emit(EventKind.TAKE, agent_id, item=item_id, location=location)
+        return None
+
+    def drop(self, agent_id: str, location_id: str) -> str | None:
+        """Put the carried item down at ``location_id`` (within reach)."""
+        agent = self.agents[agent_id]
+        if agent.holding is None:
+            return f"hands empty: {agent_id} holds nothing"
+        loc = self.locations[location_id]
+        if not self.within_reach(agent.cell, (loc.cell.col, loc.cell.row)):
+            return f"out of reach: location {loc.id} is at ({loc.cell.col},{loc.cell.row})"
+        item = self.items[agent.holding]
+        item.holder, item.location = None, loc.id
+        agent.holding, agent.playing = None, False
+        self.physics.put_down(item.id, self.map.centre((loc.cell.col, loc.cell.row)))
+        self.emit(EventKind.DROP, agent_id, item=item.id, location=loc.id)
+        return None
+
+    def hand_over(self, giver: str, receiver: str) -> None:
+        """``giver``'s item goes into ``receiver``'s hands (both checked by the caller)."""
+        item_id = self.agents[giver].holding
+        assert item_id is not None
+        self.agents[giver].holding = None
+        self.agents[giver].playing = False
+        self.agents[receiver].holding = item_id
+        self.items[item_id].holder = receiver
+        self.physics.attach(item_id, receiver)
+        self.emit(EventKind.GIVE, giver, item=item_id, target=receiver)
+
+    def swap(self, first: str, second: str) -> None:
+        """Two agents exchange the items they hold (both hold one)."""
+        a, b = self.agents[first], self.agents[second]
+        item_a, item_b = a.holding, b.holding
+        assert item_a is not None and item_b is not None
+        a.holding, b.holding = item_b, item_a
+        a.playing = b.playing = False
+        self.items[item_a].holder, self.items[item_b].holder = second, first
+        self.physics.attach(item_a, second)
+        self.physics.attach(item_b, first)
+        self.emit(EventKind.GIVE, first, item=item_a, target=second)
+        self.emit(EventKind.GIVE, second, item=item_b, target=first)
+
+    def play_spots(self) -> list[GridCell]:
+        return [(loc.cell.col, loc.cell.row) for loc in self.map.locations if loc.play]
+
+    # ----- state ----------------------------------------------------------------------
+
+    def agent_states(self) -> tuple[AgentState, ...]:
+        out = []
+        for agent_id, agent in self.agents.items():
+            x, y = self.physics.position(agent_id)
+            vx, vy = self.physics.velocity(agent_id)
+            moving = abs(vx) + abs(vy) > 1e-6
+            activity = Activity.PLAYING if agent.playing else Activity.MOVING if moving else Activity.IDLE
+            out.append(
+                AgentState(
+                    id=agent_id,
+                    pose=Pose(round(x, 6), round(y, 6), round(agent.heading, 6)),
+                    velocity=Vec2(round(vx, 6), round(vy, 6)),
+                    cell=Cell(*agent.cell),
+                    region=agent.region,
+                    holding=agent.holding,
+                    activity=activity,
+                )
+            )
+        return tuple(out)
+
+    def item_states(self) -> tuple[ItemState, ...]:
+        out = []
+        for item_id, item in self.items.items():
+            x, y = self.physics.position(item_id)
+            cell = self.item_cell(item_id)
+            region = (
+                self.agents[item.holder].region
+                if item.holder is not None
+                else self.locations[item.location or ""].region
+            )
+            out.append(
+                ItemState(
+                    id=item_id,
+                    pose=Pose(round(x, 6), round(y, 6)),
+                    cell=Cell(*cell),
+                    region=region,
+                    location=item.location,
+                    held_by=item.holder,
+                )
+            )
+        return tuple(out)

@@ -1,0 +1,111 @@
+"""The engine node on the wire: robot commands and statuses, control errors, real time."""
+
+from __future__ import annotations
+
+import queue
+import time
+
+import pytest
+from support import EngineProcess
+
+from bridge import Bridge, LockstepClient, Received, RemoteError, handshake
+from protocol import (
+    Cell,
+    CommandState,
+    CommandStatus,
+    ControlReply,
+    ErrorCode,
+    Navigate,
+    Pause,
+    Pick,
+    Reset,
+    Resume,
+    RobotCommand,
+    State,
+    Step,
+)
+
+
+def test_robot_commands_over_the_wire(world: str) -> None:
+    with EngineProcess(world, "--scenario", "paper-tidy"), Bridge(world) as brain:
+        info = handshake(brain, client="test", role="brain", timeout=30.0)
+        robot = next(a for a in info.scene.agents if a.kind.value == "robot")
+        assert robot.acts, "paper-tidy's robot acts"
+        statuses: queue.Queue[CommandStatus] = queue.Queue()
+        brain.subscribe(brain.keys.status(robot.id), lambda s, _: statuses.put(s), expected=CommandStatus)
+        clock = LockstepClient(brain, timeout=10.0)
+        clock.reset(scenario="paper-tidy")
+        commands = brain.publisher(brain.keys.command(robot.id))
+        assert commands.wait_matched(10.0)
+
+        def run(command: RobotCommand) -> list[CommandStatus]:
+            commands.put(command)
+            got: list[CommandStatus] = []
+            for _ in range(200):
+                clock.step(1)
+                while not statuses.empty():
+                    status = statuses.get()
+                    if status.command == command.id:
+                        got.append(status)
+                if got and got[-1].state.final:
+                    return got
+            raise AssertionError(f"{command} never ended: {got}")
+
+        went = run(RobotCommand(id="go", robot=robot.id, action=Navigate(cell=Cell(1, 8))))
+        assert [s.state for s in went] == [
+            CommandState.ACCEPTED,
+            CommandState.RUNNING,
+            CommandState.SUCCEEDED,
+        ]
+        picked = run(RobotCommand(id="grab", robot=robot.id, action=Pick(item="skate")))
+        assert picked[-1].state is CommandState.SUCCEEDED
+        impossible = run(RobotCommand(id="wall", robot=robot.id, action=Navigate(cell=Cell(3, 3))))
+        assert [s.state for s in impossible] == [CommandState.FAILED] and "not walkable" in impossible[
+            0
+        ].reason
+
+
+def test_control_errors_and_bad_input_keep_the_engine_serving(world: str) -> None:
+    with EngineProcess(world, "--scenario", "paper-1"), Bridge(world) as client:
+        handshake(client, client="test", timeout=30.0)
+        key = client.keys.control
+        with pytest.raises(RemoteError) as unknown:
+            client.query(key, Reset(scenario="paper-99"), ControlReply)
+        assert unknown.value.code is ErrorCode.UNKNOWN_SCENARIO and "paper-1" in unknown.value.message
+        raw = list(client.session.get(key, payload=b'{"type":"step","protocol":"1.0","n":0}', timeout=5.0))
+        assert raw and raw[0].err is not None and b"$.n" in raw[0].err.payload.to_bytes()
+        client.session.put(client.keys.command("robot"), b"\x00garbage")
+        reply = client.query(key, Step(n=3), ControlReply, timeout=5.0)
+        assert reply.tick == 3 and reply.state is not None and reply.state.tick == 3
+
+
+def test_realtime_runs_by_itself_and_pauses(world: str) -> None:
+    with EngineProcess(world, "--scenario", "paper-1", "--realtime", "5"), Bridge(world) as client:
+        info = handshake(client, client="test", timeout=30.0)
+        assert info.clock.value == "realtime"
+        ticks: queue.Queue[int] = queue.Queue()
+
+        def on_state(state: State, _: Received) -> None:
+            ticks.put(state.tick)
+
+        client.subscribe(client.keys.state, on_state, expected=State)
+        first = ticks.get(timeout=10.0)
+        time.sleep(1.0)
+        latest = first
+        while not ticks.empty():
+            latest = ticks.get()
+        # 5 x real time at 0.1 s per tick is 50 ticks a second; allow a slow machine half of that
+        assert latest - first >= 20, f"only {latest - first} ticks in 1 s at 5x real time"
+        with pytest.raises(RemoteError) as refused:
+            client.query(client.keys.control, Step(n=1), ControlReply)
+        assert refused.value.code is ErrorCode.UNSUPPORTED
+        paused = client.query(client.keys.control, Pause(), ControlReply)
+        assert paused.paused
+        time.sleep(0.3)
+        still = client.query(client.keys.control, Pause(), ControlReply).tick
+        time.sleep(0.5)
+        assert client.query(client.keys.control, Pause(), ControlReply).tick == still, (
+            "paused engine kept ticking"
+        )
+        resumed = client.query(client.keys.control, Resume(), ControlReply)
+        assert not resumed.paused
