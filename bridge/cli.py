@@ -86,7 +86,7 @@ def doctor_main(world: str, settings: SessionSettings) -> int:
     return run_doctor(world, settings)
 
 
-NODES = {"sim": "sim2d"}
+NODES = {"sim": "sim2d", "brain": "brain"}
 """Subcommands that run a node package as its own process (``toyroom sim`` -> ``python -m sim2d``)."""
 
 
@@ -117,6 +117,22 @@ def build_parser() -> argparse.ArgumentParser:
     for name, package in NODES.items():
         commands.add_parser(name, help=f"run the {package} node (`toyroom {name} --help` for its options)")
 
+    run = commands.add_parser(
+        "run", help="run an engine and the brain together, in lock-step, and keep the results"
+    )
+    run.add_argument("--scenario", default="paper-robot", help="scenario (default: %(default)s)")
+    run.add_argument("--out", type=Path, default=Path("out"), help="results directory (default: %(default)s)")
+    run.add_argument("--seed", type=int, default=0)
+    run.add_argument("--observer", choices=("btom", "truebelief", "perceptonly"), default="btom")
+    run.add_argument("--timeout", type=float, default=10.0, help="seconds per lock-step request")
+    add_zenoh_args(run)
+    run.set_defaults(world=None)
+
+    infer = commands.add_parser("infer", help="infer minds from a recorded trace.jsonl (no engine needed)")
+    infer.add_argument("trace", type=Path)
+    infer.add_argument("--out", type=Path, required=True)
+    infer.add_argument("--observer", choices=("btom", "truebelief", "perceptonly"), default="btom")
+
     doctor = commands.add_parser(
         "doctor", help="check the install: schemas, and every message over loopback Zenoh"
     )
@@ -143,6 +159,21 @@ def main(argv: Sequence[str] | None = None) -> int:
             return router_main(args.listen or [DEFAULT_ROUTER_ENDPOINT], args.zenoh_config)
         if args.command == "doctor":
             return doctor_main(args.world, settings_from_args(args))
+        if args.command == "run":
+            from .launch import RunConfig, run
+
+            config = RunConfig(
+                scenario=args.scenario,
+                out=args.out,
+                seed=args.seed,
+                observer=args.observer,
+                world=args.world if args.world != "default" else None,
+                timeout=args.timeout,
+            )
+            return run(config, settings_from_args(args))
+        if args.command == "infer":
+            extra = ["--observer", args.observer]
+            return exec_node("brain", ["infer", str(args.trace), "--out", str(args.out), *extra])
     except (BridgeError, ProtocolErrorBase) as err:
         print(f"toyroom {args.command}: {err}", file=sys.stderr)
         return 2

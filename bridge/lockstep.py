@@ -31,6 +31,8 @@ class LockstepClient:
         self.timeout = timeout
         self._cond = threading.Condition()
         self._latest: State | None = None
+        self.last_reply: ControlReply | None = None
+        """The engine's reply to the last reset or step: its ``events`` list what happened."""
         self._subscriber = bridge.subscribe(bridge.keys.state, self._on_state, expected=State)
 
     def _on_state(self, state: State, _: Received) -> None:
@@ -72,6 +74,7 @@ class LockstepClient:
         )
 
     def _result(self, request: Message, reply: ControlReply, deadline: float | None) -> State:
+        self.last_reply = reply
         if reply.state is not None:
             self._on_state(reply.state, Received(self.bridge.keys.state, self.bridge.encoding))
             return reply.state

@@ -11,6 +11,7 @@ from typing import Annotated
 
 import msgspec
 
+from .events import Event
 from .message import Message, Seconds, Tick
 from .state import State
 
@@ -27,6 +28,9 @@ class ControlReply(Message, frozen=True, kw_only=True, tag="control_reply"):
     """The state after the request (after the last tick of a ``step``): the same message
     that was published on ``engine/state``, so a lock-step client needs no race with its
     subscription. Engines with the ``lockstep`` capability include it."""
+    events: tuple[Event, ...] = ()
+    """Every event the request produced (all ticks of a ``step``), in publication order:
+    with ``state``, everything a lock-step client needs to follow the world exactly."""
 
 
 class ErrorCode(enum.Enum):

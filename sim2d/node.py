@@ -22,6 +22,7 @@ from protocol import (
     ControlReply,
     EngineInfo,
     ErrorCode,
+    Event,
     Message,
     Pause,
     Reset,
@@ -89,10 +90,15 @@ class EngineNode:
                 )
             publisher.put(status)
 
-    def _reply(self, result: TickResult | None = None) -> ControlReply:
+    def _reply(self, result: TickResult | None = None, events: tuple[Event, ...] = ()) -> ControlReply:
         state = result.state if result is not None else self.engine.state()
         return ControlReply(
-            episode=state.episode, tick=state.tick, time=state.time, paused=self.paused, state=state
+            episode=state.episode,
+            tick=state.tick,
+            time=state.time,
+            paused=self.paused,
+            state=state,
+            events=events,
         )
 
     def _control(self, request: Message | None, key: str) -> ControlReply:
@@ -116,10 +122,12 @@ class EngineNode:
                         ErrorCode.UNSUPPORTED, "step needs a lock-step engine; this one runs in real time"
                     )
                 stepped: TickResult | None = None
+                events: list[Event] = []
                 for _ in range(request.n):
                     stepped = self.engine.step()
+                    events.extend(stepped.events)
                     self._publish(stepped)
-                return self._reply(stepped)
+                return self._reply(stepped, tuple(events))
             if isinstance(request, Pause):
                 self.paused = True
             elif isinstance(request, Resume):

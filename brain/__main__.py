@@ -1,0 +1,107 @@
+"""The brain's command line (``toyroom brain`` and ``toyroom infer`` start these).
+
+- ``python -m brain [--world W] [--scenario S] [--seed N] [--out DIR] [--observer O]``:
+  the live brain node, in lock-step with the world's engine, until the episode ends.
+- ``python -m brain infer TRACE --out DIR [--observer O]``: the same outputs from a
+  recorded ``trace.jsonl``, with no engine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from bridge import Bridge, BridgeError
+from bridge.cli import add_zenoh_args, settings_from_args
+from protocol import Error as ProtocolError
+
+from .errors import BrainError
+from .node import BrainNode
+from .outputs import write_outputs
+from .trace import read_trace
+from .tracker import MindTracker, Observer
+
+OBSERVERS = [o.value for o in Observer]
+
+
+def run_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m brain", description="The Theory-of-Mind brain node.")
+    parser.add_argument(
+        "--scenario", help="scenario to reset the engine to (default: the engine's current one)"
+    )
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--out", type=Path, help="write mind.csv, figures and report.md here at the end")
+    parser.add_argument(
+        "--observer", choices=OBSERVERS, default="btom", help="person model (default: %(default)s)"
+    )
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, help="seconds per lock-step request; 0: no limit"
+    )
+    parser.add_argument(
+        "--handshake-timeout", type=float, default=30.0, help="seconds to wait for the engine"
+    )
+    parser.add_argument(
+        "--max-ticks", type=int, help="stop after this many ticks even if the episode goes on"
+    )
+    parser.add_argument("--log-level", default="INFO")
+    add_zenoh_args(parser)
+    return parser
+
+
+def infer_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m brain infer", description="Infer minds from a recorded trace."
+    )
+    parser.add_argument("trace", type=Path, help="a trace.jsonl written by `toyroom run`")
+    parser.add_argument("--out", type=Path, required=True)
+    parser.add_argument("--observer", choices=OBSERVERS, default="btom")
+    parser.add_argument("--log-level", default="WARNING")
+    return parser
+
+
+def infer_main(trace_path: Path, out: Path, observer: Observer) -> int:
+    """Replay a trace through the inference and write the outputs."""
+    trace = read_trace(trace_path)
+    tracker = MindTracker(trace.info.scene, observer=observer)
+    for state, events in trace:
+        tracker.observe(state, events)
+    path = write_outputs(tracker, trace.info.scenario, out)
+    print(f"brain: wrote {path} and the report in {out}")
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    infer = bool(argv) and argv[0] == "infer"
+    args = (infer_parser() if infer else run_parser()).parse_args(argv[1:] if infer else argv)
+    logging.basicConfig(
+        level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(name)s: %(message)s"
+    )
+    try:
+        if infer:
+            return infer_main(args.trace, args.out, Observer(args.observer))
+        with Bridge(args.world, settings_from_args(args)) as bridge:
+            node = BrainNode(
+                bridge,
+                observer=Observer(args.observer),
+                timeout=args.timeout or None,
+                handshake_timeout=args.handshake_timeout or None,
+            )
+            scenario, tracker = node.run(args.scenario, args.seed, max_ticks=args.max_ticks)
+            if args.out is not None:
+                path = write_outputs(tracker, scenario, args.out)
+                print(f"brain: wrote {path} and the report in {args.out}", flush=True)
+        return 0
+    except (BrainError, BridgeError, ProtocolError) as err:
+        print(f"brain: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
+
+
+__all__ = ["MindTracker", "main"]

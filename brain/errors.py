@@ -1,0 +1,11 @@
+"""Errors raised by the brain: one root and specific subclasses."""
+
+from __future__ import annotations
+
+
+class BrainError(Exception):
+    """Root of every error raised by ``brain``."""
+
+
+class TraceError(BrainError):
+    """A trace file cannot be read as a recorded episode."""

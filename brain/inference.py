@@ -1,0 +1,95 @@
+"""Inference as a hidden Markov model over z = (believed world, preference).
+
+A step of a person is a decision (an action ``a`` taken from state ``(x, h)``, then the
+percept at the new position) or a percept alone (something changed in view, speech):
+
+    alpha_t  ∝  H^T-mixed( T_t @ (L_t ⊙ alpha_{t-1}) )
+
+with ``L_t[w, d] = P(a_t | x, h, w, d)`` (all ones for a percept alone), ``T_t`` the belief
+transition of the new percept, and ``H_t`` the preference switch of the step: a switch
+probability ``s_t`` spread evenly over the other preferences (``s_t = 0`` for a percept
+alone; for a decision, the hazard compounded over the time since the last decision).
+Forward filtering gives the online estimate; forward-backward gives the smoothed one.
+Shapes: ``alpha`` is ``(W, D)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class HmmStep:
+    """One step of a person's chain.
+
+    Attributes:
+        tick: the engine tick it happened at.
+        transition: ``(W, W)`` belief transition ``T[i, j] = P(i | j)``.
+        likelihood: ``(W, D)`` action likelihood at the previous state, ``None`` for a percept alone.
+        switch: probability that the preference changes at this step.
+    """
+
+    tick: int
+    transition: FloatArray
+    likelihood: FloatArray | None
+    switch: float
+
+
+def hazard_matrix(n_preferences: int, switch: float) -> FloatArray:
+    """``(D, D)`` ``H[d_prev, d] = P(d | d_prev)``: stay with ``1 - switch``, else switch uniformly."""
+    if n_preferences == 1:
+        return np.ones((1, 1))
+    h = np.full((n_preferences, n_preferences), switch / (n_preferences - 1))
+    np.fill_diagonal(h, 1.0 - switch)
+    return h
+
+
+def switch_probability(hazard: float, elapsed_decisions: float) -> float:
+    """The chance of at least one switch over ``elapsed_decisions`` decision times (at least one)."""
+    return 1.0 - (1.0 - hazard) ** max(1.0, elapsed_decisions)
+
+
+def forward_step(alpha: FloatArray, step: HmmStep) -> FloatArray:
+    """The filtered ``(W, D)`` posterior after ``step``."""
+    weighted = alpha if step.likelihood is None else alpha * step.likelihood
+    predicted = step.transition @ weighted
+    if step.switch > 0:
+        predicted = predicted @ hazard_matrix(alpha.shape[1], step.switch)
+    total = predicted.sum()
+    if not total > 0:  # every hypothesis ruled out: fall back to the percept alone
+        predicted = step.transition @ alpha
+        total = predicted.sum()
+    return predicted / total
+
+
+def forward(prior: FloatArray, steps: Sequence[HmmStep]) -> list[FloatArray]:
+    """Filtered posteriors after each step."""
+    out = []
+    alpha = prior
+    for step in steps:
+        alpha = forward_step(alpha, step)
+        out.append(alpha)
+    return out
+
+
+def smooth(prior: FloatArray, steps: Sequence[HmmStep]) -> list[FloatArray]:
+    """Smoothed posteriors ``P(z_t | all steps)`` after each step (forward-backward)."""
+    alphas = forward(prior, steps)
+    beta = np.ones_like(prior)
+    out: list[FloatArray] = [np.empty(0)] * len(steps)
+    for t in range(len(steps) - 1, -1, -1):
+        posterior = alphas[t] * beta
+        out[t] = posterior / posterior.sum()
+        step = steps[t]
+        mixed = beta @ hazard_matrix(beta.shape[1], step.switch).T if step.switch > 0 else beta
+        back = step.transition.T @ mixed
+        if step.likelihood is not None:
+            back = back * step.likelihood
+        beta = back / back.sum()
+    return out

@@ -1,0 +1,57 @@
+"""The model's parameters, with the defaults of ``docs/model.md``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class ModelSettings:
+    """Every parameter of the Theory-of-Mind model.
+
+    Attributes:
+        r: the paper's factor ``f``: a change of believed world weighs ``r`` times a stay
+            (only matters with ``delta > 0``).
+        delta: perceptual noise per item: the probability of a percept that the believed
+            world would not produce.
+        beta: Boltzmann rationality of the action likelihood ``P(a) ∝ exp(beta * Q)``.
+        epsilon: floor mixed into every action likelihood (an impossible action never
+            zeroes the forward pass).
+        hazard: probability that the preference switches between two decisions.
+        decision_seconds: the typical time of one decision (a move to the next cell): a
+            longer gap between two decisions (a wait) compounds the hazard over it.
+        discount: the planner's discount per action.
+        preferred_utility: reward of playing with the preferred item.
+        other_utility: reward of playing with any other item.
+        leave_utility_item: reward of reaching the outside for a person who wants an item.
+        leave_utility_out: reward of reaching the outside for a person who wants to leave.
+        step_cost: cost of every non-terminal action.
+        vi_tolerance: value iteration stops when no value moves more than this.
+    """
+
+    r: float = 8.0
+    delta: float = 1e-4
+    beta: float = 2.0
+    epsilon: float = 1e-3
+    hazard: float = 0.05
+    decision_seconds: float = 0.7
+    discount: float = 0.95
+    preferred_utility: float = 30.0
+    other_utility: float = 1.0
+    leave_utility_item: float = 2.0
+    leave_utility_out: float = 30.0
+    step_cost: float = 1.0
+    vi_tolerance: float = 1e-9
+
+    def __post_init__(self) -> None:
+        checks = {
+            "r": self.r > 0,
+            "delta": 0.0 <= self.delta < 0.5,
+            "beta": self.beta >= 0,
+            "epsilon": 0.0 <= self.epsilon < 1.0,
+            "hazard": 0.0 <= self.hazard < 1.0,
+            "discount": 0.0 < self.discount < 1.0,
+        }
+        bad = [name for name, ok in checks.items() if not ok]
+        if bad:
+            raise ValueError(f"invalid model settings: {', '.join(f'{n}={getattr(self, n)!r}' for n in bad)}")

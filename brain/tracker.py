@@ -1,0 +1,195 @@
+"""Following people through the engine's state and events, tick by tick.
+
+Each tick, every person's decisions are read off the stream: a move when their cell
+changes to a neighbouring one, a take, drop or play when an event says so. A decision is
+one HMM step (its action likelihood, then the percept at the new position); a change of
+percept without a decision (an item moved in view, the robot's speech, an item handed
+over) is a step with the percept alone. Between steps the estimate is carried forward.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+import numpy.typing as npt
+
+from protocol import AgentKind, Event, EventKind, Scene, State
+
+from .belief import BeliefModel, Percept, percept, told, true_values
+from .estimates import Estimate, estimate
+from .inference import HmmStep, forward_step, smooth, switch_probability
+from .planner import TAKE, Move, Policy, cached_policy, drop_action, play_action
+from .settings import ModelSettings
+from .worldmodel import NEIGHBOURS
+
+FloatArray = npt.NDArray[np.float64]
+
+
+class Observer(Enum):
+    """Which model of the person the robot uses.
+
+    - ``btom``: Bayesian Theory of Mind (beliefs from percepts, preference from actions).
+    - ``truebelief``: no theory of mind: people are assumed to know the true world.
+    - ``perceptonly``: the belief filter alone, without the action likelihood.
+    """
+
+    BTOM = "btom"
+    TRUEBELIEF = "truebelief"
+    PERCEPTONLY = "perceptonly"
+
+
+@dataclass
+class PersonTrack:
+    """One person's chain: its steps, filtered posteriors and what was last seen."""
+
+    agent: str
+    cell: int | None = None
+    held: int = 0
+    last_decision: float | None = None
+    percept: Percept | None = None
+    steps: list[HmmStep] = field(default_factory=list)
+    online: list[FloatArray] = field(default_factory=list)
+    truths: list[tuple[int, ...]] = field(default_factory=list)
+    estimates: list[Estimate] = field(default_factory=list)
+
+
+class MindTracker:
+    """The brain's inference over every person of a scene (no I/O; feed it ticks).
+
+    Args:
+        scene: the engine's scene description.
+        settings: model parameters.
+        observer: which person model to use.
+    """
+
+    def __init__(
+        self, scene: Scene, settings: ModelSettings | None = None, observer: Observer = Observer.BTOM
+    ) -> None:
+        self.scene = scene
+        self.settings = settings or ModelSettings()
+        self.observer = observer
+        self.policy: Policy = cached_policy(scene, self.settings)
+        self.model = self.policy.model
+        self.beliefs = BeliefModel(self.model, self.settings.r, self.settings.delta)
+        W, D = self.model.n_worlds, self.model.n_items + 1
+        self.prior = np.full((W, D), 1.0 / (W * D))
+        self.people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
+        self.tracks = {p: PersonTrack(p) for p in self.people}
+        self.ticks: list[int] = []
+        self.labels: dict[tuple[int, str], str] = {}
+
+    # ----- feeding --------------------------------------------------------------------
+
+    def observe(self, state: State, events: Sequence[Event]) -> None:
+        """Take in one tick: the state at its end and the events that happened during it."""
+        model = self.model
+        cell_of = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in state.agents}
+        holders = {i.id: cell_of.get(i.held_by) if i.held_by else None for i in state.items}
+        resting = {i.id: i.location for i in state.items}
+        truth = true_values(model, resting, holders)
+        holding = {a.id: a.holding for a in state.agents}
+        self.ticks.append(state.tick)
+        for event in events:
+            if event.kind is EventKind.WAYPOINT and event.label is not None:
+                self.labels[(state.tick, event.actor)] = event.label
+        for person in self.people:
+            cell = cell_of.get(person)
+            if cell is None:
+                continue
+            self._observe_person(self.tracks[person], state, cell, holding.get(person), truth, events)
+
+    def _observe_person(
+        self,
+        track: PersonTrack,
+        state: State,
+        cell: int,
+        holding: str | None,
+        truth: tuple[int, ...],
+        events: Sequence[Event],
+    ) -> None:
+        model = self.model
+        tick = state.tick
+        held = 0 if holding is None else model.items.index(holding) + 1
+        seen = percept(model, cell, truth, held - 1 if held else None)
+        for event in events:  # speech: the robot told this person where an item is or who holds it
+            if event.kind is EventKind.SAY and event.target == track.agent and event.item in model.items:
+                k = model.items.index(event.item)
+                if event.location in model.locations:
+                    seen = told(seen, k, 2 * model.locations.index(event.location))
+                elif event.detail.startswith("occupied by "):
+                    seen = told(seen, k, truth[k] | 1)
+        if track.cell is None:  # first sight of this person: the percept alone
+            self._push(track, tick, seen, None, truth, switch=0.0)
+            track.last_decision = state.time
+        else:
+            action = self._action(track, cell, events)
+            if action is not None:
+                likelihood = self.policy.action_likelihood(track.cell, track.held, action)
+                elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
+                switch = switch_probability(self.settings.hazard, elapsed)
+                self._push(track, tick, seen, likelihood, truth, switch=switch)
+                track.last_decision = state.time
+            elif seen != track.percept:
+                self._push(track, tick, seen, None, truth, switch=0.0)
+        track.cell, track.held = cell, held
+
+    def _action(self, track: PersonTrack, cell: int, events: Sequence[Event]) -> int | None:
+        model = self.model
+        K = model.n_items
+        for event in events:
+            if event.actor != track.agent:
+                continue
+            if event.kind is EventKind.TAKE and event.item in model.items:
+                return TAKE + model.items.index(event.item)
+            if event.kind is EventKind.DROP:
+                return drop_action(K)
+            if event.kind is EventKind.PLAY:
+                return play_action(K)
+        assert track.cell is not None
+        if cell == track.cell:
+            return None
+        old, new = model.cells[track.cell], model.cells[cell]
+        delta = (int(new[0] - old[0]), int(new[1] - old[1]))
+        if delta in NEIGHBOURS:
+            return Move(NEIGHBOURS.index(delta)).value
+        return None  # a jump (a reset, a lost tick): no decision to explain
+
+    def _push(
+        self,
+        track: PersonTrack,
+        tick: int,
+        seen: Percept,
+        likelihood: FloatArray | None,
+        truth: tuple[int, ...],
+        switch: float,
+    ) -> None:
+        if self.observer is Observer.TRUEBELIEF:
+            transition = self.beliefs.true_world(truth, seen)
+        else:
+            transition = self.beliefs.transition(seen)
+        if self.observer is Observer.PERCEPTONLY:
+            likelihood = None
+        step = HmmStep(tick=tick, transition=transition, likelihood=likelihood, switch=switch)
+        previous = track.online[-1] if track.online else self.prior
+        posterior = forward_step(previous, step)
+        track.steps.append(step)
+        track.online.append(posterior)
+        track.truths.append(truth)
+        track.estimates.append(estimate(self.model, posterior, truth))
+        track.percept = seen
+
+    # ----- reading ----------------------------------------------------------------------
+
+    def online(self, person: str) -> Estimate | None:
+        """The latest online estimate of ``person`` (``None`` before the first sight)."""
+        track = self.tracks[person]
+        return track.estimates[-1] if track.estimates else None
+
+    def smoothed(self, person: str) -> list[Estimate]:
+        """Smoothed estimates after each of ``person``'s steps."""
+        track = self.tracks[person]
+        posteriors = smooth(self.prior, track.steps)
+        return [estimate(self.model, p, truth) for p, truth in zip(posteriors, track.truths, strict=True)]

@@ -1,0 +1,169 @@
+"""The world model built from a protocol scene: cells, item locations, possible worlds and
+what each cell sees.
+
+Shapes: ``C`` walkable cells, ``L`` item locations, ``K`` items, ``V = 2L`` values per item
+(``v = 2*l + held``: resting at location ``l``, or held by someone else near ``l``), and
+``W = V**K`` possible worlds. Everything is numpy arrays indexed by these integers.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import numpy.typing as npt
+
+from protocol import RegionKind, Scene
+
+NEIGHBOURS = ((0, 1), (0, -1), (-1, 0), (1, 0))
+"""Up, Down, Left, Right as (d col, d row); rows grow upwards."""
+
+IntArray = npt.NDArray[np.int64]
+BoolArray = npt.NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class WorldModel:
+    """Everything about a scene the model needs, as integer-indexed arrays.
+
+    Attributes:
+        cells: ``(C, 2)`` walkable cells (col, row), sorted.
+        neighbour: ``(C, 4)`` index of the cell Up/Down/Left/Right, or -1 (a wall).
+        outside: ``(C,)`` whether the cell is in an outside region.
+        spot_at: ``(C,)`` index of the location on the cell, or -1.
+        play_at: ``(C,)`` whether the cell is a play spot.
+        nearest: ``(C,)`` the location a carried item counts as being at: the nearest
+            location of the cell's region, or the nearest of all for regions with none.
+        sees: ``(C, L)`` whether a location is visible from a cell.
+        locations: ``L`` location ids; items: ``K`` item ids.
+        worlds: ``(W, K)`` item values of every world.
+    """
+
+    cells: IntArray
+    neighbour: IntArray
+    outside: BoolArray
+    spot_at: IntArray
+    play_at: BoolArray
+    nearest: IntArray
+    sees: BoolArray
+    locations: tuple[str, ...]
+    items: tuple[str, ...]
+    cell_index: dict[tuple[int, int], int]
+    worlds: IntArray
+
+    @property
+    def n_cells(self) -> int:
+        return len(self.cells)
+
+    @property
+    def n_locations(self) -> int:
+        return len(self.locations)
+
+    @property
+    def n_items(self) -> int:
+        return len(self.items)
+
+    @property
+    def n_values(self) -> int:
+        return 2 * len(self.locations)
+
+    @property
+    def n_worlds(self) -> int:
+        return len(self.worlds)
+
+    @cached_property
+    def place(self) -> IntArray:
+        """``(W, K)`` location index of every item in every world."""
+        return self.worlds // 2
+
+    @cached_property
+    def strides(self) -> IntArray:
+        """``(K,)`` world-index stride of each item: ``w = sum_k worlds[w, k] * strides[k]``."""
+        return np.array(
+            [self.n_values ** (self.n_items - 1 - k) for k in range(self.n_items)], dtype=np.int64
+        )
+
+    def world_index(self, values: IntArray) -> IntArray:
+        """World indices of ``(..., K)`` item values."""
+        return np.asarray(values, dtype=np.int64) @ self.strides
+
+    def with_value(self, world: IntArray, item: int, value: IntArray | int) -> IntArray:
+        """World indices after setting ``item`` to ``value`` in ``world``."""
+        old = self.worlds[world, item]
+        return world + (np.asarray(value) - old) * self.strides[item]
+
+
+def build_world_model(scene: Scene) -> WorldModel:
+    """The world model of a protocol scene (its items and locations, its walkable cells)."""
+    region_of = {(c.col, c.row): r.id for r in scene.regions for c in r.cells}
+    outside_regions = {r.id for r in scene.regions if r.kind is RegionKind.OUTSIDE}
+    walkable = sorted(set(region_of) | {(d.cell.col, d.cell.row) for d in scene.doors})
+    index = {cell: i for i, cell in enumerate(walkable)}
+    n = len(walkable)
+    neighbour = np.full((n, 4), -1, dtype=np.int64)
+    for i, (col, row) in enumerate(walkable):
+        for a, (dc, dr) in enumerate(NEIGHBOURS):
+            neighbour[i, a] = index.get((col + dc, row + dr), -1)
+    locations = tuple(loc.id for loc in scene.locations)
+    spot_at = np.full(n, -1, dtype=np.int64)
+    play_at = np.zeros(n, dtype=bool)
+    for li, loc in enumerate(scene.locations):
+        ci = index[(loc.cell.col, loc.cell.row)]
+        spot_at[ci] = li
+        play_at[ci] = loc.play
+    outside = np.array([region_of.get(c) in outside_regions for c in walkable], dtype=bool)
+    sees = np.zeros((n, len(locations)), dtype=bool)
+    loc_index = {loc: i for i, loc in enumerate(locations)}
+    for vis in scene.visibility:
+        seen_from = index.get((vis.cell.col, vis.cell.row))
+        if seen_from is not None:
+            for loc_id in vis.locations:
+                sees[seen_from, loc_index[loc_id]] = True
+    distances = _distances(neighbour, [index[(loc.cell.col, loc.cell.row)] for loc in scene.locations])
+    loc_region = [loc.region for loc in scene.locations]
+    nearest = np.zeros(n, dtype=np.int64)
+    for i, cell in enumerate(walkable):
+        region = region_of.get(cell)
+        own = [li for li, r in enumerate(loc_region) if r == region]
+        pool = own or list(range(len(locations)))
+        nearest[i] = min(pool, key=lambda li: (distances[li, i], li)) if pool else 0
+    items = tuple(item.id for item in scene.items)
+    values = 2 * len(locations)
+    worlds = (
+        np.stack(np.meshgrid(*[np.arange(values)] * len(items), indexing="ij"), axis=-1).reshape(
+            -1, len(items)
+        )
+        if items
+        else np.zeros((1, 0), dtype=np.int64)
+    )
+    return WorldModel(
+        cells=np.array(walkable, dtype=np.int64),
+        neighbour=neighbour,
+        outside=outside,
+        spot_at=spot_at,
+        play_at=play_at,
+        nearest=nearest,
+        sees=sees,
+        locations=locations,
+        items=items,
+        cell_index=index,
+        worlds=worlds.astype(np.int64),
+    )
+
+
+def _distances(neighbour: IntArray, sources: list[int]) -> IntArray:
+    """``(len(sources), C)`` path lengths (in cells) from each source to every cell."""
+    n = len(neighbour)
+    out = np.full((len(sources), n), 1 << 30, dtype=np.int64)
+    for s, start in enumerate(sources):
+        out[s, start] = 0
+        queue = deque([start])
+        while queue:
+            cell = queue.popleft()
+            for nxt in neighbour[cell]:
+                if nxt >= 0 and out[s, nxt] > out[s, cell] + 1:
+                    out[s, nxt] = out[s, cell] + 1
+                    queue.append(int(nxt))
+    return out
