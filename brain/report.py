@@ -152,7 +152,8 @@ def report_markdown(rows: list[MindRow], scenario: str, agent: str, observer: st
             best = max(dist, key=dist.__getitem__)
             cells.append(f"{best} {dist[best]:.2f} ({online[label]['belief'][item][best]:.2f})")
         for option in options:
-            smoothed, filtered = smooth[label]["preference"]["-"][option], online[label]["preference"]["-"][option]
+            smoothed = smooth[label]["preference"]["-"][option]
+            filtered = online[label]["preference"]["-"][option]
             cells.append(f"{smoothed:.2f} ({filtered:.2f})")
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
