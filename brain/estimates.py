@@ -47,5 +47,12 @@ def estimate(model: WorldModel, posterior: FloatArray, truth: tuple[int, ...]) -
         location = int(np.argmax(joint))
         if joint[location] > best[2]:
             best = (k, location, float(joint[location]))
-    wrong = tuple(k for k in range(K) if int(np.argmax(beliefs[k])) != truth[k] // 2)
-    return Estimate(beliefs=beliefs, preference=preference, intention=best, false_beliefs=wrong)
+    return Estimate(
+        beliefs=beliefs, preference=preference, intention=best, false_beliefs=false_beliefs(beliefs, truth)
+    )
+
+
+def false_beliefs(beliefs: FloatArray, truth: tuple[int, ...]) -> tuple[int, ...]:
+    """Items whose most probable believed location (``beliefs`` is ``(K, L)``) differs from
+    their true location (``truth`` holds item values ``2 * location + held``)."""
+    return tuple(k for k in range(len(truth)) if int(np.argmax(beliefs[k])) != truth[k] // 2)

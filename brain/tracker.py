@@ -9,6 +9,7 @@ over) is a step with the percept alone. Between steps the estimate is carried fo
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum
@@ -19,7 +20,7 @@ import numpy.typing as npt
 from protocol import AgentKind, Event, EventKind, Scene, State
 
 from .belief import BeliefModel, Percept, percept, told, true_values
-from .estimates import Estimate, estimate
+from .estimates import Estimate, estimate, false_beliefs
 from .inference import HmmStep, forward_step, smooth, switch_probability
 from .planner import TAKE, Move, Policy, cached_policy, drop_action, play_action
 from .settings import ModelSettings
@@ -79,6 +80,8 @@ class MindTracker:
         self.people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
         self.tracks = {p: PersonTrack(p) for p in self.people}
         self.ticks: list[int] = []
+        self.truth: tuple[int, ...] = ()
+        """The true item values at the last tick observed."""
         self.labels: dict[tuple[int, str], str] = {}
 
     # ----- feeding --------------------------------------------------------------------
@@ -90,6 +93,7 @@ class MindTracker:
         holders = {i.id: cell_of.get(i.held_by) if i.held_by else None for i in state.items}
         resting = {i.id: i.location for i in state.items}
         truth = true_values(model, resting, holders)
+        self.truth = truth
         holding = {a.id: a.holding for a in state.agents}
         self.ticks.append(state.tick)
         for event in events:
@@ -132,7 +136,10 @@ class MindTracker:
                 switch = switch_probability(self.settings.hazard, elapsed)
                 self._push(track, tick, seen, likelihood, truth, switch=switch)
                 track.last_decision = state.time
-            elif seen != track.percept:
+            elif seen != track.percept or (
+                self.observer is Observer.TRUEBELIEF and truth != track.truths[-1]
+            ):
+                # a new percept; or, to an observer without theory of mind, any change of the world
                 self._push(track, tick, seen, None, truth, switch=0.0)
         track.cell, track.held = cell, held
 
@@ -184,9 +191,13 @@ class MindTracker:
     # ----- reading ----------------------------------------------------------------------
 
     def online(self, person: str) -> Estimate | None:
-        """The latest online estimate of ``person`` (``None`` before the first sight)."""
+        """The latest online estimate of ``person`` (``None`` before the first sight), its
+        false-belief flags checked against the world as it is now."""
         track = self.tracks[person]
-        return track.estimates[-1] if track.estimates else None
+        if not track.estimates:
+            return None
+        latest = track.estimates[-1]
+        return dataclasses.replace(latest, false_beliefs=false_beliefs(latest.beliefs, self.truth))
 
     def smoothed(self, person: str) -> list[Estimate]:
         """Smoothed estimates after each of ``person``'s steps."""

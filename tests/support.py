@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import socket
+from pathlib import Path
 
 from protocol import BY_TAG, Message, decode
 from protocol.examples import example_paths
@@ -49,3 +50,48 @@ class EngineProcess:
             except Exception:
                 self.process.kill()
                 self.process.wait(timeout=10)
+
+
+def toyroom_run(out: Path, scenario: str, *extra: str) -> Path:
+    """``toyroom run`` as a real process (engine and brain processes over loopback Zenoh);
+    returns the results directory."""
+    import subprocess
+    import sys
+
+    result = subprocess.run(
+        [sys.executable, "-m", "bridge", "run", "--scenario", scenario, "--out", str(out), *extra],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 0, f"toyroom run {scenario} failed:\n{result.stdout}\n{result.stderr}"
+    return out
+
+
+class MindCsv:
+    """``mind.csv`` indexed for assertions: ``at(agent, label)`` and ``p(...)``."""
+
+    def __init__(self, path: Path) -> None:
+        import csv
+
+        with path.open(newline="") as handle:
+            self.rows = list(csv.DictReader(handle))
+        self.label_tick = {(r["agent"], r["label"]): int(r["tick"]) for r in self.rows if r["label"]}
+        self.index = {
+            (int(r["tick"]), r["agent"], r["quantity"], r["item"], r["value"]): r for r in self.rows
+        }
+
+    def tick(self, agent: str, label: str) -> int:
+        assert (agent, label) in self.label_tick, (
+            f"no step '{label}' of {agent}; labels: {sorted(self.label_tick)}"
+        )
+        return self.label_tick[(agent, label)]
+
+    def belief(self, agent: str, tick: int, item: str, locations: str, column: str = "p_smoothed") -> float:
+        """Probability mass of ``item`` over the ``+``-separated ``locations`` at ``tick``."""
+        return sum(
+            float(self.index[(tick, agent, "belief", item, loc)][column]) for loc in locations.split("+")
+        )
+
+    def preference(self, agent: str, tick: int, item: str, column: str = "p_smoothed") -> float:
+        return float(self.index[(tick, agent, "preference", item, "")][column])

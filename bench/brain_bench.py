@@ -1,0 +1,70 @@
+"""Brain speed on the paper map: the planner's cold time and the online update per person
+per tick, on a recorded paper-2 episode (the engine core runs first, untimed).
+
+    python bench/brain_bench.py [--repeats N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+from rich.console import Console
+from rich.table import Table
+
+from brain.planner import cached_policy
+from brain.settings import ModelSettings
+from brain.tracker import MindTracker
+from sim2d.engine import Engine
+
+
+def main(repeats: int = 5) -> dict[str, float]:
+    engine = Engine("paper-2")
+    ticks = [(engine.state(), ())]
+    while not engine.done:
+        result = engine.step()
+        ticks.append((result.state, result.events))
+    scene = engine.scene()
+    settings = ModelSettings()
+
+    cold = []
+    for _ in range(repeats):
+        cached_policy.cache_clear()
+        start = time.perf_counter()
+        cached_policy(scene, settings)
+        cold.append(time.perf_counter() - start)
+
+    per_step: list[float] = []
+    for _ in range(repeats):
+        tracker = MindTracker(scene, settings)
+        people = len(tracker.people)
+        for state, events in ticks:
+            before = sum(len(t.steps) for t in tracker.tracks.values())
+            start = time.perf_counter()
+            tracker.observe(state, events)
+            elapsed = time.perf_counter() - start
+            stepped = sum(len(t.steps) for t in tracker.tracks.values()) - before
+            if stepped:
+                per_step.append(elapsed / people)
+    per_step.sort()
+    numbers = {
+        "planner_cold_s": statistics.median(cold),
+        "brain_step_us_median": statistics.median(per_step) * 1e6,
+        "brain_step_us_p99": per_step[int(0.99 * (len(per_step) - 1))] * 1e6,
+    }
+    table = Table(title=f"brain on the paper map ({repeats} repeats, {len(ticks)} ticks of paper-2)")
+    table.add_column("measure")
+    table.add_column("value", justify="right")
+    table.add_column("target", justify="right")
+    table.add_row("planner, cold (s)", f"{numbers['planner_cold_s']:.3f}", "<= 0.5")
+    table.add_row("online step per person, median (us)", f"{numbers['brain_step_us_median']:.0f}", "<= 1000")
+    table.add_row("online step per person, p99 (us)", f"{numbers['brain_step_us_p99']:.0f}", "")
+    Console().print(table)
+    return numbers
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    main(parser.parse_args().repeats)

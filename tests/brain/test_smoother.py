@@ -1,0 +1,98 @@
+"""Forward filtering and forward-backward smoothing against brute-force enumeration of every
+hidden path (to 1e-9)."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from scenes import tiny_scene, tiny_state
+
+from brain.inference import HmmStep, forward, hazard_matrix, smooth
+from brain.tracker import MindTracker
+
+
+def enumerate_marginals(prior: np.ndarray, steps: list[HmmStep]) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Exact filtered and smoothed marginals by summing the joint over all hidden paths."""
+    W, D = prior.shape
+    states = [(w, d) for w in range(W) for d in range(D)]
+    T = len(steps)
+    smoothed = [np.zeros((W, D)) for _ in range(T)]
+    filtered_num = [np.zeros((W, D)) for _ in range(T)]
+    for path in itertools.product(range(len(states)), repeat=T + 1):
+        z = [states[i] for i in path]  # z[0] is the state before the first step
+        p = prior[z[0]]
+        weights = []
+        for t, step in enumerate(steps):
+            (w0, d0), (w1, d1) = z[t], z[t + 1]
+            lik = 1.0 if step.likelihood is None else step.likelihood[w0, d0]
+            p *= lik * step.transition[w1, w0] * hazard_matrix(D, step.switch)[d0, d1]
+            weights.append(p)
+        for t in range(T):
+            smoothed[t][z[t + 1]] += p
+        # filtered: the prefix joint up to step t, summed over paths (each prefix counted once
+        # per continuation, so divide by the number of continuations)
+        for t in range(T):
+            filtered_num[t][z[t + 1]] += weights[t] / (W * D) ** (T - 1 - t)
+    return [f / f.sum() for f in filtered_num], [s / s.sum() for s in smoothed]
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_random_chain(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    W, D, T = 3, 2, 4
+    steps = []
+    for t in range(T):
+        transition = rng.random((W, W))
+        transition /= transition.sum(axis=0, keepdims=True)
+        likelihood = None if t == 1 else rng.random((W, D))
+        steps.append(
+            HmmStep(tick=t, transition=transition, likelihood=likelihood, switch=[0.0, 0.1, 0.3, 0.05][t])
+        )
+    prior = rng.random((W, D))
+    prior /= prior.sum()
+    want_filtered, want_smoothed = enumerate_marginals(prior, steps)
+    for got, want in zip(forward(prior, steps), want_filtered, strict=True):
+        assert np.allclose(got, want, atol=1e-9, rtol=0)
+    for got, want in zip(smooth(prior, steps), want_smoothed, strict=True):
+        assert np.allclose(got, want, atol=1e-9, rtol=0)
+
+
+def test_real_trace_of_the_tiny_scene() -> None:
+    """A person comes in from outside, walks to B, takes the ball, walks to A and plays."""
+    tracker = MindTracker(tiny_scene())
+    route = [
+        ((4, 0), False),
+        ((3, 0), False),
+        ((2, 0), False),
+        ((2, 0), True),
+        ((1, 0), True),
+        ((0, 0), True),
+    ]
+    for tick, (cell, holding) in enumerate(route):
+        from protocol import Event, EventKind
+
+        events = ()
+        if tick == 3:
+            events = (
+                Event(
+                    episode=1,
+                    tick=tick,
+                    time=tick * 0.7,
+                    kind=EventKind.TAKE,
+                    actor="p",
+                    item="ball",
+                    location="B",
+                ),
+            )
+        tracker.observe(tiny_state(tick, cell, None if holding else "B", holding), events)
+    steps = tracker.tracks["p"].steps
+    assert len(steps) == 6 and [s.likelihood is None for s in steps] == [True] + [False] * 5
+    _, want_smoothed = enumerate_marginals(tracker.prior, steps[:4])
+    for got, want in zip(smooth(tracker.prior, steps[:4]), want_smoothed, strict=True):
+        assert np.allclose(got, want, atol=1e-9, rtol=0)
+    final = tracker.online("p")
+    assert final is not None and final.preference[0] > 0.9, (
+        "walking in, taking the ball and carrying it to play"
+    )

@@ -1,0 +1,73 @@
+"""A tiny scene for exact checks: a 3-cell playground with two spots, a door, the outside.
+
+(0,0) A [play]   (1,0)   (2,0) B    door (3,0)   O (4,0)
+"""
+
+from __future__ import annotations
+
+from protocol import (
+    AgentKind,
+    AgentSpec,
+    AgentState,
+    Cell,
+    Door,
+    ItemShape,
+    ItemSpec,
+    ItemState,
+    Location,
+    Pose,
+    Region,
+    RegionKind,
+    Scene,
+    State,
+    Vec2,
+    Visibility,
+)
+
+ROOM = tuple(Cell(c, 0) for c in range(3))
+
+
+def tiny_scene() -> Scene:
+    return Scene(
+        name="tiny",
+        cell_size=1.0,
+        origin=Vec2(0.0, 0.0),
+        columns=5,
+        rows=1,
+        regions=(
+            Region(id="R", kind=RegionKind.PLAYGROUND, cells=ROOM),
+            Region(id="O", kind=RegionKind.OUTSIDE, cells=(Cell(4, 0),)),
+        ),
+        doors=(Door(id="d", cell=Cell(3, 0), joins=("R", "O")),),
+        locations=(
+            Location(id="A", region="R", cell=Cell(0, 0), play=True),
+            Location(id="B", region="R", cell=Cell(2, 0)),
+        ),
+        visibility=tuple(Visibility(cell=c, locations=("A", "B")) for c in (*ROOM, Cell(3, 0)))
+        + (Visibility(cell=Cell(4, 0), locations=()),),
+        agents=(AgentSpec(id="p", kind=AgentKind.PERSON, home=Cell(4, 0)),),
+        items=(ItemSpec(id="ball", shape=ItemShape.BALL),),
+    )
+
+
+def tiny_state(tick: int, cell: tuple[int, int], ball_at: str | None, holding: bool = False) -> State:
+    """The person on ``cell``; the ball resting at ``ball_at`` or carried by the person."""
+    region = "O" if cell[0] == 4 else "R"
+    person = AgentState(
+        id="p",
+        pose=Pose(cell[0] + 0.5, 0.5),
+        velocity=Vec2(0.0, 0.0),
+        cell=Cell(*cell),
+        region=region,
+        holding="ball" if holding else None,
+    )
+    ball_cell = Cell(*cell) if holding else Cell(0 if ball_at == "A" else 2, 0)
+    ball = ItemState(
+        id="ball",
+        pose=Pose(ball_cell.col + 0.5, 0.5),
+        cell=ball_cell,
+        region="R",
+        location=None if holding else ball_at,
+        held_by="p" if holding else None,
+    )
+    return State(episode=1, tick=tick, time=tick * 0.7, agents=(person,), items=(ball,))
