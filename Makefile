@@ -19,7 +19,7 @@ $(VENV)/.test-installed: pyproject.toml | $(VENV)/bin/python
 	touch $@ $(VENV)/.run-installed
 
 run: $(VENV)/.run-installed
-	$(VENV)/bin/toyroom doctor
+	$(VENV)/bin/toyroom run --out out
 
 test: $(VENV)/.test-installed
 	$(PY) -m pytest
