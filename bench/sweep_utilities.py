@@ -21,7 +21,9 @@ from sim2d.engine import Engine
 PAIRS = [(10.0, 5.0), (5.0, 2.0), (4.0, 2.0), (3.0, 1.0), (3.0, 0.0), (2.0, 1.0), (2.0, 0.0), (0.0, 5.0)]
 
 
-def labelled(scenario: str, settings: ModelSettings) -> dict[str, tuple[dict[str, dict[str, float]], dict[str, float]]]:
+def labelled(
+    scenario: str, settings: ModelSettings
+) -> dict[str, tuple[dict[str, dict[str, float]], dict[str, float]]]:
     """A1's smoothed beliefs and preference at each of its labelled steps."""
     engine = Engine(scenario)
     tracker = MindTracker(engine.scene(), settings)
@@ -38,7 +40,10 @@ def labelled(scenario: str, settings: ModelSettings) -> dict[str, tuple[dict[str
         if agent == "A1":
             i = max(j for j, t in enumerate(ticks) if t <= tick)
             est = smoothed[i]
-            beliefs = {item: dict(zip(model.locations, est.beliefs[k], strict=True)) for k, item in enumerate(model.items)}
+            beliefs = {
+                item: dict(zip(model.locations, est.beliefs[k], strict=True))
+                for k, item in enumerate(model.items)
+            }
             out[label] = (beliefs, dict(zip((*model.items, "out"), est.preference, strict=True)))
     return out
 
@@ -57,7 +62,12 @@ def failures(settings: ModelSettings) -> list[str]:
     for name in ("paper-1", "paper-2"):
         b6, p6 = runs[name]["6"]
         b7 = runs[name]["7"][0]
-        if b6["ball"]["S1"] < 0.8 or b6["skate"]["S1"] > 0.2 or b7["skate"]["P2"] < 0.8 or b7["ball"]["S1"] < 0.8:
+        if (
+            b6["ball"]["S1"] < 0.8
+            or b6["skate"]["S1"] > 0.2
+            or b7["skate"]["P2"] < 0.8
+            or b7["ball"]["S1"] < 0.8
+        ):
             fails.append(f"{name}@6-7 beliefs")
         if p6["skate"] <= p6["ball"]:
             fails.append(f"{name}@6 preference")
@@ -86,7 +96,9 @@ def main() -> None:
         fails = failures(settings)
         summary = sorted({f.split(" ")[0] for f in fails})
         table.add_row(
-            f"{leave:g}", f"{other:g}", f"{ball['S2']:.2f} / {ball['P2']:.2f}",
+            f"{leave:g}",
+            f"{other:g}",
+            f"{ball['S2']:.2f} / {ball['P2']:.2f}",
             "[green]none[/]" if not fails else f"[red]{', '.join(itertools.islice(summary, 6))}[/]",
         )
     Console().print(table)
