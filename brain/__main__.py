@@ -23,6 +23,7 @@ from .node import BrainNode
 from .outputs import write_outputs
 from .trace import read_trace
 from .tracker import MindTracker, Observer
+from .tree import RobotTree
 
 OBSERVERS = [o.value for o in Observer]
 
@@ -46,6 +47,12 @@ def run_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--max-ticks", type=int, help="stop after this many ticks even if the episode goes on"
     )
+    parser.add_argument(
+        "--robot",
+        choices=("act", "observe"),
+        help="override whether the robot acts (default: as the scene says)",
+    )
+    parser.add_argument("--print-tree", action="store_true", help="print the robot's behaviour tree and exit")
     parser.add_argument("--log-level", default="INFO")
     add_zenoh_args(parser)
     return parser
@@ -83,12 +90,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if infer:
             return infer_main(args.trace, args.out, Observer(args.observer))
+        if args.print_tree:
+            print(RobotTree("robot", (0, 0)).render())
+            return 0
         with Bridge(args.world, settings_from_args(args)) as bridge:
             node = BrainNode(
                 bridge,
                 observer=Observer(args.observer),
                 timeout=args.timeout or None,
                 handshake_timeout=args.handshake_timeout or None,
+                robot=args.robot,
             )
             scenario, tracker = node.run(args.scenario, args.seed, max_ticks=args.max_ticks)
             if args.out is not None:

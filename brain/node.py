@@ -1,21 +1,28 @@
-"""The brain node: the inference on the wire.
+"""The brain node: the inference and the robot on the wire.
 
 It waits for the engine's handshake, builds its model from the scene it receives (never
 from engine files), drives the engine's clock in lock-step one tick at a time, updates
-every person's online estimate from each tick's state and events, publishes ``brain/mind``
-every tick, and holds the liveliness token ``@alive/brain/<name>``.
+every person's online estimate from each tick's state and events, ticks the robot's
+behaviour tree and sends its commands (waiting for the engine to accept or refuse each
+before the next tick, so runs are reproducible), follows their statuses, publishes
+``brain/mind`` every tick, and holds the liveliness token ``@alive/brain/<name>``.
+The robot acts only when the scene says it does (or ``robot="act"`` overrides it).
 """
 
 from __future__ import annotations
 
 import logging
+import queue
+import time
 from collections.abc import Callable
+from typing import Literal
 
-from bridge import Bridge, LockstepClient, handshake
-from protocol import Event, State
+from bridge import Bridge, LockstepClient, StepTimeout, handshake
+from protocol import AgentKind, CommandStatus, EngineInfo, Event, State
 
 from .outputs import mind_message
-from .settings import ModelSettings
+from .robot import RobotBrain
+from .settings import ModelSettings, RobotSettings
 from .tracker import MindTracker, Observer
 
 log = logging.getLogger("toyroom.brain")
@@ -42,14 +49,27 @@ class BrainNode:
         observer: Observer = Observer.BTOM,
         timeout: float | None = 10.0,
         handshake_timeout: float | None = 30.0,
+        robot: Literal["act", "observe"] | None = None,
+        robot_settings: RobotSettings | None = None,
     ) -> None:
         self.bridge = bridge
+        self.robot_mode = robot
+        self.robot_settings = robot_settings or RobotSettings()
         self.settings = settings or ModelSettings()
         self.observer = observer
         self.timeout = timeout
         self.handshake_timeout = handshake_timeout
         self._mind = bridge.publisher(bridge.keys.mind)
         bridge.token("brain", BRAIN_NAME)
+
+    def _robot(self, info: EngineInfo, tracker: MindTracker) -> RobotBrain | None:
+        robots = [a for a in info.scene.agents if a.kind is AgentKind.ROBOT]
+        if not robots:
+            return None
+        spec = robots[0]
+        acts = spec.acts if self.robot_mode is None else self.robot_mode == "act"
+        log.info("robot '%s' %s", spec.id, "acts" if acts else "only observes")
+        return RobotBrain(tracker, spec.id, self.robot_settings) if acts else None
 
     def run(
         self,
@@ -66,23 +86,57 @@ class BrainNode:
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("engine '%s', scenario '%s', scene '%s'", info.engine, info.scenario, info.scene.name)
         tracker = MindTracker(info.scene, self.settings, self.observer)
+        robot = self._robot(info, tracker)
+        inbox: queue.Queue[CommandStatus] = queue.Queue()
+        commands = None
+        if robot is not None:
+            self.bridge.subscribe(
+                self.bridge.keys.status(robot.robot), lambda s, _: inbox.put(s), expected=CommandStatus
+            )
+            commands = self.bridge.publisher(self.bridge.keys.command(robot.robot))
+            if not commands.wait_matched(self.handshake_timeout):
+                raise StepTimeout(f"the engine never subscribed to '{self.bridge.keys.command(robot.robot)}'")
         events = clock.last_reply.events if clock.last_reply is not None else ()
-        self._tick(tracker, state, events, on_tick)
-        while not state.done and (max_ticks is None or state.tick < max_ticks):
+        while True:
+            tracker.observe(state, events)
+            if robot is not None and commands is not None:
+                robot.observe(events)
+                for command in robot.tick(state):
+                    commands.put(command)
+                    self._await_receipt(robot, inbox, command.id)
+            self._mind.put(mind_message(tracker, state, robot.activity() if robot is not None else None))
+            if on_tick is not None:
+                on_tick(state, events)
+            if state.done or (max_ticks is not None and state.tick >= max_ticks):
+                break
             state = clock.step(1)
-            events = clock.last_reply.events if clock.last_reply is not None else ()
-            self._tick(tracker, state, events, on_tick)
+            reply = clock.last_reply
+            events = reply.events if reply is not None else ()
+            if robot is not None and reply is not None:
+                for status in reply.statuses:
+                    robot.record(status)
+                self._drain(robot, inbox)
         clock.close()
         return info.scenario, tracker
 
-    def _tick(
-        self,
-        tracker: MindTracker,
-        state: State,
-        events: tuple[Event, ...],
-        on_tick: Callable[[State, tuple[Event, ...]], None] | None,
-    ) -> None:
-        tracker.observe(state, events)
-        self._mind.put(mind_message(tracker, state))
-        if on_tick is not None:
-            on_tick(state, events)
+    @staticmethod
+    def _drain(robot: RobotBrain, inbox: queue.Queue[CommandStatus]) -> None:
+        while True:
+            try:
+                robot.record(inbox.get_nowait())
+            except queue.Empty:
+                return
+
+    def _await_receipt(self, robot: RobotBrain, inbox: queue.Queue[CommandStatus], command: str) -> None:
+        """Wait until the engine has accepted or refused ``command`` (keeps runs reproducible)."""
+        deadline = None if self.timeout is None else time.monotonic() + self.timeout
+        while not robot.tree.context.book.answered(command):
+            remaining = None if deadline is None else deadline - time.monotonic()
+            if remaining is not None and remaining <= 0:
+                raise StepTimeout(
+                    f"the engine never answered robot command '{command}' within {self.timeout:g} s"
+                )
+            try:
+                robot.record(inbox.get(timeout=remaining))
+            except queue.Empty:
+                continue

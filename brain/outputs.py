@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from protocol import AgentMind, Intention, ItemBelief, Mind, Prob, State
+from protocol import AgentMind, Intention, ItemBelief, Mind, Prob, RobotActivity, State
 
 from .estimates import OUT
 from .groundtruth import load_ground_truth
@@ -14,8 +14,8 @@ from .report import write_report
 from .tracker import MindTracker
 
 
-def mind_message(tracker: MindTracker, state: State) -> Mind:
-    """The online estimates of every person, as the protocol's ``mind`` message."""
+def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None = None) -> Mind:
+    """The online estimates of every person (and what the robot does), as a ``mind`` message."""
     model = tracker.model
     agents = []
     for person in tracker.people:
@@ -50,7 +50,8 @@ def mind_message(tracker: MindTracker, state: State) -> Mind:
                 false_beliefs=tuple(model.items[k] for k in est.false_beliefs),
             )
         )
-    return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents))
+    robots = (robot,) if robot is not None else ()
+    return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents), robots=robots)
 
 
 def write_outputs(tracker: MindTracker, scenario: str, out: Path) -> Path:

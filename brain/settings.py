@@ -55,3 +55,26 @@ class ModelSettings:
         bad = [name for name, ok in checks.items() if not ok]
         if bad:
             raise ValueError(f"invalid model settings: {', '.join(f'{n}={getattr(self, n)!r}' for n in bad)}")
+
+
+@dataclass(frozen=True)
+class RobotSettings:
+    """When the robot acts, and how long it waits.
+
+    Attributes:
+        preference_threshold: a person's preference must be at least this probable for
+            the robot to act on it.
+        intention_threshold: the same for the intention (item and believed location).
+        belief_threshold: a wrong believed location must be at least this probable to count
+            as a false belief the robot acts on.
+        attempts: how often the robot tries one task before giving up on it.
+        navigate_timeout: engine seconds a navigation may take.
+        action_timeout: engine seconds a pick, place, give, say or request may take.
+    """
+
+    preference_threshold: float = 0.6
+    intention_threshold: float = 0.5
+    belief_threshold: float = 0.6
+    attempts: int = 2
+    navigate_timeout: float = 60.0
+    action_timeout: float = 10.0

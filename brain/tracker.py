@@ -48,6 +48,8 @@ class PersonTrack:
 
     agent: str
     cell: int | None = None
+    moved_from: int | None = None
+    """The cell the person left on their last move."""
     held: int = 0
     last_decision: float | None = None
     percept: Percept | None = None
@@ -141,6 +143,8 @@ class MindTracker:
             ):
                 # a new percept; or, to an observer without theory of mind, any change of the world
                 self._push(track, tick, seen, None, truth, switch=0.0)
+        if track.cell is not None and cell != track.cell:
+            track.moved_from = track.cell
         track.cell, track.held = cell, held
 
     def _action(self, track: PersonTrack, cell: int, events: Sequence[Event]) -> int | None:

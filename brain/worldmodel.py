@@ -39,6 +39,7 @@ class WorldModel:
         sees: ``(C, L)`` whether a location is visible from a cell.
         locations: ``L`` location ids; items: ``K`` item ids.
         worlds: ``(W, K)`` item values of every world.
+        distance: ``(L, C)`` path length in cells from each location to every cell.
     """
 
     cells: IntArray
@@ -52,6 +53,7 @@ class WorldModel:
     items: tuple[str, ...]
     cell_index: dict[tuple[int, int], int]
     worlds: IntArray
+    distance: IntArray
 
     @property
     def n_cells(self) -> int:
@@ -150,6 +152,7 @@ def build_world_model(scene: Scene) -> WorldModel:
         items=items,
         cell_index=index,
         worlds=worlds.astype(np.int64),
+        distance=distances,
     )
 
 

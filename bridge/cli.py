@@ -125,6 +125,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, default=0)
     run.add_argument("--observer", choices=("btom", "truebelief", "perceptonly"), default="btom")
     run.add_argument("--timeout", type=float, default=10.0, help="seconds per lock-step request")
+    run.add_argument("--robot", choices=("act", "observe"), help="override whether the robot acts")
+    run.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
     add_zenoh_args(run)
     run.set_defaults(world=None)
 
@@ -169,6 +171,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 observer=args.observer,
                 world=args.world if args.world != "default" else None,
                 timeout=args.timeout,
+                robot=args.robot,
+                live=False if args.no_live else None,
             )
             return run(config, settings_from_args(args))
         if args.command == "infer":

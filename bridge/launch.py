@@ -1,5 +1,7 @@
 """``toyroom run``: the engine and the brain, each its own process, on a private loopback
-world in lock-step, with every message recorded to ``DIR/trace.jsonl``.
+world in lock-step, with every message recorded to ``DIR/trace.jsonl`` and every discrete
+event listed in ``DIR/events.csv``; a live table shows what the brain infers and what the
+robot does.
 
 The bridge starts the nodes as ``python -m sim2d`` and ``python -m brain`` (it never
 imports them), waits for the brain to finish the episode, then stops the engine. The run
@@ -12,13 +14,24 @@ import logging
 import os
 import subprocess
 import sys
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from rich.console import Console
+from rich.live import Live
+
+from protocol import EngineInfo, Mind
+
+from .errors import NoReply
+from .eventlog import write_events_csv
+from .handshake import handshake
+from .livetable import mind_table
 from .node import Bridge
 from .recorder import TraceRecorder
 from .session import SessionSettings
+from .typed import Received
 
 log = logging.getLogger("toyroom.run")
 
@@ -34,6 +47,10 @@ class RunConfig:
     world: str | None = None
     timeout: float = 10.0
     log_level: str = "WARNING"
+    robot: str | None = None
+    """``act`` or ``observe`` to override the scenario's robot mode."""
+    live: bool | None = None
+    """Show the live table (default: when standard output is a terminal)."""
 
 
 def _network_args(settings: SessionSettings) -> list[str]:
@@ -54,11 +71,49 @@ def node_command(package: str, world: str, settings: SessionSettings, *args: str
     return [sys.executable, "-m", package, "--world", world, *_network_args(settings), *args]
 
 
+class MindView:
+    """The live table of the latest ``mind`` message (or just the last one, printed at the end,
+    when the output is not a terminal)."""
+
+    def __init__(self, title: str, live: bool | None) -> None:
+        self.title = title
+        self.console = Console()
+        self.live = self.console.is_terminal if live is None else live
+        self.latest: Mind | None = None
+        self.changed = threading.Event()
+        self._display: Live | None = None
+
+    def on_mind(self, mind: Mind, _: Received) -> None:
+        self.latest = mind
+        self.changed.set()
+
+    def __enter__(self) -> MindView:
+        if self.live:
+            self._display = Live(mind_table(None, self.title), console=self.console, refresh_per_second=4)
+            self._display.__enter__()
+        return self
+
+    def refresh(self, wait: float) -> None:
+        """Wait up to ``wait`` seconds for news and redraw."""
+        if self.changed.wait(wait):
+            self.changed.clear()
+            if self._display is not None:
+                self._display.update(mind_table(self.latest, self.title))
+
+    def __exit__(self, *exc: object) -> None:
+        if self._display is not None:
+            self._display.update(mind_table(self.latest, self.title))
+            self._display.__exit__(None, None, None)
+        elif self.latest is not None:
+            self.console.print(mind_table(self.latest, self.title))
+
+
 def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     """Run one episode; return the exit status (0 when both nodes did their job)."""
     settings = settings or SessionSettings()
     world = config.world or f"run-{os.getpid()}"
     config.out.mkdir(parents=True, exist_ok=True)
+    robot = ["--robot", config.robot] if config.robot else []
     engine = subprocess.Popen(
         node_command(
             "sim2d",
@@ -69,38 +124,49 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
             "--lockstep",
             "--log-level",
             config.log_level,
+            *robot,
         )
     )
     brain: subprocess.Popen[bytes] | None = None
     try:
-        with Bridge(world, settings) as bridge, TraceRecorder(bridge, config.out / "trace.jsonl"):
-            brain = subprocess.Popen(
-                node_command(
-                    "brain",
-                    world,
-                    settings,
-                    "--scenario",
-                    config.scenario,
-                    "--seed",
-                    str(config.seed),
-                    "--out",
-                    str(config.out),
-                    "--observer",
-                    config.observer,
-                    "--timeout",
-                    str(config.timeout),
-                    "--log-level",
-                    config.log_level,
+        with Bridge(world, settings) as bridge:
+            info = _wait_for_engine(bridge, engine)
+            if info is None:
+                log.error("the engine exited with status %s before answering", engine.returncode)
+                return engine.returncode or 1
+            view = MindView(f"toyroom run: {config.scenario} (world {world})", config.live)
+            with TraceRecorder(bridge, config.out / "trace.jsonl", info=info), view:
+                bridge.subscribe(bridge.keys.mind, view.on_mind, expected=Mind)
+                brain = subprocess.Popen(
+                    node_command(
+                        "brain",
+                        world,
+                        settings,
+                        "--scenario",
+                        config.scenario,
+                        "--seed",
+                        str(config.seed),
+                        "--out",
+                        str(config.out),
+                        "--observer",
+                        config.observer,
+                        "--timeout",
+                        str(config.timeout),
+                        "--log-level",
+                        config.log_level,
+                        *robot,
+                    )
                 )
-            )
-            while brain.poll() is None:
-                if engine.poll() is not None:
-                    log.error("the engine exited with status %s before the episode ended", engine.returncode)
-                    brain.terminate()
-                    brain.wait(timeout=10)
-                    return engine.returncode or 1
-                time.sleep(0.1)
-            time.sleep(0.2)  # let the last messages reach the recorder
+                while brain.poll() is None:
+                    if engine.poll() is not None:
+                        log.error(
+                            "the engine exited with status %s before the episode ended", engine.returncode
+                        )
+                        return engine.returncode or 1
+                    view.refresh(0.1)
+                time.sleep(0.2)  # let the last messages reach the recorder
+        rows = write_events_csv(config.out / "trace.jsonl", config.out / "events.csv")
+        log.info("wrote %s events to %s", rows, config.out / "events.csv")
         if brain.returncode != 0:
             log.error("the brain exited with status %s", brain.returncode)
         return brain.returncode
@@ -112,3 +178,17 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                     process.wait(timeout=10)
                 except subprocess.TimeoutExpired:
                     process.kill()
+
+
+def _wait_for_engine(
+    bridge: Bridge, engine: subprocess.Popen[bytes], timeout: float = 60.0
+) -> EngineInfo | None:
+    """The engine's handshake, or ``None`` when its process exits first."""
+    deadline = time.monotonic() + timeout
+    while engine.poll() is None:
+        try:
+            return handshake(bridge, client="toyroom-run", role="recorder", timeout=0.5)
+        except NoReply:
+            if time.monotonic() > deadline:
+                raise
+    return None

@@ -13,6 +13,7 @@ import msgspec
 
 from .events import Event
 from .message import Message, Seconds, Tick
+from .robot import CommandStatus
 from .state import State
 
 
@@ -31,6 +32,9 @@ class ControlReply(Message, frozen=True, kw_only=True, tag="control_reply"):
     events: tuple[Event, ...] = ()
     """Every event the request produced (all ticks of a ``step``), in publication order:
     with ``state``, everything a lock-step client needs to follow the world exactly."""
+    statuses: tuple[CommandStatus, ...] = ()
+    """Every robot command status the request produced, in publication order (they are
+    also published on ``robot/<id>/status``)."""
 
 
 class ErrorCode(enum.Enum):

@@ -19,6 +19,7 @@ import time
 from bridge import Bridge, Congestion, Received, Refused, serve_info
 from protocol import (
     ClockMode,
+    CommandStatus,
     ControlReply,
     EngineInfo,
     ErrorCode,
@@ -90,7 +91,12 @@ class EngineNode:
                 )
             publisher.put(status)
 
-    def _reply(self, result: TickResult | None = None, events: tuple[Event, ...] = ()) -> ControlReply:
+    def _reply(
+        self,
+        result: TickResult | None = None,
+        events: tuple[Event, ...] = (),
+        statuses: tuple[CommandStatus, ...] = (),
+    ) -> ControlReply:
         state = result.state if result is not None else self.engine.state()
         return ControlReply(
             episode=state.episode,
@@ -99,6 +105,7 @@ class EngineNode:
             paused=self.paused,
             state=state,
             events=events,
+            statuses=statuses,
         )
 
     def _control(self, request: Message | None, key: str) -> ControlReply:
@@ -123,11 +130,13 @@ class EngineNode:
                     )
                 stepped: TickResult | None = None
                 events: list[Event] = []
+                statuses: list[CommandStatus] = []
                 for _ in range(request.n):
                     stepped = self.engine.step()
                     events.extend(stepped.events)
+                    statuses.extend(stepped.statuses)
                     self._publish(stepped)
-                return self._reply(stepped, tuple(events))
+                return self._reply(stepped, tuple(events), tuple(statuses))
             if isinstance(request, Pause):
                 self.paused = True
             elif isinstance(request, Resume):

@@ -95,3 +95,34 @@ class MindCsv:
 
     def preference(self, agent: str, tick: int, item: str, column: str = "p_smoothed") -> float:
         return float(self.index[(tick, agent, "preference", item, "")][column])
+
+
+class EventsCsv:
+    """``events.csv`` of a run, for assertions."""
+
+    def __init__(self, path: Path) -> None:
+        import csv
+
+        with path.open(newline="") as handle:
+            self.rows = list(csv.DictReader(handle))
+
+    def find(self, **want: str) -> list[dict[str, str]]:
+        """Rows whose columns equal ``want`` (``detail__startswith`` for a prefix)."""
+        out = []
+        for row in self.rows:
+            ok = True
+            for key, value in want.items():
+                if key.endswith("__startswith"):
+                    ok = ok and row[key.removesuffix("__startswith")].startswith(value)
+                elif key.endswith("__contains"):
+                    ok = ok and value in row[key.removesuffix("__contains")]
+                else:
+                    ok = ok and row[key] == value
+            if ok:
+                out.append(row)
+        return out
+
+    def first_tick(self, **want: str) -> int:
+        rows = self.find(**want)
+        assert rows, f"no event with {want}"
+        return int(rows[0]["tick"])

@@ -16,7 +16,8 @@ PAPER = ("paper-1", "paper-2", "paper-3")
 def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, MindCsv]:
     out = {}
     for scenario in (*PAPER, "sally-anne"):
-        directory = toyroom_run(tmp_path_factory.mktemp(scenario), scenario)
+        # the robot only watches: the statements are about what an observer infers
+        directory = toyroom_run(tmp_path_factory.mktemp(scenario), scenario, "--robot", "observe")
         for name in ("mind.csv", "beliefs.png", "preferences.png", "report.md", "trace.jsonl"):
             assert (directory / name).stat().st_size > 0, f"{scenario}: {name} is missing or empty"
         out[scenario] = MindCsv(directory / "mind.csv")
@@ -113,7 +114,7 @@ def test_sally_anne(runs: dict[str, MindCsv], tmp_path_factory: pytest.TempPathF
 
 
 def test_true_belief_baseline_fails_sally_anne(tmp_path: Path) -> None:
-    out = toyroom_run(tmp_path, "sally-anne", "--observer", "truebelief")
+    out = toyroom_run(tmp_path, "sally-anne", "--observer", "truebelief", "--robot", "observe")
     problems = sally_checks(MindCsv(out / "mind.csv"), out / "trace.jsonl")
     assert problems, "an observer that assumes people know the true world should fail the Sally-Anne test"
     assert any("P(marble in basket)" in p for p in problems)

@@ -1,0 +1,69 @@
+"""The robot's command book: commands sent, and what the engine said about each."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from protocol import Action, Cancel, CommandState, CommandStatus, RobotCommand
+
+
+@dataclass
+class CommandBook:
+    """Numbers commands, queues them for sending, and keeps their latest status.
+
+    Attributes:
+        robot: the robot's id.
+        outbox: commands made since the last :meth:`drain`, in order.
+    """
+
+    robot: str
+    outbox: list[RobotCommand] = field(default_factory=list)
+    sent: dict[str, RobotCommand] = field(default_factory=dict)
+    statuses: dict[str, CommandStatus] = field(default_factory=dict)
+    history: list[CommandStatus] = field(default_factory=list)
+    _counter: int = 0
+
+    def send(self, action: Action) -> str:
+        """Make a command for ``action``; return its id."""
+        self._counter += 1
+        command = RobotCommand(id=f"c{self._counter}", robot=self.robot, action=action)
+        self.outbox.append(command)
+        self.sent[command.id] = command
+        return command.id
+
+    def cancel(self, command_id: str) -> None:
+        """Ask the engine to cancel ``command_id`` if it has not ended."""
+        if not self.final(command_id):
+            self.send(Cancel(command=command_id))
+
+    def drain(self) -> list[RobotCommand]:
+        """The commands to send now."""
+        out, self.outbox = self.outbox, []
+        return out
+
+    def record(self, status: CommandStatus) -> None:
+        """Take in a status from the engine (duplicates and stale ones are ignored)."""
+        known = self.statuses.get(status.command)
+        if known is not None and (known.state.final or known == status):
+            return
+        self.statuses[status.command] = status
+        self.history.append(status)
+
+    def status(self, command_id: str) -> CommandStatus | None:
+        return self.statuses.get(command_id)
+
+    def final(self, command_id: str) -> bool:
+        status = self.statuses.get(command_id)
+        return status is not None and status.state.final
+
+    def answered(self, command_id: str) -> bool:
+        """Whether the engine has accepted or failed the command (it has received it)."""
+        return command_id in self.statuses
+
+    def in_flight(self) -> list[str]:
+        """Commands sent that have not ended."""
+        return [c for c in self.sent if not self.final(c) and not isinstance(self.sent[c].action, Cancel)]
+
+    @staticmethod
+    def succeeded(status: CommandStatus | None) -> bool:
+        return status is not None and status.state is CommandState.SUCCEEDED
