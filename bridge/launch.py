@@ -114,49 +114,32 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     world = config.world or f"run-{os.getpid()}"
     config.out.mkdir(parents=True, exist_ok=True)
     robot = ["--robot", config.robot] if config.robot else []
-    engine = subprocess.Popen(
-        node_command(
-            "sim2d",
-            world,
-            settings,
-            "--scenario",
-            config.scenario,
-            "--lockstep",
-            "--log-level",
-            config.log_level,
-            *robot,
-        )
-    )
+    engine_log, brain_log = config.out / "engine.log", config.out / "brain.log"
+    engine_args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
+    engine = _start(node_command("sim2d", world, settings, *engine_args), engine_log)
     brain: subprocess.Popen[bytes] | None = None
     try:
         with Bridge(world, settings) as bridge:
             info = _wait_for_engine(bridge, engine)
             if info is None:
-                log.error("the engine exited with status %s before answering", engine.returncode)
+                _report_failure("engine", engine.returncode, engine_log)
                 return engine.returncode or 1
             view = MindView(f"toyroom run: {config.scenario} (world {world})", config.live)
             with TraceRecorder(bridge, config.out / "trace.jsonl", info=info), view:
                 bridge.subscribe(bridge.keys.mind, view.on_mind, expected=Mind)
-                brain = subprocess.Popen(
-                    node_command(
-                        "brain",
-                        world,
-                        settings,
-                        "--scenario",
-                        config.scenario,
-                        "--seed",
-                        str(config.seed),
-                        "--out",
-                        str(config.out),
+                brain_args = [
+                    *("--scenario", config.scenario, "--seed", str(config.seed), "--out", str(config.out)),
+                    *(
                         "--observer",
                         config.observer,
                         "--timeout",
                         str(config.timeout),
                         "--log-level",
                         config.log_level,
-                        *robot,
-                    )
-                )
+                    ),
+                    *robot,
+                ]
+                brain = _start(node_command("brain", world, settings, *brain_args), brain_log)
                 while brain.poll() is None:
                     if engine.poll() is not None:
                         log.error(
@@ -166,9 +149,11 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                     view.refresh(0.1)
                 time.sleep(0.2)  # let the last messages reach the recorder
         rows = write_events_csv(config.out / "trace.jsonl", config.out / "events.csv")
-        log.info("wrote %s events to %s", rows, config.out / "events.csv")
+        print(
+            f"toyroom run: results in {config.out}/ (mind.csv, events.csv with {rows} rows, report.md, ...)"
+        )
         if brain.returncode != 0:
-            log.error("the brain exited with status %s", brain.returncode)
+            _report_failure("brain", brain.returncode, brain_log)
         return brain.returncode
     finally:
         for process in (brain, engine):
@@ -178,6 +163,24 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                     process.wait(timeout=10)
                 except subprocess.TimeoutExpired:
                     process.kill()
+
+
+def _start(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
+    """Start a node with its output going to ``log_path`` (kept with the results)."""
+    with log_path.open("wb") as handle:
+        return subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT)
+
+
+def _report_failure(node: str, status: int | None, log_path: Path, lines: int = 20) -> None:
+    """Say that a node failed, with the end of its log."""
+    tail = (
+        log_path.read_text(encoding="utf-8", errors="replace").splitlines()[-lines:]
+        if log_path.exists()
+        else []
+    )
+    print(f"toyroom run: the {node} exited with status {status}; end of {log_path}:", file=sys.stderr)
+    for line in tail:
+        print(f"  {line}", file=sys.stderr)
 
 
 def _wait_for_engine(
