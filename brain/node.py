@@ -7,6 +7,11 @@ behaviour tree and sends its commands (waiting for the engine to accept or refus
 before the next tick, so runs are reproducible), follows their statuses, publishes
 ``brain/mind`` every tick, and holds the liveliness token ``@alive/brain/<name>``.
 The robot acts only when the scene says it does (or ``robot="act"`` overrides it).
+
+Against an engine whose clock runs in real time (its handshake says ``clock: realtime``),
+the brain free-runs instead: it subscribes to ``engine/state`` and ``engine/events``, takes
+the newest state whenever it is ready (with every event up to it), and sends commands
+without waiting.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from collections.abc import Callable
 from typing import Literal
 
 from bridge import Bridge, LockstepClient, StepTimeout, handshake
-from protocol import AgentKind, CommandStatus, EngineInfo, Event, State
+from protocol import AgentKind, ClockMode, CommandStatus, ControlReply, EngineInfo, Event, Reset, State
 
 from .outputs import mind_message
 from .robot import RobotBrain
@@ -81,6 +86,8 @@ class BrainNode:
     ) -> tuple[str, MindTracker]:
         """Reset the engine, follow the episode to its end, return (scenario, tracker)."""
         first = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
+        if first.clock is ClockMode.REALTIME:
+            return self._free_run(first, scenario, seed, max_ticks=max_ticks, on_tick=on_tick)
         clock = LockstepClient(self.bridge, timeout=self.timeout)
         state = clock.reset(scenario=scenario or first.scenario or None, seed=seed)
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
@@ -117,6 +124,71 @@ class BrainNode:
                     robot.record(status)
                 self._drain(robot, inbox)
         clock.close()
+        return info.scenario, tracker
+
+    def _free_run(
+        self,
+        first: EngineInfo,
+        scenario: str | None,
+        seed: int,
+        *,
+        max_ticks: int | None,
+        on_tick: Callable[[State, tuple[Event, ...]], None] | None,
+    ) -> tuple[str, MindTracker]:
+        """Follow a real-time engine: the newest state each time, with the events up to it."""
+        states: queue.Queue[State] = queue.Queue()
+        events: queue.Queue[Event] = queue.Queue()
+        self.bridge.subscribe(self.bridge.keys.state, lambda m, _: states.put(m), expected=State)
+        self.bridge.subscribe(self.bridge.keys.events, lambda m, _: events.put(m), expected=Event)
+        episode: int | None = None
+        if scenario is not None:  # a fresh episode, as in lock-step
+            reply = self.bridge.query(
+                self.bridge.keys.control, Reset(scenario=scenario, seed=seed), ControlReply
+            )
+            episode = reply.episode
+        info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
+        log.info("free-running with engine '%s', scenario '%s'", info.engine, info.scenario)
+        tracker = MindTracker(info.scene, self.settings, self.observer)
+        robot = self._robot(info, tracker)
+        inbox: queue.Queue[CommandStatus] = queue.Queue()
+        commands = None
+        if robot is not None:
+            self.bridge.subscribe(
+                self.bridge.keys.status(robot.robot), lambda s, _: inbox.put(s), expected=CommandStatus
+            )
+            commands = self.bridge.publisher(self.bridge.keys.command(robot.robot))
+        pending: list[Event] = []
+        while True:
+            try:
+                state = states.get(timeout=self.timeout)
+            except queue.Empty:
+                raise StepTimeout(
+                    f"no state from the real-time engine on '{self.bridge.keys.state}' for {self.timeout:g} s"
+                ) from None
+            while not states.empty():  # take the newest
+                state = states.get_nowait()
+            if episode is None:
+                episode = state.episode
+            if state.episode < episode:
+                continue  # a state of the episode before the reset
+            if state.episode != episode:
+                log.info("the engine started episode %s: stopping", state.episode)
+                break
+            while not events.empty():
+                pending.append(events.get_nowait())
+            now = tuple(e for e in pending if e.episode == state.episode and e.tick <= state.tick)
+            pending = [e for e in pending if (e.episode, e.tick) > (state.episode, state.tick)]
+            tracker.observe(state, now)
+            if robot is not None and commands is not None:
+                self._drain(robot, inbox)
+                robot.observe(now)
+                for command in robot.tick(state):
+                    commands.put(command)
+            self._mind.put(mind_message(tracker, state, robot.activity() if robot is not None else None))
+            if on_tick is not None:
+                on_tick(state, now)
+            if state.done or (max_ticks is not None and state.tick >= max_ticks):
+                break
         return info.scenario, tracker
 
     @staticmethod
