@@ -7,9 +7,10 @@ import sys
 import threading
 from pathlib import Path
 
+from support import EngineProcess
+
 from bridge import Bridge, Received
 from protocol import Event, EventKind
-from support import EngineProcess
 
 
 def test_brain_follows_a_realtime_engine(world: str, tmp_path: Path) -> None:
