@@ -79,6 +79,20 @@ def router_main(listen: Sequence[str], config_file: Path | None) -> int:
     return 0
 
 
+def conform_main(world: str, settings: SessionSettings, timeout: float) -> int:
+    """Run the conformance kit against the engine of ``world``; 1 when a check fails."""
+    from .conformance import check_engine
+    from .node import Bridge
+
+    with Bridge(world, settings) as bridge:
+        results = check_engine(bridge, timeout)
+    for result in results:
+        print(result.line())
+    failed = [r for r in results if not r.passed]
+    print(f"{len(results) - len(failed)} passed, {len(failed)} failed")
+    return 1 if failed else 0
+
+
 def doctor_main(world: str, settings: SessionSettings) -> int:
     """Check the installation end to end; see :mod:`bridge.doctor`."""
     from .doctor import run_doctor
@@ -126,6 +140,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--observer", choices=("btom", "truebelief", "perceptonly"), default="btom")
     run.add_argument("--timeout", type=float, default=10.0, help="seconds per lock-step request")
     run.add_argument("--robot", choices=("act", "observe"), help="override whether the robot acts")
+    run.add_argument(
+        "--engine",
+        choices=("sim2d", "grid"),
+        default="sim2d",
+        help="sim2d (pymunk) or grid (the example engine in examples/grid_engine/); default: %(default)s",
+    )
     run.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
     add_zenoh_args(run)
     run.set_defaults(world=None)
@@ -134,6 +154,12 @@ def build_parser() -> argparse.ArgumentParser:
     infer.add_argument("trace", type=Path)
     infer.add_argument("--out", type=Path, required=True)
     infer.add_argument("--observer", choices=("btom", "truebelief", "perceptonly"), default="btom")
+
+    conform = commands.add_parser("conform", help="check that the engine serving a world speaks the protocol")
+    conform.add_argument(
+        "--timeout", type=float, default=5.0, help="seconds per request (default: %(default)s)"
+    )
+    add_zenoh_args(conform)
 
     doctor = commands.add_parser(
         "doctor", help="check the install: schemas, and every message over loopback Zenoh"
@@ -172,9 +198,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                 world=args.world if args.world != "default" else None,
                 timeout=args.timeout,
                 robot=args.robot,
+                engine=args.engine,
                 live=False if args.no_live else None,
             )
             return run(config, settings_from_args(args))
+        if args.command == "conform":
+            return conform_main(args.world, settings_from_args(args), args.timeout)
         if args.command == "infer":
             extra = ["--observer", args.observer]
             return exec_node("brain", ["infer", str(args.trace), "--out", str(args.out), *extra])

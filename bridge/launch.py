@@ -49,6 +49,8 @@ class RunConfig:
     log_level: str = "WARNING"
     robot: str | None = None
     """``act`` or ``observe`` to override the scenario's robot mode."""
+    engine: str = "sim2d"
+    """``sim2d`` (the pymunk engine) or ``grid`` (the example grid engine)."""
     live: bool | None = None
     """Show the live table (default: when standard output is a terminal)."""
 
@@ -66,9 +68,20 @@ def _network_args(settings: SessionSettings) -> list[str]:
     return args
 
 
+GRID_ENGINE = Path(__file__).resolve().parents[1] / "examples" / "grid_engine" / "main.py"
+"""The example engine written from the protocol documents alone (plain zenoh and json)."""
+
+
 def node_command(package: str, world: str, settings: SessionSettings, *args: str) -> list[str]:
     """The command line of a node process."""
     return [sys.executable, "-m", package, "--world", world, *_network_args(settings), *args]
+
+
+def engine_command(engine: str, world: str, settings: SessionSettings, *args: str) -> list[str]:
+    """The command line of an engine: ``sim2d``, or ``grid`` (default loopback network only)."""
+    if engine == "grid":
+        return [sys.executable, str(GRID_ENGINE), "--world", world, *args]
+    return node_command("sim2d", world, settings, *args)
 
 
 class MindView:
@@ -116,7 +129,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     robot = ["--robot", config.robot] if config.robot else []
     engine_log, brain_log = config.out / "engine.log", config.out / "brain.log"
     engine_args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
-    engine = _start(node_command("sim2d", world, settings, *engine_args), engine_log)
+    engine = _start(engine_command(config.engine, world, settings, *engine_args), engine_log)
     brain: subprocess.Popen[bytes] | None = None
     try:
         with Bridge(world, settings) as bridge:

@@ -74,6 +74,7 @@ class MindCsv:
     def __init__(self, path: Path) -> None:
         import csv
 
+        self.path = path
         with path.open(newline="") as handle:
             self.rows = list(csv.DictReader(handle))
         self.label_tick = {(r["agent"], r["label"]): int(r["tick"]) for r in self.rows if r["label"]}
@@ -126,3 +127,20 @@ class EventsCsv:
         rows = self.find(**want)
         assert rows, f"no event with {want}"
         return int(rows[0]["tick"])
+
+
+class GridEngineProcess(EngineProcess):
+    """The example grid engine (``examples/grid_engine/main.py``) as a real process."""
+
+    def __init__(self, world: str, *args: str) -> None:
+        import subprocess
+        import sys
+
+        script = Path(__file__).resolve().parents[1] / "examples" / "grid_engine" / "main.py"
+        self.world = world
+        self.process = subprocess.Popen(
+            [sys.executable, str(script), "--world", world, *args],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )

@@ -12,12 +12,17 @@ from support import MindCsv, toyroom_run
 PAPER = ("paper-1", "paper-2", "paper-3")
 
 
-@pytest.fixture(scope="module")
-def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, MindCsv]:
+@pytest.fixture(scope="module", params=["sim2d", "grid"])
+def runs(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> dict[str, MindCsv]:
+    """Runs on both engines: the brain, unchanged, must reproduce Section V on either."""
     out = {}
     for scenario in (*PAPER, "sally-anne"):
         # the robot only watches: the statements are about what an observer infers
-        directory = toyroom_run(tmp_path_factory.mktemp(scenario), scenario, "--robot", "observe")
+        directory = toyroom_run(
+            tmp_path_factory.mktemp(f"{request.param}-{scenario}"),
+            scenario,
+            *("--robot", "observe", "--engine", request.param),
+        )
         for name in ("mind.csv", "beliefs.png", "preferences.png", "report.md", "trace.jsonl"):
             assert (directory / name).stat().st_size > 0, f"{scenario}: {name} is missing or empty"
         out[scenario] = MindCsv(directory / "mind.csv")
@@ -108,9 +113,8 @@ def sally_checks(mind: MindCsv, trace: Path) -> list[str]:
     return problems
 
 
-def test_sally_anne(runs: dict[str, MindCsv], tmp_path_factory: pytest.TempPathFactory) -> None:
-    trace = next(tmp_path_factory.getbasetemp().glob("sally-anne*/trace.jsonl"))
-    assert sally_checks(runs["sally-anne"], trace) == []
+def test_sally_anne(runs: dict[str, MindCsv]) -> None:
+    assert sally_checks(runs["sally-anne"], runs["sally-anne"].path.parent / "trace.jsonl") == []
 
 
 def test_true_belief_baseline_fails_sally_anne(tmp_path: Path) -> None:

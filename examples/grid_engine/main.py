@@ -1,0 +1,263 @@
+"""A second, independent engine: a discrete grid (no physics, one move per tick) that plays
+the same scenario files as sim2d. Written only from protocol/README.md and the JSON
+Schemas: plain ``zenoh`` and ``json``, no toyroom import. It doubles as a fast engine.
+
+    python examples/grid_engine/main.py --scenario paper-2 --world demo [--robot act|observe]
+
+``--break version|status|double-step`` makes it deliberately wrong, to show that
+``toyroom conform`` catches each fault.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+import threading
+import zlib
+from pathlib import Path
+from typing import Any
+
+import zenoh
+from grid_scenario import Scenario, read_scenario
+from grid_world import PROTOCOL, GridWorld
+
+TICK_SECONDS = 0.7  # one move of one cell per tick
+SCENARIOS = Path(__file__).resolve().parents[2] / "sim2d" / "scenarios"
+JSON = zenoh.Encoding("application/json")
+
+
+def world_port(world: str) -> int:
+    """As protocol/README.md says: 17000 + crc32(world) % 10000."""
+    return 17000 + zlib.crc32(world.encode()) % 10000
+
+
+def open_session(world: str) -> zenoh.Session:
+    """Loopback peer, multicast off; listen on the world port when it is free."""
+    endpoint = f"tcp/127.0.0.1:{world_port(world)}"
+    for listen in (endpoint, "tcp/127.0.0.1:0"):
+        config = zenoh.Config()
+        config.insert_json5("mode", '"peer"')
+        config.insert_json5("scouting/multicast/enabled", "false")
+        config.insert_json5("listen/endpoints", json.dumps([listen]))
+        config.insert_json5("connect/endpoints", json.dumps([endpoint]))
+        config.insert_json5("transport/link/tx/lease", "800")
+        try:
+            return zenoh.open(config)
+        except zenoh.ZError:
+            continue
+    raise SystemExit(f"grid engine: cannot open a Zenoh session for world '{world}'")
+
+
+def error(code: str, message: str) -> bytes:
+    return json.dumps({"type": "error", "protocol": PROTOCOL, "code": code, "message": message}).encode()
+
+
+class GridEngine:
+    def __init__(self, world: str, scenario_name: str, robot: str | None, broken: str | None) -> None:
+        self.world = world
+        self.prefix = f"toyroom/{world}"
+        self.robot_override = robot
+        self.broken = broken
+        self.lock = threading.Lock()
+        self.episode = 0
+        self.load(scenario_name)
+        self.session = open_session(world)
+        self.state_pub = self.session.declare_publisher(f"{self.prefix}/engine/state", encoding=JSON)
+        self.event_pub = self.session.declare_publisher(f"{self.prefix}/engine/events", encoding=JSON)
+        self.session.declare_queryable(f"{self.prefix}/engine/info", self.on_info)
+        self.session.declare_queryable(f"{self.prefix}/engine/control", self.on_control)
+        self.session.declare_subscriber(f"{self.prefix}/robot/*/command", self.on_command)
+        self.token = self.session.liveliness().declare_token(f"{self.prefix}/@alive/engine/grid")
+
+    def load(self, name: str) -> None:
+        path = Path(name) if name.endswith(".toml") else SCENARIOS / f"{name}.toml"
+        self.scenario: Scenario = read_scenario(path)
+        acts = self.scenario.robot_acts if self.robot_override is None else self.robot_override == "act"
+        self.game = GridWorld(self.scenario, episode=self.episode, tick_seconds=TICK_SECONDS, robot_acts=acts)
+
+    # ----- the handshake ------------------------------------------------------------------
+
+    def info(self) -> dict[str, Any]:
+        m = self.scenario.map
+        cell = lambda c: {"col": c[0], "row": c[1]}  # noqa: E731
+        agents = [
+            {
+                "id": a["id"],
+                "kind": a["kind"],
+                "home": cell(a["home"]),
+                "name": a["name"],
+                "radius": 0.3 if a["kind"] == "robot" else 0.25,
+                "acts": self.game.robot_acts if a["kind"] == "robot" else True,
+            }
+            for a in self.scenario.agents
+        ]
+        scene = {
+            "name": m.name,
+            "cell_size": m.cell_size,
+            "origin": {"x": 0.0, "y": 0.0},
+            "columns": m.columns,
+            "rows": m.rows,
+            "regions": [
+                {"id": r["id"], "kind": r["kind"], "name": r["name"], "cells": [cell(c) for c in r["cells"]]}
+                for r in m.regions
+            ],
+            "doors": [{"id": d["id"], "cell": cell(d["cell"]), "joins": d["joins"]} for d in m.doors],
+            "locations": [
+                {"id": loc["id"], "region": loc["region"], "cell": cell(loc["cell"]), "play": loc["play"]}
+                for loc in m.locations
+            ],
+            "visibility": [{"cell": cell(c), "locations": v} for c, v in sorted(m.sees.items())],
+            "agents": agents,
+            "items": [{"id": i["id"], "shape": i["shape"], "name": i["name"]} for i in self.scenario.items],
+        }
+        return {
+            "type": "engine_info",
+            "protocol": "2.0" if self.broken == "version" else PROTOCOL,
+            "engine": "grid-engine 0.1 (example)",
+            "world": self.world,
+            "scenario": self.scenario.name,
+            "capabilities": ["lockstep", "robot"],
+            "clock": "lockstep",
+            "tick_seconds": TICK_SECONDS,
+            "episode": self.episode,
+            "scene": scene,
+        }
+
+    def on_info(self, query: zenoh.Query) -> None:
+        hello = self.parse(query)
+        if hello is not None and str(hello.get("protocol", "")).split(".")[0] != PROTOCOL.split(".")[0]:
+            query.reply_err(
+                error(
+                    "version_mismatch", f"this engine speaks {PROTOCOL}, the client {hello.get('protocol')}"
+                ),
+                encoding=JSON,
+            )
+            return
+        with self.lock:
+            query.reply(query.key_expr, json.dumps(self.info()).encode(), encoding=JSON)
+
+    # ----- the clock --------------------------------------------------------------------
+
+    @staticmethod
+    def parse(query: zenoh.Query) -> dict[str, Any] | None:
+        if query.payload is None:
+            return None
+        try:
+            message = json.loads(query.payload.to_bytes())
+        except ValueError:
+            return {"type": None}
+        return message if isinstance(message, dict) else {"type": None}
+
+    def publish(
+        self, events: list[dict[str, Any]], statuses: list[dict[str, Any]], state: dict[str, Any]
+    ) -> None:
+        for event in events:
+            self.event_pub.put(json.dumps(event).encode())
+        self.publish_statuses(statuses)
+        self.state_pub.put(json.dumps(state).encode())
+
+    def publish_statuses(self, statuses: list[dict[str, Any]]) -> None:
+        for status in statuses:
+            if self.broken == "status" and status["state"] == "running":
+                continue
+            self.session.put(
+                f"{self.prefix}/robot/{status['robot']}/status", json.dumps(status).encode(), encoding=JSON
+            )
+
+    def on_control(self, query: zenoh.Query) -> None:
+        request = self.parse(query) or {"type": None}
+        kind = request.get("type")
+        if str(request.get("protocol", PROTOCOL)).split(".")[0] != PROTOCOL.split(".")[0]:
+            query.reply_err(error("version_mismatch", f"this engine speaks {PROTOCOL}"), encoding=JSON)
+            return
+        with self.lock:
+            events: list[dict[str, Any]] = []
+            statuses: list[dict[str, Any]] = []
+            if kind == "reset":
+                try:
+                    self.episode += 1
+                    self.load(request.get("scenario") or self.scenario.name)
+                except (OSError, KeyError, ValueError) as err:
+                    query.reply_err(error("unknown_scenario", f"cannot load scenario: {err}"), encoding=JSON)
+                    return
+                self.publish([], [], self.game.state())
+            elif kind == "step":
+                n = request.get("n", 1)
+                if not isinstance(n, int) or not 1 <= n <= 1_000_000:
+                    query.reply_err(
+                        error("bad_request", f"step: n must be an integer in [1, 1000000], got {n!r}"),
+                        encoding=JSON,
+                    )
+                    return
+                for _ in range(2 * n if self.broken == "double-step" else n):
+                    self.game.step()
+                    events += self.game.events
+                    statuses += self.game.statuses
+                    self.publish(self.game.events, self.game.statuses, self.game.state())
+            elif kind not in ("pause", "resume"):
+                query.reply_err(
+                    error("bad_request", f"engine/control takes reset, step, pause or resume, got {kind!r}"),
+                    encoding=JSON,
+                )
+                return
+            state = self.game.state()
+            reply = {
+                "type": "control_reply",
+                "protocol": PROTOCOL,
+                "episode": self.episode,
+                "tick": state["tick"],
+                "time": state["time"],
+                "paused": False,
+                "state": state,
+                "events": events,
+                "statuses": [
+                    s for s in statuses if not (self.broken == "status" and s["state"] == "running")
+                ],
+            }
+            query.reply(query.key_expr, json.dumps(reply).encode(), encoding=JSON)
+
+    # ----- robot commands -----------------------------------------------------------------
+
+    def on_command(self, sample: zenoh.Sample) -> None:
+        try:
+            command = json.loads(sample.payload.to_bytes())
+            if command.get("type") != "robot_command" or not isinstance(command.get("action"), dict):
+                raise ValueError("not a robot_command")
+        except (ValueError, AttributeError) as err:
+            print(f"grid engine: dropped a message on {sample.key_expr}: {err}", file=sys.stderr)
+            return
+        with self.lock:
+            self.game.statuses = []
+            self.game.receive(command)
+            self.publish_statuses(self.game.statuses)
+
+    def close(self) -> None:
+        self.token.undeclare()
+        self.session.close()
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenario", default="paper-robot")
+    parser.add_argument("--world", default="default")
+    parser.add_argument("--robot", choices=("act", "observe"))
+    parser.add_argument("--break", dest="broken", choices=("version", "status", "double-step"))
+    parser.add_argument(
+        "--lockstep", action="store_true", help="accepted for symmetry with sim2d (always lock-step)"
+    )
+    parser.add_argument("--log-level", default="WARNING", help="accepted for symmetry with sim2d")
+    args = parser.parse_args()
+    engine = GridEngine(args.world, args.scenario, args.robot, args.broken)
+    stop = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stop.set())
+    print(f"grid engine: scenario '{args.scenario}' on world '{args.world}'", flush=True)
+    stop.wait()
+    engine.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
