@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import uuid
+from collections.abc import Iterator
 
 import pytest
 from support import EngineProcess, GridEngineProcess
 
 from bridge import Bridge
-from bridge.conformance import check_engine
+from bridge.conformance_suite import EngineConformance
 
 SIM2D_SCENARIOS = [
     "paper-1",
@@ -23,24 +25,26 @@ SIM2D_SCENARIOS = [
 ]
 
 
-def _assert_all_pass(world: str) -> None:
-    with Bridge(world) as bridge:
-        results = check_engine(bridge, timeout=10.0)
-    failed = [r.line() for r in results if not r.passed]
-    assert failed == [], "\n".join(failed)
-    assert [r.name for r in results][:5] == ["handshake", "scene", "liveliness", "reset", "stepping"]
+class TestSim2d(EngineConformance):
+    """sim2d on every bundled scenario."""
+
+    @pytest.fixture(scope="class", params=SIM2D_SCENARIOS)
+    @classmethod
+    def conformance_world(cls, request: pytest.FixtureRequest) -> Iterator[str]:
+        world = f"conform-{request.param}-{uuid.uuid4().hex[:6]}"
+        with EngineProcess(world, "--scenario", request.param):
+            yield world
 
 
-@pytest.mark.parametrize("scenario", SIM2D_SCENARIOS)
-def test_sim2d_conforms(world: str, scenario: str) -> None:
-    with EngineProcess(world, "--scenario", scenario):
-        _assert_all_pass(world)
+class TestGridEngine(EngineConformance):
+    """The example grid engine, written from the protocol documents alone."""
 
-
-@pytest.mark.parametrize("scenario", ["paper-robot", "sally-anne"])
-def test_grid_engine_conforms(world: str, scenario: str) -> None:
-    with GridEngineProcess(world, "--scenario", scenario):
-        _assert_all_pass(world)
+    @pytest.fixture(scope="class", params=["paper-robot", "sally-anne"])
+    @classmethod
+    def conformance_world(cls, request: pytest.FixtureRequest) -> Iterator[str]:
+        world = f"grid-{request.param}-{uuid.uuid4().hex[:6]}"
+        with GridEngineProcess(world, "--scenario", request.param):
+            yield world
 
 
 @pytest.mark.parametrize(
