@@ -22,8 +22,18 @@ import time
 from collections.abc import Callable
 from typing import Literal
 
-from bridge import Bridge, LockstepClient, StepTimeout, handshake
-from protocol import AgentKind, ClockMode, CommandStatus, ControlReply, EngineInfo, Event, Reset, State
+from bridge import Bridge, LockstepClient, Publisher, StepTimeout, handshake
+from protocol import (
+    AgentKind,
+    ClockMode,
+    CommandStatus,
+    ControlReply,
+    EngineInfo,
+    Event,
+    Message,
+    Reset,
+    State,
+)
 
 from .outputs import mind_message
 from .robot import RobotBrain
@@ -76,6 +86,22 @@ class BrainNode:
         log.info("robot '%s' %s", spec.id, "acts" if acts else "only observes")
         return RobotBrain(tracker, spec.id, self.robot_settings) if acts else None
 
+    def _connect_robot(
+        self, info: EngineInfo, tracker: MindTracker
+    ) -> tuple[RobotBrain | None, queue.Queue[CommandStatus], Publisher[Message] | None]:
+        """The robot brain (when the robot acts), a queue of its statuses, and its command
+        publisher, once the engine listens to it."""
+        robot = self._robot(info, tracker)
+        inbox: queue.Queue[CommandStatus] = queue.Queue()
+        if robot is None:
+            return None, inbox, None
+        keys = self.bridge.keys
+        self.bridge.subscribe(keys.status(robot.robot), lambda s, _: inbox.put(s), expected=CommandStatus)
+        commands = self.bridge.publisher(keys.command(robot.robot))
+        if not commands.wait_matched(self.handshake_timeout):
+            raise StepTimeout(f"the engine never subscribed to '{keys.command(robot.robot)}'")
+        return robot, inbox, commands
+
     def run(
         self,
         scenario: str | None = None,
@@ -93,16 +119,7 @@ class BrainNode:
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("engine '%s', scenario '%s', scene '%s'", info.engine, info.scenario, info.scene.name)
         tracker = MindTracker(info.scene, self.settings, self.observer)
-        robot = self._robot(info, tracker)
-        inbox: queue.Queue[CommandStatus] = queue.Queue()
-        commands = None
-        if robot is not None:
-            self.bridge.subscribe(
-                self.bridge.keys.status(robot.robot), lambda s, _: inbox.put(s), expected=CommandStatus
-            )
-            commands = self.bridge.publisher(self.bridge.keys.command(robot.robot))
-            if not commands.wait_matched(self.handshake_timeout):
-                raise StepTimeout(f"the engine never subscribed to '{self.bridge.keys.command(robot.robot)}'")
+        robot, inbox, commands = self._connect_robot(info, tracker)
         events = clock.last_reply.events if clock.last_reply is not None else ()
         while True:
             tracker.observe(state, events)
@@ -149,14 +166,7 @@ class BrainNode:
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("free-running with engine '%s', scenario '%s'", info.engine, info.scenario)
         tracker = MindTracker(info.scene, self.settings, self.observer)
-        robot = self._robot(info, tracker)
-        inbox: queue.Queue[CommandStatus] = queue.Queue()
-        commands = None
-        if robot is not None:
-            self.bridge.subscribe(
-                self.bridge.keys.status(robot.robot), lambda s, _: inbox.put(s), expected=CommandStatus
-            )
-            commands = self.bridge.publisher(self.bridge.keys.command(robot.robot))
+        robot, inbox, commands = self._connect_robot(info, tracker)
         pending: list[Event] = []
         while True:
             try:
