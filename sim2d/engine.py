@@ -22,10 +22,12 @@ from protocol import (
     RobotCommand,
     Scene,
     State,
+    Truth,
 )
 
+from .autonomous import AutonomousPerson
 from .maps import agent_spec
-from .people import ScriptedPerson
+from .people import Person, ScriptedPerson
 from .robot import RobotBody
 from .scenario import RobotMode, Scenario, load_scenario
 from .world import World
@@ -40,6 +42,8 @@ class TickResult:
     state: State
     events: tuple[Event, ...]
     statuses: tuple[CommandStatus, ...]
+    truth: Truth | None = None
+    """Simulated people's true minds, when the scenario has autonomous people."""
 
 
 class Engine:
@@ -66,7 +70,13 @@ class Engine:
         self.rng = np.random.default_rng(seed)
         self.world = World(scenario, self.substeps)
         self.world.episode = self.episode
-        self.people = {a.id: ScriptedPerson(a) for a in scenario.people}
+        self.people: dict[str, Person] = {}
+        for index, setup in enumerate(scenario.people):
+            if setup.autonomous:
+                rng = np.random.default_rng([seed, index])
+                self.people[setup.id] = AutonomousPerson(setup, self.world, rng, scenario.autonomy)
+            else:
+                self.people[setup.id] = ScriptedPerson(setup)
         acts = (self.robot_override or scenario.robot) == "act"
         self.robots = {r.id: RobotBody(r.id, acts, scenario.name) for r in scenario.robots}
         self.settled = 0
@@ -93,7 +103,8 @@ class Engine:
             engine=ENGINE_NAME,
             world=world,
             scenario=self.scenario.name,
-            capabilities=(Capability.LOCKSTEP, Capability.REALTIME, Capability.ROBOT),
+            capabilities=(Capability.LOCKSTEP, Capability.REALTIME, Capability.ROBOT)
+            + ((Capability.TRUTH,) if self.scenario.autonomous else ()),
             clock=clock,
             tick_seconds=self.scenario.tick_seconds,
             episode=self.episode,
@@ -107,7 +118,14 @@ class Engine:
         self.episode += 1
         chosen = self.scenario if scenario is None else scenario
         self._load(chosen if isinstance(chosen, Scenario) else load_scenario(chosen), seed)
-        return TickResult(self.state(), (), ())
+        return TickResult(self.state(), (), (), self.truth())
+
+    def truth(self) -> Truth | None:
+        """The true minds of the autonomous people (``None`` when there are none)."""
+        minds = tuple(p.mind() for p in self.people.values() if isinstance(p, AutonomousPerson))
+        if not minds:
+            return None
+        return Truth(episode=self.episode, tick=self.world.tick, agents=minds)
 
     def step(self) -> TickResult:
         """Advance one tick."""
@@ -120,11 +138,14 @@ class Engine:
             robot.update(world, self.people)
         world.physics.step()
         world.after_physics()
+        for person in self.people.values():  # true minds as of the end of the tick
+            if isinstance(person, AutonomousPerson):
+                person.perceive(world)
         quiet = all(p.finished for p in self.people.values()) and all(r.idle for r in self.robots.values())
         self.settled = self.settled + 1 if quiet else 0
         if self.settled >= self.scenario.settle_ticks or world.tick >= self.scenario.max_ticks:
             self.done = True
-        return TickResult(self.state(), tuple(world.events), self._drain())
+        return TickResult(self.state(), tuple(world.events), self._drain(), self.truth())
 
     def command(self, command: RobotCommand) -> tuple[CommandStatus, ...]:
         """A robot command arrived: the statuses it produces at once (accepted or failed)."""

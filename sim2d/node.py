@@ -62,6 +62,7 @@ class EngineNode:
         keys = bridge.keys
         self._state = bridge.publisher(keys.state, congestion=Congestion.DROP)
         self._events = bridge.publisher(keys.events)
+        self._truth = bridge.publisher(keys.truth, congestion=Congestion.DROP)
         self._status = {rid: bridge.publisher(keys.status(rid)) for rid in engine.robots}
         serve_info(bridge, self.info)
         bridge.queryable(keys.control, self._control, expected=(Reset, Step, Pause, Resume))
@@ -80,6 +81,8 @@ class EngineNode:
         for event in result.events:
             self._events.put(event)
         self._publish_statuses(result)
+        if result.truth is not None:
+            self._truth.put(result.truth)
         self._state.put(result.state)
 
     def _publish_statuses(self, result: TickResult) -> None:

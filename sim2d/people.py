@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import Protocol
 
 from protocol import EventKind
 
@@ -29,6 +30,25 @@ class GotoPlaySpot:
 
 
 PlanStep = Step | GotoPlaySpot
+
+
+class Person(Protocol):
+    """What the engine and the robot body need of a simulated person."""
+
+    id: str
+
+    @property
+    def finished(self) -> bool: ...
+
+    def update(self, world: World) -> None: ...
+
+    def on_given(self, world: World) -> None: ...
+
+    def on_informed(self, world: World, item: str, location: str) -> None: ...
+
+    def answer(self, world: World, item: str, offer: str | None = None) -> bool: ...
+
+    def on_handed_over(self, world: World) -> None: ...
 
 
 class ScriptedPerson:
@@ -167,8 +187,8 @@ class ScriptedPerson:
         world.stop(self.id)
         self._replace([Goto((loc.cell.col, loc.cell.row), loc.id), Take(item), GotoPlaySpot(), Play()])
 
-    def answer(self, world: World, item: str) -> bool:
-        """Answer a request to hand over ``item``."""
+    def answer(self, world: World, item: str, offer: str | None = None) -> bool:
+        """Answer a request to hand over ``item`` (as the scenario says, whatever the offer)."""
         return self.setup.answers and world.agents[self.id].holding == item
 
     def on_handed_over(self, world: World) -> None:

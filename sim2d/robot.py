@@ -28,7 +28,7 @@ from protocol import (
     SayTopic,
 )
 
-from .people import ScriptedPerson
+from .people import Person
 from .world import World
 
 MANIPULATION_TICKS = 3
@@ -153,7 +153,7 @@ class RobotBody:
         self._status(world, victim, CommandState.CANCELLED, f"cancelled by '{command.id}'")
         self._status(world, command, CommandState.SUCCEEDED)
 
-    def update(self, world: World, people: Mapping[str, ScriptedPerson]) -> None:
+    def update(self, world: World, people: Mapping[str, Person]) -> None:
         """Carry the running command forward by one tick (starting the next when idle)."""
         if self.running is None:
             if not self.queue:
@@ -258,7 +258,7 @@ class RobotBody:
         return None
 
     def _complete(
-        self, world: World, action: object, people: Mapping[str, ScriptedPerson]
+        self, world: World, action: object, people: Mapping[str, Person]
     ) -> tuple[str | None, bool | None]:
         """Finish a timed command; ``(reason it failed, answer)``."""
         problem = self._check(world, action)
@@ -292,7 +292,7 @@ class RobotBody:
         assert isinstance(action, Request)
         person = people.get(action.person)
         still = world.agents[action.person].holding == action.item
-        answer = bool(person is not None and still and person.answer(world, action.item))
+        answer = bool(person is not None and still and person.answer(world, action.item, action.offer))
         world.emit(EventKind.REPLY, action.person, item=action.item, target=self.id, answer=answer)
         if answer:
             me = world.agents[self.id]

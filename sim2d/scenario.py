@@ -104,6 +104,24 @@ class AgentSetup:
     wants: str | None = None
     answers: bool = False
     script: tuple[Step, ...] = ()
+    autonomous: bool = False
+    """A simulated person with a true mind and a policy of their own (no script)."""
+    prefers: str | None = None
+    """An autonomous person's first preference (an item or ``out``); ``None``: drawn from the seed."""
+
+
+@dataclass(frozen=True)
+class Autonomy:
+    """How autonomous people behave. Probabilities per tick; durations in ticks (min, max)."""
+
+    switch: float = 0.002
+    """Chance per tick that the preference changes."""
+    mischief: float = 0.05
+    """Chance, when deciding with empty hands, of moving an item that is not one's wish."""
+    put_away: float = 0.5
+    """Chance of putting an item away (and wanting something else) after playing with it."""
+    play_ticks: tuple[int, int] = (60, 200)
+    wait_ticks: tuple[int, int] = (20, 60)
 
 
 @dataclass(frozen=True)
@@ -121,6 +139,11 @@ class Scenario:
     settle_ticks: int
     items: tuple[ItemSetup, ...]
     agents: tuple[AgentSetup, ...]
+    autonomy: Autonomy = Autonomy()
+
+    @property
+    def autonomous(self) -> tuple[AgentSetup, ...]:
+        return tuple(a for a in self.agents if a.autonomous)
 
     @property
     def robots(self) -> tuple[AgentSetup, ...]:
@@ -265,6 +288,9 @@ def load_scenario(name_or_path: str) -> Scenario:
         )
         if kind is AgentKind.ROBOT and script:
             raise ScenarioError(path, entry, "a robot has no script: the brain drives it")
+        autonomous = bool(table.get("autonomous", False))
+        if autonomous and (script or kind is AgentKind.ROBOT):
+            raise ScenarioError(path, entry, "an autonomous person has no script (and is not a robot)")
         answers = table.get("answers", "no")
         if answers not in ("yes", "no"):
             raise ScenarioError(path, entry, f"expected answers = 'yes' or 'no', got {answers!r}")
@@ -277,6 +303,8 @@ def load_scenario(name_or_path: str) -> Scenario:
                 wants=table.get("wants"),
                 answers=answers == "yes",
                 script=script,
+                autonomous=autonomous,
+                prefers=table.get("prefers"),
             )
         )
     agent_ids = [a.id for a in agents]
@@ -324,6 +352,8 @@ def load_scenario(name_or_path: str) -> Scenario:
     for i, agent in enumerate(agents):
         if agent.wants is not None and agent.wants not in item_ids:
             raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"wants unknown item {agent.wants!r}")
+        if agent.prefers is not None and agent.prefers not in item_ids | {"out"}:
+            raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"prefers unknown item {agent.prefers!r}")
         for j, step in enumerate(agent.script):
             entry = f"agents[{i}] '{agent.id}'.script[{j}]"
             if isinstance(step, Take) and step.item not in item_ids:
@@ -349,6 +379,17 @@ def load_scenario(name_or_path: str) -> Scenario:
         ) from None
     if tick_seconds <= 0 or max_ticks < 1 or settle_ticks < 1:
         raise ScenarioError(path, "", "tick_seconds must be > 0, max_ticks and settle_ticks >= 1")
+    table = data.get("autonomy", {})
+    try:
+        autonomy = Autonomy(
+            switch=float(table.get("switch", Autonomy.switch)),
+            mischief=float(table.get("mischief", Autonomy.mischief)),
+            put_away=float(table.get("put_away", Autonomy.put_away)),
+            play_ticks=tuple(table.get("play_ticks", Autonomy.play_ticks)),  # type: ignore[arg-type]
+            wait_ticks=tuple(table.get("wait_ticks", Autonomy.wait_ticks)),  # type: ignore[arg-type]
+        )
+    except (TypeError, ValueError) as err:
+        raise ScenarioError(path, "autonomy", f"expected numbers and [min, max] tick pairs ({err})") from None
     return Scenario(
         name=name,
         path=path,
@@ -361,4 +402,5 @@ def load_scenario(name_or_path: str) -> Scenario:
         settle_ticks=settle_ticks,
         items=tuple(items),
         agents=tuple(agents),
+        autonomy=autonomy,
     )

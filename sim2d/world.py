@@ -73,6 +73,7 @@ class World:
         self.region_cells: dict[str, list[GridCell]] = {}
         for cell, region in sorted(self.region_of.items()):
             self.region_cells.setdefault(region, []).append(cell)
+        self.nearest = _nearest_locations(self.map, self.walkable)
         self.physics = Physics(
             wall_segments(self.walkable, self.map.cell_size), scenario.tick_seconds, substeps
         )
@@ -269,6 +270,24 @@ class World:
         self.emit(EventKind.GIVE, first, item=item_a, target=second)
         self.emit(EventKind.GIVE, second, item=item_b, target=first)
 
+    def item_location(self, item_id: str) -> str:
+        """Where an item counts as being: its spot, or its carrier's location (the nearest
+        spot of the carrier's region, or the nearest of all where the region has none)."""
+        item = self.items[item_id]
+        if item.holder is not None:
+            return self.nearest[self.agents[item.holder].cell]
+        return item.location or ""
+
+    def percept(self, agent_id: str) -> tuple[tuple[str, ...], dict[str, str]]:
+        """What ``agent_id`` sees: the visible locations, and where each item in view is."""
+        visible = self.map.sees[self.agents[agent_id].cell]
+        seen = {}
+        for item_id, item in self.items.items():
+            where = self.item_location(item_id)
+            if item.holder == agent_id or where in visible:
+                seen[item_id] = where
+        return visible, seen
+
     def play_spots(self) -> list[GridCell]:
         return [(loc.cell.col, loc.cell.row) for loc in self.map.locations if loc.play]
 
@@ -315,3 +334,30 @@ class World:
                 )
             )
         return tuple(out)
+
+
+def _nearest_locations(game_map: GameMap, walkable: frozenset[GridCell]) -> dict[GridCell, str]:
+    """For every walkable cell, the location a carried item counts at (see ``item_location``)."""
+    from collections import deque
+
+    distance: dict[str, dict[GridCell, int]] = {}
+    for loc in game_map.locations:
+        start = (loc.cell.col, loc.cell.row)
+        seen = {start: 0}
+        queue = deque([start])
+        while queue:
+            cell = queue.popleft()
+            for dc, dr in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                nxt = (cell[0] + dc, cell[1] + dr)
+                if nxt in walkable and nxt not in seen:
+                    seen[nxt] = seen[cell] + 1
+                    queue.append(nxt)
+        distance[loc.id] = seen
+    region_of = game_map.region_of
+    order = [loc.id for loc in game_map.locations]
+    out = {}
+    for cell in walkable:
+        own = [loc.id for loc in game_map.locations if loc.region == region_of.get(cell)]
+        pool = own or order
+        out[cell] = min(pool, key=lambda lid: (distance[lid].get(cell, 1 << 30), order.index(lid)))
+    return out

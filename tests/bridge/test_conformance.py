@@ -22,6 +22,7 @@ SIM2D_SCENARIOS = [
     "paper-robot-decline",
     "paper-tidy",
     "sally-anne",
+    "paper-auto",
 ]
 
 

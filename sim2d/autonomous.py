@@ -1,0 +1,259 @@
+"""Autonomous simulated people: a true belief, a hidden preference, and a simple policy of
+their own (not the brain's planner).
+
+Each tick a person perceives (updating their :class:`~sim2d.truebelief.TrueBelief`), then
+carries on with their current plan or makes a new one:
+
+- wanting to leave (``out``): walk to the outside and wait there;
+- holding the item they want: walk to the nearest play spot and play; after a while they
+  may put it away somewhere and want something else;
+- holding another item: put it down at the nearest spot;
+- otherwise: walk to where they believe the item they want most likely is (a place found
+  empty is crossed off by perception, and the next most likely is tried); take it; when
+  they see someone else holding it, they wait, or wander to another room;
+- now and then, with nothing in hand, they move an item that is not theirs to another spot
+  (the mischief that creates false beliefs in others).
+
+Their preference may change with a small probability per tick. They answer the robot: an
+``inform`` replaces their belief about that item; a swap request is accepted when the item
+offered is worth more to them than the one they hold.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from protocol import EventKind, ItemBelief, Prob, TrueMind
+
+from .scenario import AgentSetup, Autonomy
+from .truebelief import TrueBelief
+from .world import World
+
+OUT = "out"
+
+
+@dataclass(frozen=True)
+class Primitive:
+    """One step of a plan: ``goto`` a cell, ``take`` / ``drop``, or ``play`` / ``wait`` for ticks."""
+
+    do: str
+    cell: tuple[int, int] | None = None
+    item: str | None = None
+    location: str | None = None
+    ticks: int = 0
+
+
+class AutonomousPerson:
+    """A simulated person with a true mind (see the module docstring)."""
+
+    def __init__(self, setup: AgentSetup, world: World, rng: np.random.Generator, autonomy: Autonomy) -> None:
+        self.id = setup.id
+        self.rng = rng
+        self.autonomy = autonomy
+        items = list(world.items)
+        self.options = [*items, OUT]
+        self.preference = setup.prefers if setup.prefers is not None else str(rng.choice(self.options))
+        self.belief = TrueBelief(items, [loc.id for loc in world.map.locations])
+        self.plan: deque[Primitive] = deque()
+        self.current: Primitive | None = None
+        self.left = 0
+        self.started = False
+
+    @property
+    def finished(self) -> bool:
+        """Autonomous people never finish: their episodes end at the scenario's time limit."""
+        return False
+
+    def mind(self) -> TrueMind:
+        """The person's true belief and preference (for ``engine/truth``)."""
+        beliefs = tuple(
+            ItemBelief(
+                item=item,
+                locations=tuple(
+                    Prob(loc, round(float(p), 6))
+                    for loc, p in zip(self.belief.locations, self.belief.of(item), strict=True)
+                ),
+            )
+            for item in self.belief.items
+        )
+        return TrueMind(agent=self.id, beliefs=beliefs, preference=self.preference)
+
+    # ----- the tick ---------------------------------------------------------------------
+
+    def perceive(self, world: World) -> None:
+        """Update the true belief on what the person sees now (idempotent)."""
+        visible, seen = world.percept(self.id)
+        self.belief.perceive(visible, seen)
+
+    def update(self, world: World) -> None:
+        self.perceive(world)
+        if self.rng.random() < self.autonomy.switch:
+            self.preference = str(self.rng.choice([o for o in self.options if o != self.preference]))
+            if self.current is not None and self.current.do in ("play", "wait"):
+                self._stop(world)
+        if self.current is None:
+            if not self.plan:
+                self._decide(world)
+            if not self.plan:
+                return
+            self.current, self.started = self.plan.popleft(), False
+        self._carry_on(world)
+
+    def _stop(self, world: World) -> None:
+        agent = world.agents[self.id]
+        if agent.playing:
+            agent.playing = False
+            world.emit(EventKind.STOP, self.id, item=agent.holding)
+        self.current = None
+        self.plan.clear()
+
+    def _carry_on(self, world: World) -> None:
+        step = self.current
+        assert step is not None
+        agent = world.agents[self.id]
+        if step.do == "goto":
+            if not self.started:
+                self.started = True
+                if step.cell is None or not world.plan_to(self.id, step.cell):
+                    self.current = None
+                    return
+            if world.arrived(self.id):
+                self.current = None
+            return
+        if step.do in ("take", "drop"):
+            if not world.arrived(self.id):
+                return
+            if step.do == "take" and step.item is not None:
+                world.take(self.id, step.item)
+            elif step.location is not None:
+                world.drop(self.id, step.location)
+            self.current = None
+            return
+        if not self.started:
+            self.started, self.left = True, step.ticks
+            if step.do == "play":
+                if agent.holding is None:
+                    self.current = None
+                    return
+                agent.playing = True
+                spot = world.location_at.get(agent.cell)
+                world.emit(EventKind.PLAY, self.id, item=agent.holding, location=spot.id if spot else None)
+        self.left -= 1
+        if self.left <= 0:
+            if step.do == "play":
+                agent.playing = False
+                world.emit(EventKind.STOP, self.id, item=agent.holding)
+                if (
+                    self.rng.random() < self.autonomy.put_away
+                ):  # done with it: put it away, want something else
+                    spots = [loc for loc in world.map.locations if not loc.play]
+                    if spots:
+                        loc = spots[int(self.rng.integers(len(spots)))]
+                        self.plan.extend(
+                            [
+                                Primitive("goto", cell=(loc.cell.col, loc.cell.row)),
+                                Primitive("drop", location=loc.id),
+                            ]
+                        )
+                        self.preference = str(self.rng.choice(self.options))
+            self.current = None
+
+    # ----- deciding -----------------------------------------------------------------------
+
+    def _ticks(self, bounds: tuple[int, int]) -> int:
+        return int(self.rng.integers(bounds[0], bounds[1] + 1))
+
+    def _decide(self, world: World) -> None:
+        agent = world.agents[self.id]
+        want = self.preference
+        if agent.holding is None and self.rng.random() < self.autonomy.mischief and self._mischief(world):
+            return
+        if want == OUT:
+            if world.map.regions and not self._outside(world):
+                outside = [c for c, r in world.region_of.items() if r in self._outside_regions(world)]
+                if outside:
+                    target = min(outside, key=lambda c: abs(c[0] - agent.cell[0]) + abs(c[1] - agent.cell[1]))
+                    self.plan.append(Primitive("goto", cell=target))
+                    return
+            self.plan.append(Primitive("wait", ticks=self._ticks(self.autonomy.wait_ticks)))
+            return
+        if agent.holding == want:
+            spots = world.play_spots()
+            if spots:
+                spot = min(spots, key=lambda c: abs(c[0] - agent.cell[0]) + abs(c[1] - agent.cell[1]))
+                if agent.cell != spot:
+                    self.plan.append(Primitive("goto", cell=spot))
+            self.plan.append(Primitive("play", ticks=self._ticks(self.autonomy.play_ticks)))
+            return
+        if agent.holding is not None:
+            loc = min(
+                world.map.locations,
+                key=lambda spot: abs(spot.cell.col - agent.cell[0]) + abs(spot.cell.row - agent.cell[1]),
+            )
+            self.plan.extend(
+                [Primitive("goto", cell=(loc.cell.col, loc.cell.row)), Primitive("drop", location=loc.id)]
+            )
+            return
+        item = world.items[want]
+        visible, _ = world.percept(self.id)
+        if item.holder is not None and world.item_location(want) in visible:
+            self.plan.append(Primitive("wait", ticks=self._ticks(self.autonomy.wait_ticks)))  # occupied: wait
+            return
+        believed = self.belief.most_likely(want)
+        if believed is None:
+            self.plan.append(Primitive("wait", ticks=self._ticks(self.autonomy.wait_ticks)))
+            return
+        loc = world.locations[believed]
+        self.plan.extend([Primitive("goto", cell=(loc.cell.col, loc.cell.row)), Primitive("take", item=want)])
+
+    def _outside_regions(self, world: World) -> set[str]:
+        return {r.id for r in world.map.regions if r.kind.value == "outside"}
+
+    def _outside(self, world: World) -> bool:
+        return world.agents[self.id].region in self._outside_regions(world)
+
+    def _mischief(self, world: World) -> bool:
+        """Plan to move an item that is not this person's wish from a spot in view to another."""
+        visible, seen = world.percept(self.id)
+        candidates = [
+            i for i, where in seen.items() if i != self.preference and world.items[i].holder is None
+        ]
+        others = [loc for loc in world.map.locations if loc.id not in visible]
+        if not candidates or not others:
+            return False
+        item = candidates[int(self.rng.integers(len(candidates)))]
+        src = world.locations[world.items[item].location or ""]
+        dst = others[int(self.rng.integers(len(others)))]
+        self.plan.extend(
+            [
+                Primitive("goto", cell=(src.cell.col, src.cell.row)),
+                Primitive("take", item=item),
+                Primitive("goto", cell=(dst.cell.col, dst.cell.row)),
+                Primitive("drop", location=dst.id),
+            ]
+        )
+        return True
+
+    # ----- reactions to the robot -----------------------------------------------------------
+
+    def on_given(self, world: World) -> None:
+        self._stop(world)
+
+    def on_informed(self, world: World, item: str, location: str) -> None:
+        self.belief.told(item, location)
+        if item == self.preference and world.agents[self.id].holding is None:
+            self._stop(world)
+
+    def answer(self, world: World, item: str, offer: str | None = None) -> bool:
+        """Swap when the offer is worth more to them than what they hold."""
+
+        def worth(thing: str | None) -> int:
+            return 1 if thing is not None and thing == self.preference else 0
+
+        return world.agents[self.id].holding == item and worth(offer) > worth(item)
+
+    def on_handed_over(self, world: World) -> None:
+        self._stop(world)
