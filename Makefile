@@ -1,5 +1,5 @@
 # `make run` and `make test` each create .venv when it is missing and install the project
-# into it (with the test extra for `make test`), then run the main job / the test suite.
+# into it (with the test and ray extras for `make test`), then run the main job / the test suite.
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
@@ -15,7 +15,7 @@ $(VENV)/.run-installed: pyproject.toml | $(VENV)/bin/python
 	touch $@
 
 $(VENV)/.test-installed: pyproject.toml | $(VENV)/bin/python
-	$(PY) -m pip install --quiet -e ".[test]"
+	$(PY) -m pip install --quiet -e ".[test,ray]"
 	touch $@ $(VENV)/.run-installed
 
 run: $(VENV)/.run-installed

@@ -79,6 +79,24 @@ def router_main(listen: Sequence[str], config_file: Path | None) -> int:
     return 0
 
 
+def eval_main(episodes: int, seed: int, workers: int, backend: str, out: Path) -> int:
+    """Run the evaluation with a progress bar and print the metrics."""
+    from rich.console import Console
+    from rich.markdown import Markdown
+    from rich.progress import Progress
+
+    from .evaluate import evaluate, report
+
+    with Progress() as bar:
+        task = bar.add_task(f"{episodes} episodes", total=episodes)
+        metrics = evaluate(
+            episodes, seed, out, workers=workers, backend=backend, progress=lambda n: bar.advance(task, n)
+        )
+    Console().print(Markdown(report(metrics)))
+    print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
+    return 0
+
+
 def conform_main(world: str, settings: SessionSettings, timeout: float) -> int:
     """Run the conformance kit against the engine of ``world``; 1 when a check fails."""
     from .conformance import check_engine
@@ -155,6 +173,17 @@ def build_parser() -> argparse.ArgumentParser:
     infer.add_argument("--out", type=Path, required=True)
     infer.add_argument("--observer", choices=("btom", "truebelief", "perceptonly"), default="btom")
 
+    evaluation = commands.add_parser(
+        "eval", help="measure the brain on random episodes with simulated people"
+    )
+    evaluation.add_argument("--episodes", type=int, default=40)
+    evaluation.add_argument("--seed", type=int, default=1)
+    evaluation.add_argument(
+        "--workers", type=int, default=2, help="episodes at a time (default: %(default)s)"
+    )
+    evaluation.add_argument("--backend", choices=("local", "ray"), default="local")
+    evaluation.add_argument("--out", type=Path, default=Path("out/eval"))
+
     conform = commands.add_parser("conform", help="check that the engine serving a world speaks the protocol")
     conform.add_argument(
         "--timeout", type=float, default=5.0, help="seconds per request (default: %(default)s)"
@@ -202,6 +231,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 live=False if args.no_live else None,
             )
             return run(config, settings_from_args(args))
+        if args.command == "eval":
+            return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out)
         if args.command == "conform":
             return conform_main(args.world, settings_from_args(args), args.timeout)
         if args.command == "infer":

@@ -129,13 +129,13 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     robot = ["--robot", config.robot] if config.robot else []
     engine_log, brain_log = config.out / "engine.log", config.out / "brain.log"
     engine_args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
-    engine = _start(engine_command(config.engine, world, settings, *engine_args), engine_log)
+    engine = start_node(engine_command(config.engine, world, settings, *engine_args), engine_log)
     brain: subprocess.Popen[bytes] | None = None
     try:
         with Bridge(world, settings) as bridge:
-            info = _wait_for_engine(bridge, engine)
+            info = wait_for_engine(bridge, engine)
             if info is None:
-                _report_failure("engine", engine.returncode, engine_log)
+                report_failure("engine", engine.returncode, engine_log)
                 return engine.returncode or 1
             view = MindView(f"toyroom run: {config.scenario} (world {world})", config.live)
             with TraceRecorder(bridge, config.out / "trace.jsonl", info=info), view:
@@ -152,7 +152,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                     ),
                     *robot,
                 ]
-                brain = _start(node_command("brain", world, settings, *brain_args), brain_log)
+                brain = start_node(node_command("brain", world, settings, *brain_args), brain_log)
                 while brain.poll() is None:
                     if engine.poll() is not None:
                         log.error(
@@ -166,7 +166,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
             f"toyroom run: results in {config.out}/ (mind.csv, events.csv with {rows} rows, report.md, ...)"
         )
         if brain.returncode != 0:
-            _report_failure("brain", brain.returncode, brain_log)
+            report_failure("brain", brain.returncode, brain_log)
         return brain.returncode
     finally:
         for process in (brain, engine):
@@ -178,13 +178,13 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                     process.kill()
 
 
-def _start(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
+def start_node(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
     """Start a node with its output going to ``log_path`` (kept with the results)."""
     with log_path.open("wb") as handle:
         return subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT)
 
 
-def _report_failure(node: str, status: int | None, log_path: Path, lines: int = 20) -> None:
+def report_failure(node: str, status: int | None, log_path: Path, lines: int = 20) -> None:
     """Say that a node failed, with the end of its log."""
     tail = (
         log_path.read_text(encoding="utf-8", errors="replace").splitlines()[-lines:]
@@ -196,7 +196,7 @@ def _report_failure(node: str, status: int | None, log_path: Path, lines: int = 
         print(f"  {line}", file=sys.stderr)
 
 
-def _wait_for_engine(
+def wait_for_engine(
     bridge: Bridge, engine: subprocess.Popen[bytes], timeout: float = 60.0
 ) -> EngineInfo | None:
     """The engine's handshake, or ``None`` when its process exits first."""

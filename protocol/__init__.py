@@ -43,7 +43,7 @@ from .scene import (
 )
 from .scene_check import InvalidScene, scene_problems, validate_scene
 from .state import Activity, AgentState, ItemState, State
-from .truth import TrueMind, Truth
+from .truth import ItemPlace, TrueMind, Truth
 from .version import PROTOCOL_VERSION, Version, check_version
 
 __all__ = [
@@ -76,6 +76,7 @@ __all__ = [
     "Intention",
     "InvalidScene",
     "ItemBelief",
+    "ItemPlace",
     "ItemShape",
     "ItemSpec",
     "ItemState",

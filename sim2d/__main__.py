@@ -35,7 +35,28 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def generate_main(argv: Sequence[str]) -> int:
+    """``python -m sim2d generate --map M --seed S --out DIR``: write a random episode."""
+    from pathlib import Path
+
+    from .generate import MAPS, write_episode
+
+    parser = argparse.ArgumentParser(
+        prog="python -m sim2d generate", description="Write a random episode file."
+    )
+    parser.add_argument("--map", choices=sorted(MAPS), default="paper")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--max-ticks", type=int, default=1500)
+    parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
+    args = parser.parse_args(argv)
+    print(write_episode(args.out, args.map, args.seed, args.max_ticks))
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] == "generate":
+        return generate_main(argv[1:])
     args = build_parser().parse_args(argv)
     logging.basicConfig(
         level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(name)s: %(message)s"

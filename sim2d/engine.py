@@ -18,6 +18,7 @@ from protocol import (
     CommandStatus,
     EngineInfo,
     Event,
+    ItemPlace,
     ItemSpec,
     RobotCommand,
     Scene,
@@ -125,7 +126,11 @@ class Engine:
         minds = tuple(p.mind() for p in self.people.values() if isinstance(p, AutonomousPerson))
         if not minds:
             return None
-        return Truth(episode=self.episode, tick=self.world.tick, agents=minds)
+        places = tuple(
+            ItemPlace(item=item_id, location=self.world.item_location(item_id), held_by=item.holder)
+            for item_id, item in self.world.items.items()
+        )
+        return Truth(episode=self.episode, tick=self.world.tick, agents=minds, items=places)
 
     def step(self) -> TickResult:
         """Advance one tick."""

@@ -62,7 +62,7 @@ class EngineNode:
         keys = bridge.keys
         self._state = bridge.publisher(keys.state, congestion=Congestion.DROP)
         self._events = bridge.publisher(keys.events)
-        self._truth = bridge.publisher(keys.truth, congestion=Congestion.DROP)
+        self._truth = bridge.publisher(keys.truth)  # evaluation data: never dropped
         self._status = {rid: bridge.publisher(keys.status(rid)) for rid in engine.robots}
         serve_info(bridge, self.info)
         bridge.queryable(keys.control, self._control, expected=(Reset, Step, Pause, Resume))

@@ -20,6 +20,7 @@ from protocol import (
     Pose,
     Vec2,
 )
+from protocol.carry import carry_locations
 
 from .maps import GameMap, GridCell
 from .paths import path_to_any, shortest_path
@@ -73,7 +74,7 @@ class World:
         self.region_cells: dict[str, list[GridCell]] = {}
         for cell, region in sorted(self.region_of.items()):
             self.region_cells.setdefault(region, []).append(cell)
-        self.nearest = _nearest_locations(self.map, self.walkable)
+        self.nearest = carry_locations(self.map.scene((), ()))
         self.physics = Physics(
             wall_segments(self.walkable, self.map.cell_size), scenario.tick_seconds, substeps
         )
@@ -334,30 +335,3 @@ class World:
                 )
             )
         return tuple(out)
-
-
-def _nearest_locations(game_map: GameMap, walkable: frozenset[GridCell]) -> dict[GridCell, str]:
-    """For every walkable cell, the location a carried item counts at (see ``item_location``)."""
-    from collections import deque
-
-    distance: dict[str, dict[GridCell, int]] = {}
-    for loc in game_map.locations:
-        start = (loc.cell.col, loc.cell.row)
-        seen = {start: 0}
-        queue = deque([start])
-        while queue:
-            cell = queue.popleft()
-            for dc, dr in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-                nxt = (cell[0] + dc, cell[1] + dr)
-                if nxt in walkable and nxt not in seen:
-                    seen[nxt] = seen[cell] + 1
-                    queue.append(nxt)
-        distance[loc.id] = seen
-    region_of = game_map.region_of
-    order = [loc.id for loc in game_map.locations]
-    out = {}
-    for cell in walkable:
-        own = [loc.id for loc in game_map.locations if loc.region == region_of.get(cell)]
-        pool = own or order
-        out[cell] = min(pool, key=lambda lid: (distance[lid].get(cell, 1 << 30), order.index(lid)))
-    return out

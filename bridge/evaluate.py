@@ -1,0 +1,287 @@
+"""``toyroom eval``: the brain measured on random episodes whose true minds are known.
+
+Each episode is a random scenario (``python -m sim2d generate``) on the paper map or one
+of two generated houses, with autonomous simulated people. It runs four times, each time
+an engine and a brain process over loopback Zenoh in lock-step: the brain observing with
+each person model (``btom``, ``truebelief``, ``perceptonly``), and the BToM brain with the
+robot acting. The evaluator listens to ``brain/mind`` and ``engine/truth`` and scores every
+tick (:mod:`bridge.metrics`); robot success is whether each person ends the episode with
+what they want (playing with their preferred item, or outside if they want to leave), with
+and without the robot. Episodes run ``workers`` at a time, locally or as Ray tasks.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import uuid
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from protocol import Event, EventKind, Mind, RegionKind, State, Truth
+
+from .launch import engine_command, node_command, report_failure, start_node, wait_for_engine
+from .metrics import Counts, Outcome, score_tick
+from .node import Bridge
+from .session import SessionSettings
+
+OBSERVERS = ("btom", "truebelief", "perceptonly")
+MAPS = ("paper", "house-a", "house-b")
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of one episode."""
+
+    scenario: Path
+    observer: str
+    robot: str
+    timeout: float = 30.0
+
+
+@dataclass
+class RunResult:
+    counts: Counts = field(default_factory=Counts)
+    outcome: Outcome = field(default_factory=Outcome)
+    ticks: int = 0
+
+
+def run_once(spec: RunSpec, logs: Path) -> RunResult:
+    """Run an engine and a brain on ``spec`` and score the brain's minds against the truth."""
+    world = f"eval-{uuid.uuid4().hex[:10]}"
+    settings = SessionSettings()
+    tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
+    engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
+    engine = start_node(
+        engine_command("sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep"), engine_log
+    )
+    brain = None
+    minds: dict[int, Mind] = {}
+    truths: dict[int, Truth] = {}
+    states: dict[int, State] = {}
+    took: dict[int, set[str]] = {}
+    lock = threading.Lock()
+
+    def keep(store: dict[int, object]) -> Callable[[object, object], None]:
+        def put(message: object, _: object) -> None:
+            with lock:
+                store[message.tick] = message  # type: ignore[attr-defined]
+
+        return put
+
+    def on_event(event: Event, _: object) -> None:
+        if event.kind is EventKind.TAKE:
+            with lock:
+                took.setdefault(event.tick, set()).add(event.actor)
+
+    try:
+        with Bridge(world, settings) as bridge:
+            info = wait_for_engine(bridge, engine)
+            if info is None:
+                report_failure("engine", engine.returncode, engine_log)
+                raise RuntimeError(f"{tag}: the engine failed")
+            bridge.subscribe(bridge.keys.mind, keep(minds), expected=Mind)  # type: ignore[arg-type]
+            bridge.subscribe(bridge.keys.truth, keep(truths), expected=Truth)  # type: ignore[arg-type]
+            bridge.subscribe(bridge.keys.state, keep(states), expected=State)  # type: ignore[arg-type]
+            bridge.subscribe(bridge.keys.events, on_event, expected=Event)
+            brain = start_node(
+                node_command(
+                    "brain",
+                    world,
+                    settings,
+                    "--scenario",
+                    str(spec.scenario),
+                    "--observer",
+                    spec.observer,
+                    "--robot",
+                    spec.robot,
+                    "--timeout",
+                    str(spec.timeout),
+                    "--log-level",
+                    "WARNING",
+                ),
+                brain_log,
+            )
+            if brain.wait(timeout=1800) != 0:
+                report_failure("brain", brain.returncode, brain_log)
+                raise RuntimeError(f"{tag}: the brain failed")
+            time.sleep(0.3)  # the last messages
+    finally:
+        for process in (brain, engine):
+            if process is not None and process.poll() is None:
+                process.terminate()
+                process.wait(timeout=10)
+    outside = {r.id for r in info.scene.regions if r.kind is RegionKind.OUTSIDE}
+    result = RunResult()
+    seen: set[str] = set()
+    for tick in sorted(truths):  # truth and minds are never dropped; states may be
+        seen |= {p for t, people in took.items() if t <= tick for p in people}
+        if tick not in minds:
+            continue
+        where = {place.item: place.location for place in truths[tick].items}
+        result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
+        result.ticks += 1
+    last_tick = max(states) if states else None
+    if last_tick is not None and truths:
+        state, truth = states[last_tick], truths[max(truths)]
+        agents = {a.id: a for a in state.agents}
+        for person in truth.agents:
+            agent = agents[person.agent]
+            ok = (
+                agent.region in outside
+                if person.preference == "out"
+                else agent.holding == person.preference and agent.activity.value == "playing"
+            )
+            result.outcome.per_person[person.agent] = ok
+            result.outcome.people += 1
+            result.outcome.successes += ok
+    return result
+
+
+def generate(directory: Path, index: int, seed: int) -> Path:
+    """Write episode ``index`` of a sweep with ``seed`` (its map cycles through ``MAPS``)."""
+    map_name = MAPS[index % len(MAPS)]
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sim2d",
+            "generate",
+            "--map",
+            map_name,
+            "--seed",
+            str(seed * 1000 + index),
+            "--max-ticks",
+            "1000",
+            "--out",
+            str(directory),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    if result.returncode != 0:
+        raise RuntimeError(f"generating episode {index}: {result.stderr.strip()}")
+    return Path(result.stdout.strip())
+
+
+def episode_runs(scenario: Path) -> list[RunSpec]:
+    return [RunSpec(scenario, observer, "observe") for observer in OBSERVERS] + [
+        RunSpec(scenario, "btom", "act")
+    ]
+
+
+def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
+    """Everything about one episode, as plain data (so a Ray task can return it)."""
+    directory = Path(workdir)
+    scenario = generate(directory / "scenarios", index, seed)
+    logs = directory / "logs"
+    logs.mkdir(parents=True, exist_ok=True)
+    out: dict[str, object] = {"index": index, "scenario": scenario.stem}
+    for spec in episode_runs(scenario):
+        result = run_once(spec, logs)
+        key = spec.observer if spec.robot == "observe" else "robot"
+        out[key] = {
+            "counts": result.counts.__dict__,
+            "outcome": result.outcome.per_person,
+            "ticks": result.ticks,
+        }
+    return out
+
+
+def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]:
+    """``metrics.json``'s content from every episode's results."""
+    totals = {observer: Counts() for observer in OBSERVERS}
+    with_robot = Outcome()
+    without = Outcome()
+    for episode in episodes:
+        for observer in OBSERVERS:
+            totals[observer].add(Counts(**episode[observer]["counts"]))  # type: ignore[index]
+        for outcome, key in ((with_robot, "robot"), (without, "btom")):
+            for ok in episode[key]["outcome"].values():  # type: ignore[index]
+                outcome.people += 1
+                outcome.successes += bool(ok)
+    return {
+        "episodes": len(episodes),
+        "seed": seed,
+        "observers": {observer: totals[observer].metrics() for observer in OBSERVERS},
+        "robot": {"with": with_robot.rate, "without": without.rate},
+    }
+
+
+def evaluate(
+    episodes: int,
+    seed: int,
+    out: Path,
+    *,
+    workers: int = 2,
+    backend: str = "local",
+    progress: Callable[[int], None] | None = None,
+) -> dict[str, object]:
+    """Run every episode and write ``metrics.json`` and ``report.md`` into ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
+    results: list[dict[str, object]]
+    if backend == "ray":
+        from .raybackend import run_with_ray
+
+        results = run_with_ray(run_episode, episodes, seed, workdir, workers, progress)
+    else:
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            futures = [pool.submit(run_episode, i, seed, workdir) for i in range(episodes)]
+            results = []
+            for future in futures:
+                results.append(future.result())
+                if progress is not None:
+                    progress(1)
+    results.sort(key=lambda r: int(r["index"]))  # type: ignore[call-overload]
+    metrics = aggregate(results, seed)
+    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
+    (out / "episodes.json").write_text(json.dumps(results, indent=1) + "\n")
+    (out / "report.md").write_text(report(metrics))
+    return metrics
+
+
+def report(metrics: dict[str, object]) -> str:
+    """``report.md``: the metrics as tables."""
+    observers = metrics["observers"]
+    assert isinstance(observers, dict)
+    names = [
+        "belief_tv",
+        "preference_accuracy",
+        "false_belief_precision",
+        "false_belief_recall",
+        "false_belief_f1",
+    ]
+
+    def cell(value: object) -> str:
+        return "-" if value is None else f"{value:.3f}"  # type: ignore[str-format]
+
+    lines = [
+        f"# Evaluation: {metrics['episodes']} episodes, seed {metrics['seed']}",
+        "",
+        "Online estimates against the simulated people's true minds (lower `belief_tv` is better).",
+        "",
+        "| observer | " + " | ".join(names) + " |",
+        "|---" * (len(names) + 1) + "|",
+    ]
+    for observer, values in observers.items():
+        lines.append(f"| {observer} | " + " | ".join(cell(values[n]) for n in names) + " |")
+    robot = metrics["robot"]
+    assert isinstance(robot, dict)
+    lines += [
+        "",
+        "| people who end with what they want | rate |",
+        "|---|---|",
+        f"| with the robot acting | {cell(robot['with'])} |",
+        f"| without (observing) | {cell(robot['without'])} |",
+        "",
+    ]
+    return "\n".join(lines)

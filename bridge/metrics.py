@@ -1,0 +1,103 @@
+"""Scoring a brain against simulated people's true minds (pure functions).
+
+Per tick, person and item, from the brain's online ``mind`` and the engine's ``truth``:
+
+- ``belief_tv``: total-variation distance between the inferred and the true belief over
+  the item's location, averaged;
+- ``preference_accuracy``: the most probable inferred preference equals the true one,
+  over ticks after the person first took an item;
+- false beliefs: the brain's flag against the truth that the person's most probable
+  location for the item is wrong, as precision, recall and F1 (pooled over everything).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from protocol import Mind, Truth
+
+
+@dataclass
+class Counts:
+    """Sums that add up across ticks, runs and episodes."""
+
+    tv_sum: float = 0.0
+    tv_n: int = 0
+    pref_hits: int = 0
+    pref_n: int = 0
+    tp: int = 0
+    fp: int = 0
+    fn: int = 0
+    tn: int = 0
+
+    def add(self, other: Counts) -> None:
+        for name in ("tv_sum", "tv_n", "pref_hits", "pref_n", "tp", "fp", "fn", "tn"):
+            setattr(self, name, getattr(self, name) + getattr(other, name))
+
+    def metrics(self) -> dict[str, float | None]:
+        precision = self.tp / (self.tp + self.fp) if self.tp + self.fp else None
+        recall = self.tp / (self.tp + self.fn) if self.tp + self.fn else None
+        f1 = (
+            2 * precision * recall / (precision + recall)
+            if precision is not None and recall is not None and precision + recall > 0
+            else (0.0 if precision is not None and recall is not None else None)
+        )
+        return {
+            "belief_tv": self.tv_sum / self.tv_n if self.tv_n else None,
+            "preference_accuracy": self.pref_hits / self.pref_n if self.pref_n else None,
+            "false_belief_precision": precision,
+            "false_belief_recall": recall,
+            "false_belief_f1": f1,
+        }
+
+
+def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: set[str]) -> Counts:
+    """Score one tick.
+
+    Args:
+        mind: the brain's online estimates at this tick.
+        truth: the people's true minds at this tick.
+        true_location: where each item is now (a carried item at its carrier's location).
+        took: people who have taken an item by now (preference accuracy counts from then on).
+    """
+    counts = Counts()
+    estimates = {a.agent: a for a in mind.agents}
+    for person in truth.agents:
+        est = estimates.get(person.agent)
+        if est is None:
+            continue
+        inferred = {b.item: {p.id: p.p for p in b.locations} for b in est.beliefs}
+        for belief in person.beliefs:
+            true = {p.id: p.p for p in belief.locations}
+            guess = inferred.get(belief.item, {})
+            counts.tv_sum += 0.5 * sum(
+                abs(true.get(loc, 0.0) - guess.get(loc, 0.0)) for loc in set(true) | set(guess)
+            )
+            counts.tv_n += 1
+            where = true_location.get(belief.item)
+            actual = (
+                where is not None and max(true, key=lambda loc: (true[loc], -list(true).index(loc))) != where
+            )
+            flagged = belief.item in est.false_beliefs
+            counts.tp += actual and flagged
+            counts.fp += (not actual) and flagged
+            counts.fn += actual and not flagged
+            counts.tn += (not actual) and not flagged
+        if person.agent in took and est.preference:
+            best = max(est.preference, key=lambda p: p.p).id
+            counts.pref_n += 1
+            counts.pref_hits += best == person.preference
+    return counts
+
+
+@dataclass
+class Outcome:
+    """How an episode ended for its people: whether each got what they wanted."""
+
+    successes: int = 0
+    people: int = 0
+    per_person: dict[str, bool] = field(default_factory=dict)
+
+    @property
+    def rate(self) -> float | None:
+        return self.successes / self.people if self.people else None

@@ -1,0 +1,47 @@
+"""The Ray backend of ``toyroom eval`` (``pip install 'toyroom[ray]'``): every episode a
+Ray task, so a sweep can go to a cluster. Locally, Ray is started on loopback only, with
+usage statistics off; on a cluster, set ``RAY_ADDRESS``."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from typing import Any
+
+
+def run_with_ray(
+    fn: Callable[[int, int, str], dict[str, Any]],
+    episodes: int,
+    seed: int,
+    workdir: str,
+    workers: int,
+    progress: Callable[[int], None] | None = None,
+) -> list[dict[str, Any]]:
+    """``fn(index, seed, workdir)`` for every episode index, as Ray tasks."""
+    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    import ray
+
+    started_here = not ray.is_initialized()
+    if started_here:
+        if os.environ.get("RAY_ADDRESS"):
+            ray.init(address=os.environ["RAY_ADDRESS"], log_to_driver=False)
+        else:
+            ray.init(
+                num_cpus=workers,
+                include_dashboard=False,
+                log_to_driver=False,
+                _node_ip_address="127.0.0.1",
+            )
+    try:
+        task = ray.remote(num_cpus=1)(fn)
+        pending = [task.remote(index, seed, workdir) for index in range(episodes)]
+        results: list[dict[str, Any]] = []
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            results.extend(ray.get(done))
+            if progress is not None:
+                progress(len(done))
+        return results
+    finally:
+        if started_here:
+            ray.shutdown()

@@ -1,0 +1,42 @@
+"""Where a carried item counts as being: its carrier's location.
+
+The nearest item location (by walking distance) of the carrier's region, or the nearest of
+all locations when the region has none (a hall, a doorway, the outside). Engines, brains
+and evaluators that report item locations use this one rule, so that "where is the ball"
+has one answer while someone carries it.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+from .scene import Scene
+
+GridCell = tuple[int, int]
+
+
+def carry_locations(scene: Scene) -> dict[GridCell, str]:
+    """For every walkable cell, the location id an item carried there counts as being at."""
+    walkable = scene.walkable()
+    region_of = {(c.col, c.row): r.id for r in scene.regions for c in r.cells}
+    order = [loc.id for loc in scene.locations]
+    distance: dict[str, dict[GridCell, int]] = {}
+    for loc in scene.locations:
+        start = (loc.cell.col, loc.cell.row)
+        seen = {start: 0}
+        queue = deque([start])
+        while queue:
+            cell = queue.popleft()
+            for dc, dr in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                nxt = (cell[0] + dc, cell[1] + dr)
+                if nxt in walkable and nxt not in seen:
+                    seen[nxt] = seen[cell] + 1
+                    queue.append(nxt)
+        distance[loc.id] = seen
+    out: dict[GridCell, str] = {}
+    for cell in walkable:
+        own = [loc.id for loc in scene.locations if loc.region == region_of.get(cell)]
+        pool = own or order
+        if pool:
+            out[cell] = min(pool, key=lambda lid: (distance[lid].get(cell, 1 << 30), order.index(lid)))
+    return out

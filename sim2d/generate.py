@@ -1,0 +1,192 @@
+"""Random episodes: scenario (and map) files made from a seed.
+
+- :func:`house_map`: a house of ``rooms`` rooms of 3 x 3 cells in two rows, joined by
+  doors (a random spanning tree plus one extra door), an outside below the first room;
+  ``spots`` of the rooms get an item spot (half of them play spots), and each room sees its
+  own spot plus, at random, that of one neighbour it has a door to (an open doorway).
+- :func:`episode`: a scenario on a map: items at random spots, two autonomous people with
+  hidden preferences drawn from the seed, random mischief and patience, an acting robot.
+
+Everything is TOML text in the same format as the bundled files, so any engine that reads
+those (sim2d, the grid engine) plays them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .maps import load_map
+
+ITEM_SHAPES = (("ball", "ball"), ("skate", "board"), ("block", "block"), ("marble", "marble"))
+
+
+def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
+    """The TOML text of a random house."""
+    rng = np.random.default_rng(seed)
+    per_row = (rooms + 1) // 2
+    grid: dict[tuple[int, int], int] = {}
+    for index in range(rooms):
+        grid[(index % per_row, index // per_row)] = index
+    col0 = lambda gx: 4 * gx  # noqa: E731  (3 cells of room, 1 of wall)
+    row0 = lambda gy: 4 + 4 * gy  # noqa: E731  (the outside below)
+    columns, rows = 4 * per_row - 1, 4 + 4 * 2 - 1
+    edges = []
+    for (gx, gy), index in grid.items():
+        for dx, dy in ((1, 0), (0, 1)):
+            other = grid.get((gx + dx, gy + dy))
+            if other is not None:
+                edges.append((index, other, gx, gy, dx, dy))
+    order = rng.permutation(len(edges))
+    parent = list(range(rooms))
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    doors, spare = [], []
+    for e in order:
+        a, b, gx, gy, dx, dy = edges[e]
+        if find(a) != find(b):
+            parent[find(a)] = find(b)
+            doors.append(edges[e])
+        else:
+            spare.append(edges[e])
+    if spare:
+        doors.append(spare[0])
+    with_spot = sorted(rng.choice(rooms, size=min(spots, rooms), replace=False).tolist())
+    play = set(with_spot[: max(1, len(with_spot) // 2)])
+    lines = [
+        f"# A generated house (seed {seed}): {rooms} rooms, {len(with_spot)} item spots.",
+        f'name = "{name}"',
+        "cell_size = 1.0",
+        f"columns = {columns}",
+        f"rows = {rows}",
+        "",
+    ]
+    for (gx, gy), index in sorted(grid.items(), key=lambda kv: kv[1]):
+        kind = "playground" if index in play else "storage" if index in with_spot else "room"
+        lines += [
+            "[[regions]]",
+            f'id = "R{index}"',
+            f'kind = "{kind}"',
+            f"rects = [[{col0(gx)}, {row0(gy)}, 3, 3]]",
+            "",
+        ]
+    lines += ["[[regions]]", 'id = "O"', 'kind = "outside"', "rects = [[0, 0, 3, 3]]", ""]
+    for a, b, gx, gy, dx, _dy in doors:
+        cell = (col0(gx) + 3, row0(gy) + 1) if dx else (col0(gx) + 1, row0(gy) + 3)
+        lines += [
+            "[[doors]]",
+            f'id = "R{a}-R{b}"',
+            f"cell = [{cell[0]}, {cell[1]}]",
+            f'joins = ["R{a}", "R{b}"]',
+            "",
+        ]
+    lines += ["[[doors]]", 'id = "R0-O"', "cell = [1, 3]", 'joins = ["R0", "O"]', ""]
+    for index in with_spot:
+        gx, gy = next(k for k, v in grid.items() if v == index)
+        lines += [
+            "[[locations]]",
+            f'id = "L{index}"',
+            f'region = "R{index}"',
+            f"cell = [{col0(gx) + 1}, {row0(gy) + 1}]",
+            f"play = {'true' if index in play else 'false'}",
+            "",
+        ]
+    neighbours: dict[int, list[int]] = {i: [] for i in range(rooms)}
+    for a, b, *_ in doors:
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    for index in range(rooms):
+        sees = {index}
+        if neighbours[index] and rng.random() < 0.5:
+            sees.add(int(rng.choice(neighbours[index])))
+        lines += [
+            "[[visibility]]",
+            f'from = ["R{index}"]',
+            "sees = [" + ", ".join(f'"R{i}"' for i in sorted(sees)) + "]",
+            "",
+        ]
+    lines += ["[[visibility]]", 'from = ["O"]', 'sees = ["O"]', ""]
+    return "\n".join(lines)
+
+
+def episode(name: str, map_path: Path, items: int, seed: int, *, max_ticks: int = 1500) -> str:
+    """The TOML text of a random episode on the map at ``map_path``."""
+    rng = np.random.default_rng(seed)
+    game_map = load_map(str(map_path))
+    spots = [loc.id for loc in game_map.locations]
+    cells = sorted(
+        c
+        for c, r in game_map.region_of.items()
+        if r != "O" and c not in {(loc.cell.col, loc.cell.row) for loc in game_map.locations}
+    )
+    picks = rng.choice(len(cells), size=3, replace=False)
+    homes = [cells[int(i)] for i in picks]
+    lines = [
+        f"# A generated episode (seed {seed}) on map {game_map.name}.",
+        f'name = "{name}"',
+        f'map = "{map_path.as_posix()}"',
+        'robot = "act"',
+        "tick_seconds = 0.1",
+        f"max_ticks = {max_ticks}",
+        "",
+        "[autonomy]",
+        f"switch = {rng.uniform(0.0005, 0.002):.5f}",
+        f"mischief = {rng.uniform(0.05, 0.3):.3f}",
+        f"put_away = {rng.uniform(0.3, 0.8):.3f}",
+        "play_ticks = [60, 200]",
+        "wait_ticks = [20, 60]",
+        "",
+    ]
+    for k in range(items):
+        item, shape = ITEM_SHAPES[k % len(ITEM_SHAPES)]
+        lines += [
+            "[[items]]",
+            f'id = "{item}"',
+            f'shape = "{shape}"',
+            f'at = "{spots[int(rng.integers(len(spots)))]}"',
+            "",
+        ]
+    for person, home in zip(("A1", "A2"), homes[:2], strict=True):
+        lines += [
+            "[[agents]]",
+            f'id = "{person}"',
+            'kind = "person"',
+            "autonomous = true",
+            f"home = [{home[0]}, {home[1]}]",
+            "",
+        ]
+    lines += ["[[agents]]", 'id = "robot"', 'kind = "robot"', f"home = [{homes[2][0]}, {homes[2][1]}]", ""]
+    return "\n".join(lines)
+
+
+MAPS = {
+    "paper": None,
+    "house-a": (5, 4, 11),
+    "house-b": (6, 4, 23),
+}
+"""The maps episodes are drawn on: the paper's, and two generated houses (rooms, spots, seed)."""
+
+ITEMS = {"paper": 2, "house-a": 3, "house-b": 3}
+
+
+def write_episode(directory: Path, map_name: str, seed: int, max_ticks: int = 1500) -> Path:
+    """Write a random episode (and its generated map) into ``directory``; return its path."""
+    directory.mkdir(parents=True, exist_ok=True)
+    spec = MAPS[map_name]
+    if spec is None:
+        map_path = (Path(__file__).parent / "scenarios" / f"{map_name}.map.toml").resolve()
+    else:
+        map_path = directory / f"{map_name}.map.toml"
+        if not map_path.exists():
+            map_path.write_text(house_map(map_name, *spec))
+    path = directory / f"{map_name}-{seed}.toml"
+    path.write_text(
+        episode(f"{map_name}-{seed}", map_path.resolve(), ITEMS[map_name], seed, max_ticks=max_ticks)
+    )
+    return path

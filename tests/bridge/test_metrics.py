@@ -1,0 +1,71 @@
+"""The evaluation metrics on a tiny episode computed by hand."""
+
+from __future__ import annotations
+
+import pytest
+
+from bridge.metrics import Counts, score_tick
+from protocol import AgentMind, ItemBelief, Mind, Prob, TrueMind, Truth
+
+
+def mind(tick: int, basket: float, flagged: bool, prefers: str) -> Mind:
+    return Mind(
+        episode=1,
+        tick=tick,
+        agents=(
+            AgentMind(
+                agent="sally",
+                beliefs=(
+                    ItemBelief(item="marble", locations=(Prob("basket", basket), Prob("box", 1 - basket))),
+                ),
+                preference=(
+                    Prob("marble", 0.7 if prefers == "marble" else 0.2),
+                    Prob("out", 0.3 if prefers == "marble" else 0.8),
+                ),
+                false_beliefs=("marble",) if flagged else (),
+            ),
+        ),
+    )
+
+
+def truth(tick: int, basket: float, prefers: str) -> Truth:
+    return Truth(
+        episode=1,
+        tick=tick,
+        agents=(
+            TrueMind(
+                agent="sally",
+                beliefs=(
+                    ItemBelief(item="marble", locations=(Prob("basket", basket), Prob("box", 1 - basket))),
+                ),
+                preference=prefers,
+            ),
+        ),
+    )
+
+
+def test_a_three_tick_episode_by_hand() -> None:
+    """Tick 1: the marble is in the basket, Sally believes so; the brain says 0.9 basket.
+    Tick 2: Anne moved it to the box unseen: Sally's belief is false; the brain flags it.
+    Tick 3: Sally still believes the basket; the brain, wrongly, thinks she knows (no flag)
+    and has taken... nothing yet; preference counts only once she took something (tick 3)."""
+    total = Counts()
+    total.add(score_tick(mind(1, 0.9, False, "marble"), truth(1, 1.0, "marble"), {"marble": "basket"}, set()))
+    total.add(score_tick(mind(2, 0.8, True, "marble"), truth(2, 1.0, "marble"), {"marble": "box"}, set()))
+    total.add(score_tick(mind(3, 0.3, False, "out"), truth(3, 1.0, "marble"), {"marble": "box"}, {"sally"}))
+    # TV: |1-0.9| -> 0.1, then 0.2, then 0.7; mean 1/3
+    assert total.tv_n == 3 and total.tv_sum == pytest.approx(1.0)
+    # flags: tick 1 true negative, tick 2 true positive, tick 3 false negative
+    assert (total.tp, total.fp, total.fn, total.tn) == (1, 0, 1, 1)
+    m = total.metrics()
+    assert m["belief_tv"] == pytest.approx(1 / 3)
+    assert m["false_belief_precision"] == 1.0 and m["false_belief_recall"] == 0.5
+    assert m["false_belief_f1"] == pytest.approx(2 / 3)
+    # preference: counted at tick 3 only, and wrong there
+    assert (total.pref_hits, total.pref_n) == (0, 1) and m["preference_accuracy"] == 0.0
+
+
+def test_no_flags_at_all_has_no_precision() -> None:
+    counts = score_tick(mind(1, 1.0, False, "marble"), truth(1, 1.0, "marble"), {"marble": "box"}, set())
+    m = counts.metrics()
+    assert m["false_belief_precision"] is None and m["false_belief_recall"] == 0.0
