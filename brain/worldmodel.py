@@ -16,6 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from protocol import RegionKind, Scene
+from protocol.carry import carry_locations
 
 NEIGHBOURS = ((0, 1), (0, -1), (-1, 0), (1, 0))
 """Up, Down, Left, Right as (d col, d row); rows grow upwards."""
@@ -124,13 +125,10 @@ def build_world_model(scene: Scene) -> WorldModel:
             for loc_id in vis.locations:
                 sees[seen_from, loc_index[loc_id]] = True
     distances = _distances(neighbour, [index[(loc.cell.col, loc.cell.row)] for loc in scene.locations])
-    loc_region = [loc.region for loc in scene.locations]
-    nearest = np.zeros(n, dtype=np.int64)
-    for i, cell in enumerate(walkable):
-        region = region_of.get(cell)
-        own = [li for li, r in enumerate(loc_region) if r == region]
-        pool = own or list(range(len(locations)))
-        nearest[i] = min(pool, key=lambda li: (distances[li, i], li)) if pool else 0
+    carried = carry_locations(scene)  # the one rule engines and evaluators use too
+    nearest = np.array(
+        [locations.index(carried[cell]) if cell in carried else 0 for cell in walkable], dtype=np.int64
+    )
     items = tuple(item.id for item in scene.items)
     values = 2 * len(locations)
     worlds = (
