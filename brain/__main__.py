@@ -12,10 +12,12 @@ import argparse
 import logging
 import sys
 from collections.abc import Sequence
+from contextlib import nullcontext
 from pathlib import Path
 
 from bridge import Bridge, BridgeError
 from bridge.cli import add_zenoh_args, settings_from_args
+from bridge.mcaprec import McapRecorder
 from protocol import Error as ProtocolError
 
 from .errors import BrainError
@@ -53,6 +55,9 @@ def run_parser() -> argparse.ArgumentParser:
         help="override whether the robot acts (default: as the scene says)",
     )
     parser.add_argument("--print-tree", action="store_true", help="print the robot's behaviour tree and exit")
+    parser.add_argument(
+        "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
+    )
     parser.add_argument("--log-level", default="INFO")
     add_zenoh_args(parser)
     return parser
@@ -93,7 +98,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())
             return 0
-        with Bridge(args.world, settings_from_args(args)) as bridge:
+        with (
+            Bridge(args.world, settings_from_args(args)) as bridge,
+            (
+                McapRecorder(bridge, args.record, timeout=args.handshake_timeout)
+                if args.record
+                else nullcontext()
+            ),
+        ):
             node = BrainNode(
                 bridge,
                 observer=Observer(args.observer),

@@ -97,6 +97,22 @@ def eval_main(episodes: int, seed: int, workers: int, backend: str, out: Path) -
     return 0
 
 
+def record_main(world: str, settings: SessionSettings, path: Path) -> int:
+    """Record every message of ``world`` to ``path`` until SIGINT or SIGTERM."""
+    from .mcaprec import McapRecorder
+    from .node import Bridge
+
+    stop = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stop.set())
+    with Bridge(world, settings) as bridge, McapRecorder(bridge, path) as recorder:
+        print(f"toyroom record: world '{world}' to {path}", flush=True)
+        stop.wait()
+        count = recorder.count
+    print(f"toyroom record: {count} messages in {path}")
+    return 0
+
+
 def conform_main(world: str, settings: SessionSettings, timeout: float) -> int:
     """Run the conformance kit against the engine of ``world``; 1 when a check fails."""
     from .conformance import check_engine
@@ -165,6 +181,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="sim2d (pymunk) or grid (the example engine in examples/grid_engine/); default: %(default)s",
     )
     run.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
+    run.add_argument("--record", type=Path, metavar="FILE.mcap", help="also record every message to MCAP")
+
+    record = commands.add_parser("record", help="record every message of a world to MCAP until interrupted")
+    record.add_argument("file", type=Path, metavar="FILE.mcap")
+    add_zenoh_args(record)
     add_zenoh_args(run)
     run.set_defaults(world=None)
 
@@ -229,6 +250,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 robot=args.robot,
                 engine=args.engine,
                 live=False if args.no_live else None,
+                record=args.record,
             )
             return run(config, settings_from_args(args))
         if args.command == "eval":
@@ -237,7 +259,17 @@ def main(argv: Sequence[str] | None = None) -> int:
             return conform_main(args.world, settings_from_args(args), args.timeout)
         if args.command == "infer":
             extra = ["--observer", args.observer]
-            return exec_node("brain", ["infer", str(args.trace), "--out", str(args.out), *extra])
+            trace = args.trace
+            if trace.suffix == ".mcap":
+                from .mcaprec import mcap_to_trace
+
+                args.out.mkdir(parents=True, exist_ok=True)
+                converted = args.out / "trace.jsonl"
+                mcap_to_trace(trace, converted)
+                trace = converted
+            return exec_node("brain", ["infer", str(trace), "--out", str(args.out), *extra])
+        if args.command == "record":
+            return record_main(args.world, settings_from_args(args), args.file)
     except (BridgeError, ProtocolErrorBase) as err:
         print(f"toyroom {args.command}: {err}", file=sys.stderr)
         return 2

@@ -16,6 +16,7 @@ import subprocess
 import sys
 import threading
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from .errors import NoReply
 from .eventlog import write_events_csv
 from .handshake import handshake
 from .livetable import mind_table
+from .mcaprec import McapRecorder
 from .node import Bridge
 from .recorder import TraceRecorder
 from .session import SessionSettings
@@ -53,6 +55,8 @@ class RunConfig:
     """``sim2d`` (the pymunk engine) or ``grid`` (the example grid engine)."""
     live: bool | None = None
     """Show the live table (default: when standard output is a terminal)."""
+    record: Path | None = None
+    """Also record every message to this MCAP file."""
 
 
 def _network_args(settings: SessionSettings) -> list[str]:
@@ -138,7 +142,8 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                 report_failure("engine", engine.returncode, engine_log)
                 return engine.returncode or 1
             view = MindView(f"toyroom run: {config.scenario} (world {world})", config.live)
-            with TraceRecorder(bridge, config.out / "trace.jsonl", info=info), view:
+            mcap = McapRecorder(bridge, config.record, info=info) if config.record else nullcontext()
+            with TraceRecorder(bridge, config.out / "trace.jsonl", info=info), mcap, view:
                 bridge.subscribe(bridge.keys.mind, view.on_mind, expected=Mind)
                 brain_args = [
                     *("--scenario", config.scenario, "--seed", str(config.seed), "--out", str(config.out)),

@@ -8,9 +8,11 @@ import logging
 import signal
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from bridge import Bridge, BridgeError
 from bridge.cli import add_zenoh_args, settings_from_args
+from bridge.mcaprec import McapRecorder
 from protocol import ClockMode
 
 from .engine import Engine
@@ -30,6 +32,9 @@ def build_parser() -> argparse.ArgumentParser:
     clock.add_argument("--realtime", type=float, metavar="RATE", help="free-run at RATE x wall-clock speed")
     parser.add_argument("--robot", choices=("act", "observe"), help="override the scenario's robot mode")
     parser.add_argument("--list", action="store_true", help="list the bundled scenarios and exit")
+    parser.add_argument(
+        "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
+    )
     parser.add_argument("--log-level", default="INFO")
     add_zenoh_args(parser)
     return parser
@@ -37,8 +42,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 def generate_main(argv: Sequence[str]) -> int:
     """``python -m sim2d generate --map M --seed S --out DIR``: write a random episode."""
-    from pathlib import Path
-
     from .generate import MAPS, write_episode
 
     parser = argparse.ArgumentParser(
@@ -79,7 +82,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: node.stop())
     print(f"sim2d: scenario '{engine.scenario.name}' on world '{args.world}' ({clock.value})", flush=True)
+    recorder = McapRecorder(node.bridge, args.record, info=node.info()) if args.record else None
     node.wait()
+    if recorder is not None:
+        recorder.close()
     node.close()
     return 0
 

@@ -1,0 +1,158 @@
+"""Recording a world to MCAP, and reading it back.
+
+Every message on the world's keys goes into an MCAP file (the ``mcap`` package): one
+channel per key and message type, its schema the message's JSON Schema (encoding
+``jsonschema``), its messages JSON, so Foxglove opens the file as it is. The engine's
+handshake answer is recorded first, on ``toyroom/<world>/engine/info``. Records are written
+unchunked and the file is flushed at least every second, so a recorder that is killed
+loses at most the last second; :func:`read_mcap` reads such a cut-off file up to where it
+stops.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO
+
+from mcap.records import Channel, Schema
+from mcap.records import Message as McapMessage
+from mcap.stream_reader import StreamReader
+from mcap.writer import Writer
+
+from protocol import EngineInfo, Message, encode, tag_of
+from protocol.schema import message_schema
+
+from .handshake import handshake
+from .node import Bridge
+from .recorder import trace_line
+from .typed import Received
+
+FLUSH_SECONDS = 0.5
+
+
+class McapRecorder:
+    """Writes every message of ``bridge``'s world to ``path``. A context manager.
+
+    Args:
+        bridge: an open bridge on the world.
+        path: the ``.mcap`` file to write (truncated).
+        info: the engine's handshake answer to record first (``None``: ask the engine).
+        timeout: seconds to wait for the engine's handshake.
+    """
+
+    def __init__(
+        self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
+    ) -> None:
+        self.path = path
+        self.count = 0
+        self._lock = threading.Lock()
+        self._file: IO[bytes] | None = path.open("wb")
+        self._writer = Writer(self._file, use_chunking=False)
+        self._writer.start(profile="", library="toyroom")
+        self._schemas: dict[str, int] = {}
+        self._channels: dict[tuple[str, str], int] = {}
+        self._stop = threading.Event()
+        self._flusher = threading.Thread(target=self._flush_every, name="mcap flush", daemon=True)
+        self._flusher.start()
+        self._subscriber = bridge.subscribe(bridge.keys.all, self._write)
+        info = (
+            info
+            if info is not None
+            else handshake(bridge, client="toyroom-recorder", role="recorder", timeout=timeout)
+        )
+        self._write(info, Received(bridge.keys.info, bridge.encoding))
+
+    def _channel(self, key: str, message: Message) -> int:
+        tag = tag_of(type(message))
+        if tag not in self._schemas:
+            schema = json.dumps(message_schema(type(message))).encode()
+            self._schemas[tag] = self._writer.register_schema(
+                name=f"toyroom.{tag}", encoding="jsonschema", data=schema
+            )
+        channel = self._channels.get((key, tag))
+        if channel is None:
+            channel = self._writer.register_channel(
+                topic=key, message_encoding="json", schema_id=self._schemas[tag]
+            )
+            self._channels[(key, tag)] = channel
+        return channel
+
+    def _write(self, message: Message, received: Received) -> None:
+        now = time.time_ns()
+        with self._lock:
+            if self._file is None:
+                return
+            channel = self._channel(received.key, message)
+            self._writer.add_message(
+                channel_id=channel, log_time=now, data=encode(message), publish_time=now, sequence=self.count
+            )
+            self.count += 1
+
+    def _flush_every(self) -> None:
+        while not self._stop.wait(FLUSH_SECONDS):
+            with self._lock:
+                if self._file is not None:
+                    self._file.flush()
+
+    def close(self) -> None:
+        """Stop recording and finish the file (with its summary); safe to call twice."""
+        self._subscriber.close()
+        self._stop.set()
+        with self._lock:
+            if self._file is not None:
+                self._writer.finish()
+                self._file.close()
+                self._file = None
+
+    def __enter__(self) -> McapRecorder:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+@dataclass(frozen=True)
+class Recorded:
+    """One recorded message: its key, its JSON payload, and when it was recorded (ns)."""
+
+    key: str
+    data: bytes
+    log_time: int
+
+
+def read_mcap(path: Path) -> Iterator[Recorded]:
+    """The messages of an MCAP file in recorded order, up to where a cut-off file stops."""
+    channels: dict[int, Channel] = {}
+    with path.open("rb") as handle:
+        reader = StreamReader(handle, skip_magic=False, emit_chunks=False, validate_crcs=False)
+        try:
+            for record in reader.records:
+                if isinstance(record, Channel):
+                    channels[record.id] = record
+                elif isinstance(record, McapMessage) and record.channel_id in channels:
+                    yield Recorded(channels[record.channel_id].topic, bytes(record.data), record.log_time)
+                elif isinstance(record, Schema):
+                    continue
+        except Exception:  # a file cut off mid-record (a killed recorder) ends here
+            return
+
+
+def mcap_to_trace(source: Path, target: Path) -> int:
+    """Write an MCAP recording as a ``trace.jsonl``; return the number of messages."""
+    from protocol import ProtocolError, decode
+
+    count = 0
+    with target.open("w", encoding="utf-8") as out:
+        for recorded in read_mcap(source):
+            try:
+                message = decode(recorded.data)
+            except ProtocolError:
+                continue
+            out.write(trace_line(recorded.key, message) + "\n")
+            count += 1
+    return count
