@@ -183,6 +183,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
     run.add_argument("--record", type=Path, metavar="FILE.mcap", help="also record every message to MCAP")
 
+    replaying = commands.add_parser(
+        "replay", help="republish an MCAP recording so brains and viewers run on it"
+    )
+    replaying.add_argument("file", type=Path, metavar="FILE.mcap")
+    replaying.add_argument("--speed", type=float, default=1.0, help="times real time; 0: as fast as possible")
+    add_zenoh_args(replaying)
+
     record = commands.add_parser("record", help="record every message of a world to MCAP until interrupted")
     record.add_argument("file", type=Path, metavar="FILE.mcap")
     add_zenoh_args(record)
@@ -268,6 +275,14 @@ def main(argv: Sequence[str] | None = None) -> int:
                 mcap_to_trace(trace, converted)
                 trace = converted
             return exec_node("brain", ["infer", str(trace), "--out", str(args.out), *extra])
+        if args.command == "replay":
+            from .node import Bridge
+            from .replay import replay
+
+            with Bridge(args.world, settings_from_args(args)) as bridge:
+                sent = replay(bridge, args.file, speed=args.speed)
+            print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'")
+            return 0
         if args.command == "record":
             return record_main(args.world, settings_from_args(args), args.file)
     except (BridgeError, ProtocolErrorBase) as err:

@@ -29,12 +29,16 @@ def test_recorded_run_opens_and_gives_the_same_mind(tmp_path: Path) -> None:
         assert all(s.encoding == "jsonschema" for s in schemas.values())
         assert json.loads(schemas["toyroom.state"].data)["$ref"] == "#/$defs/State"
         topics = {c.topic for c in summary.channels.values()}
-        assert any(t.endswith("/engine/state") for t in topics) and any(t.endswith("/brain/mind") for t in topics)
+        assert any(t.endswith("/engine/state") for t in topics) and any(
+            t.endswith("/brain/mind") for t in topics
+        )
         assert all(c.message_encoding == "json" for c in summary.channels.values())
     again = tmp_path / "again"
     result = subprocess.run(
         [sys.executable, "-m", "bridge", "infer", str(recording), "--out", str(again)],
-        capture_output=True, text=True, timeout=120,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert result.returncode == 0, result.stderr
     assert (again / "mind.csv").read_text() == (live / "mind.csv").read_text()
@@ -46,7 +50,8 @@ def test_killed_recorder_keeps_all_but_the_last_second(world: str, tmp_path: Pat
         handshake(client, client="test", timeout=30.0)
         recorder = subprocess.Popen(
             [sys.executable, "-m", "bridge", "record", "--world", world, str(recording)],
-            stdout=subprocess.PIPE, text=True,
+            stdout=subprocess.PIPE,
+            text=True,
         )
         try:
             assert recorder.stdout is not None and "toyroom record" in recorder.stdout.readline()
@@ -64,9 +69,9 @@ def test_killed_recorder_keeps_all_but_the_last_second(world: str, tmp_path: Pat
         finally:
             if recorder.poll() is None:
                 recorder.kill()
-    recorded = {
-        json.loads(r.data)["tick"] for r in read_mcap(recording) if r.key.endswith("/engine/state")
-    }
+    recorded = {json.loads(r.data)["tick"] for r in read_mcap(recording) if r.key.endswith("/engine/state")}
     must_have = [tick for tick, at in stepped if at < killed_at - 1.0]
     missing = [tick for tick in must_have if tick not in recorded]
-    assert len(must_have) > 20 and missing == [], f"{len(missing)} states older than 1 s were lost: {missing[:10]}"
+    assert len(must_have) > 20 and missing == [], (
+        f"{len(missing)} states older than 1 s were lost: {missing[:10]}"
+    )

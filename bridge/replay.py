@@ -1,0 +1,64 @@
+"""``toyroom replay FILE.mcap``: republish a recording so brains and viewers run on it.
+
+Messages go out on their recorded keys (moved to another world with ``world``), spaced as
+recorded divided by ``speed`` (0: as fast as possible). The recorded handshake is served on
+``engine/info`` with a real-time clock, so a brain follows the replay as it would a live
+real-time engine, and a viewer draws it.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+
+import msgspec
+import zenoh
+
+from protocol import ClockMode, EngineInfo, Keys, ProtocolError, decode
+
+from .handshake import serve_info
+from .mcaprec import read_mcap
+from .node import Bridge
+
+_JSON = zenoh.Encoding("application/json")
+
+
+def replay(bridge: Bridge, path: Path, *, speed: float = 1.0, stop: threading.Event | None = None) -> int:
+    """Republish ``path`` into ``bridge``'s world; return the number of messages sent."""
+    records = list(read_mcap(path))
+    info = None
+    for record in records:
+        if record.key.endswith("/engine/info"):
+            try:
+                found = decode(record.data, EngineInfo)
+            except ProtocolError:
+                continue
+            info = msgspec.structs.replace(found, world=bridge.world, clock=ClockMode.REALTIME)
+            break
+    if info is not None:
+        served = info
+        serve_info(bridge, lambda: served)
+    publishers: dict[str, object] = {}
+    sent = 0
+    first = records[0].log_time if records else 0
+    started = time.monotonic()
+    prefix = Keys(bridge.world).prefix
+    for record in records:
+        if record.key.endswith("/engine/info"):
+            continue
+        if stop is not None and stop.is_set():
+            break
+        if speed > 0:
+            due = started + (record.log_time - first) / 1e9 / speed
+            delay = due - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+        parts = record.key.split("/", 2)  # toyroom/<world>/<rest>
+        key = f"{prefix}/{parts[2]}" if len(parts) == 3 else record.key
+        publisher = publishers.get(key)
+        if publisher is None:
+            publisher = publishers[key] = bridge.session.declare_publisher(key, encoding=_JSON)
+        publisher.put(record.data)  # type: ignore[attr-defined]
+        sent += 1
+    return sent
