@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: run test schema clean
+.PHONY: run test schema clean chromium
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -21,8 +21,12 @@ $(VENV)/.test-installed: pyproject.toml | $(VENV)/bin/python
 run: $(VENV)/.run-installed
 	$(VENV)/bin/toyroom run --out out
 
-test: $(VENV)/.test-installed
+test: $(VENV)/.test-installed chromium
 	$(PY) -m pytest
+
+# The viewer's tests render in Debian's headless Chromium; install it when missing (as root).
+chromium:
+	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && apt-get install -y -qq chromium >/dev/null; }
 
 schema: $(VENV)/.run-installed
 	$(VENV)/bin/toyroom schema

@@ -134,7 +134,7 @@ def doctor_main(world: str, settings: SessionSettings) -> int:
     return run_doctor(world, settings)
 
 
-NODES = {"sim": "sim2d", "brain": "brain"}
+NODES = {"sim": "sim2d", "brain": "brain", "view": "bridge.view"}
 """Subcommands that run a node package as its own process (``toyroom sim`` -> ``python -m sim2d``)."""
 
 
@@ -163,7 +163,7 @@ def build_parser() -> argparse.ArgumentParser:
     router.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
 
     for name, package in NODES.items():
-        commands.add_parser(name, help=f"run the {package} node (`toyroom {name} --help` for its options)")
+        commands.add_parser(name, help=f"run {package} (`toyroom {name} --help` for its options)")
 
     run = commands.add_parser(
         "run", help="run an engine and the brain together, in lock-step, and keep the results"
@@ -188,6 +188,17 @@ def build_parser() -> argparse.ArgumentParser:
     )
     replaying.add_argument("file", type=Path, metavar="FILE.mcap")
     replaying.add_argument("--speed", type=float, default=1.0, help="times real time; 0: as fast as possible")
+    replaying.add_argument(
+        "--until-tick", type=int, help="stop after this tick (and keep serving the handshake)"
+    )
+    replaying.add_argument("--hold", action="store_true", help="keep serving the handshake until interrupted")
+    replaying.add_argument(
+        "--wait-subscribers",
+        type=float,
+        default=0.0,
+        metavar="S",
+        help="first wait up to S seconds for a subscriber",
+    )
     add_zenoh_args(replaying)
 
     record = commands.add_parser("record", help="record every message of a world to MCAP until interrupted")
@@ -279,9 +290,21 @@ def main(argv: Sequence[str] | None = None) -> int:
             from .node import Bridge
             from .replay import replay
 
+            stop = threading.Event()
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                signal.signal(sig, lambda *_: stop.set())
             with Bridge(args.world, settings_from_args(args)) as bridge:
-                sent = replay(bridge, args.file, speed=args.speed)
-            print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'")
+                sent = replay(
+                    bridge,
+                    args.file,
+                    speed=args.speed,
+                    stop=stop,
+                    until_tick=args.until_tick,
+                    wait_subscribers=args.wait_subscribers,
+                )
+                print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'", flush=True)
+                if args.hold:
+                    stop.wait()
             return 0
         if args.command == "record":
             return record_main(args.world, settings_from_args(args), args.file)

@@ -24,8 +24,18 @@ from .node import Bridge
 _JSON = zenoh.Encoding("application/json")
 
 
-def replay(bridge: Bridge, path: Path, *, speed: float = 1.0, stop: threading.Event | None = None) -> int:
-    """Republish ``path`` into ``bridge``'s world; return the number of messages sent."""
+def replay(
+    bridge: Bridge,
+    path: Path,
+    *,
+    speed: float = 1.0,
+    stop: threading.Event | None = None,
+    until_tick: int | None = None,
+    wait_subscribers: float = 0.0,
+) -> int:
+    """Republish ``path`` into ``bridge``'s world (up to tick ``until_tick``, when given);
+    return the number of messages sent. With ``wait_subscribers``, first wait up to that many
+    seconds for someone to subscribe to the world's state."""
     records = list(read_mcap(path))
     info = None
     for record in records:
@@ -40,6 +50,13 @@ def replay(bridge: Bridge, path: Path, *, speed: float = 1.0, stop: threading.Ev
         served = info
         serve_info(bridge, lambda: served)
     publishers: dict[str, object] = {}
+    if wait_subscribers > 0:
+        state_key = f"{Keys(bridge.world).prefix}/engine/state"
+        probe = publishers[state_key] = bridge.session.declare_publisher(state_key, encoding=_JSON)
+        deadline = time.monotonic() + wait_subscribers
+        while not probe.matching_status.matching and time.monotonic() < deadline:  # type: ignore[attr-defined]
+            time.sleep(0.05)
+        time.sleep(0.2)  # let every other subscription of the newcomer arrive too
     sent = 0
     first = records[0].log_time if records else 0
     started = time.monotonic()
@@ -48,6 +65,8 @@ def replay(bridge: Bridge, path: Path, *, speed: float = 1.0, stop: threading.Ev
         if record.key.endswith("/engine/info"):
             continue
         if stop is not None and stop.is_set():
+            break
+        if until_tick is not None and _tick(record.data) > until_tick:
             break
         if speed > 0:
             due = started + (record.log_time - first) / 1e9 / speed
@@ -62,3 +81,12 @@ def replay(bridge: Bridge, path: Path, *, speed: float = 1.0, stop: threading.Ev
         publisher.put(record.data)  # type: ignore[attr-defined]
         sent += 1
     return sent
+
+
+def _tick(data: bytes) -> int:
+    """The tick of a JSON message (-1 when it has none)."""
+    try:
+        tick = msgspec.json.decode(data).get("tick", -1)
+    except (msgspec.DecodeError, AttributeError):
+        return -1
+    return tick if isinstance(tick, int) else -1
