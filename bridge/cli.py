@@ -182,6 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
     run.add_argument("--record", type=Path, metavar="FILE.mcap", help="also record every message to MCAP")
+    run.add_argument("--view", action="store_true", help="also open the meshcat live view")
 
     replaying = commands.add_parser(
         "replay", help="republish an MCAP recording so brains and viewers run on it"
@@ -269,6 +270,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 engine=args.engine,
                 live=False if args.no_live else None,
                 record=args.record,
+                view=args.view,
             )
             return run(config, settings_from_args(args))
         if args.command == "eval":

@@ -57,6 +57,8 @@ class RunConfig:
     """Show the live table (default: when standard output is a terminal)."""
     record: Path | None = None
     """Also record every message to this MCAP file."""
+    view: bool = False
+    """Also start the meshcat viewer (its URL is printed; it closes with the run)."""
 
 
 def _network_args(settings: SessionSettings) -> list[str]:
@@ -135,6 +137,12 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     engine_args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
     engine = start_node(engine_command(config.engine, world, settings, *engine_args), engine_log)
     brain: subprocess.Popen[bytes] | None = None
+    viewer = None
+    if config.view:
+        viewer = start_node(node_command("bridge.view", world, settings), config.out / "viewer.log")
+        print(
+            f"toyroom run: viewer log and URL in {config.out / 'viewer.log'} (http://127.0.0.1:7000/static/)"
+        )
     try:
         with Bridge(world, settings) as bridge:
             info = wait_for_engine(bridge, engine)
@@ -174,7 +182,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
             report_failure("brain", brain.returncode, brain_log)
         return brain.returncode
     finally:
-        for process in (brain, engine):
+        for process in (brain, engine, viewer):
             if process is not None and process.poll() is None:
                 process.terminate()
                 try:
