@@ -140,9 +140,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     viewer = None
     if config.view:
         viewer = start_node(node_command("bridge.view", world, settings), config.out / "viewer.log")
-        print(
-            f"toyroom run: viewer log and URL in {config.out / 'viewer.log'} (http://127.0.0.1:7000/static/)"
-        )
+        print(print(f"toyroom run: the viewer's URL is in {config.out / 'viewer.log'}"))
     try:
         with Bridge(world, settings) as bridge:
             info = wait_for_engine(bridge, engine)
