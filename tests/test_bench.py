@@ -18,3 +18,11 @@ def test_brain_bench_runs() -> None:
     )
     assert result.returncode == 0, result.stderr
     assert "planner, cold (s)" in result.stdout and "online step per person" in result.stdout
+
+
+def test_view_bench_runs() -> None:
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "bench" / "view_bench.py")], capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 0, result.stderr
+    assert "frame, median" in result.stdout
