@@ -253,7 +253,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == "router":
             from .router import DEFAULT_ROUTER_ENDPOINT
 
-            return router_main(args.listen or [DEFAULT_ROUTER_ENDPOINT], args.zenoh_config)
+            default = [] if args.zenoh_config else [DEFAULT_ROUTER_ENDPOINT]  # a config file says where
+            return router_main(args.listen or default, args.zenoh_config)
         if args.command == "doctor":
             return doctor_main(args.world, settings_from_args(args))
         if args.command == "run":

@@ -7,6 +7,7 @@ warning: secure such a setup with TLS and access control (``docs/deployment.md``
 
 from __future__ import annotations
 
+import json
 import logging
 import threading
 from collections.abc import Sequence
@@ -29,7 +30,7 @@ class Router:
         settings = SessionSettings(
             mode="router",
             listen=tuple(listen) if listen else None,
-            connect=(),
+            connect=() if config_file is None else None,
             config_file=config_file,
         )
         config = build_config("router", settings)
@@ -37,7 +38,10 @@ class Router:
             self.session = zenoh.open(config)
         except Exception as err:
             raise ConfigError(f"cannot start a Zenoh router on {', '.join(listen)}: {err}") from None
-        self.listen = tuple(listen)
+        configured = json.loads(config.get_json("listen/endpoints"))
+        if isinstance(configured, dict):  # per-mode defaults
+            configured = configured.get("router", [])
+        self.listen = tuple(listen) or tuple(configured or ())
         self._closed = False
 
     def close(self) -> None:
