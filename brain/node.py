@@ -30,6 +30,7 @@ from protocol import (
     ControlReply,
     EngineInfo,
     Event,
+    Heartbeat,
     Message,
     Reset,
     State,
@@ -167,6 +168,7 @@ class BrainNode:
         log.info("free-running with engine '%s', scenario '%s'", info.engine, info.scenario)
         tracker = MindTracker(info.scene, self.settings, self.observer)
         robot, inbox, commands = self._connect_robot(info, tracker)
+        heartbeats = _Heartbeats(self.bridge, robot.robot if robot is not None else "none")
         pending: list[Event] = []
         while True:
             try:
@@ -190,6 +192,7 @@ class BrainNode:
             pending = [e for e in pending if (e.episode, e.tick) > (state.episode, state.tick)]
             tracker.observe(state, now)
             if robot is not None and commands is not None:
+                heartbeats.beat()
                 self._drain(robot, inbox)
                 robot.observe(now)
                 for command in robot.tick(state):
@@ -222,3 +225,23 @@ class BrainNode:
                 robot.record(inbox.get(timeout=remaining))
             except queue.Empty:
                 continue
+
+
+class _Heartbeats:
+    """Tells a real-time engine, at most every 0.25 s, that the brain still drives its robot."""
+
+    PERIOD = 0.25
+
+    def __init__(self, bridge: Bridge, robot: str) -> None:
+        self.bridge = bridge
+        self.robot = robot
+        self.seq = 0
+        self.last = 0.0
+        self.publisher = bridge.publisher(bridge.keys.heartbeat(robot)) if robot != "none" else None
+
+    def beat(self) -> None:
+        now = time.monotonic()
+        if self.publisher is not None and now - self.last >= self.PERIOD:
+            self.publisher.put(Heartbeat(robot=self.robot, seq=self.seq))
+            self.seq += 1
+            self.last = now

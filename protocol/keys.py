@@ -82,6 +82,10 @@ class Keys:
         """Engine -> brain: statuses of ``robot``'s commands (``*``: any robot)."""
         return f"{self.prefix}/robot/{robot if robot == '*' else check_name(robot, 'robot')}/status"
 
+    def heartbeat(self, robot: str = "*") -> str:
+        """Brain -> engine: the brain still drives ``robot`` (``*``: any robot)."""
+        return f"{self.prefix}/robot/{robot if robot == '*' else check_name(robot, 'robot')}/heartbeat"
+
     def alive(self, role: str = "*", name: str = "*") -> str:
         """A liveliness token key ``toyroom/<world>/@alive/<role>/<name>`` (``*`` to watch)."""
         role = role if role == "*" else check_name(role, "role")

@@ -8,7 +8,7 @@ from .handshake import EngineInfo, Hello
 from .message import Message
 from .mind import Mind
 from .replies import ControlReply, ErrorReply
-from .robot import CommandStatus, RobotCommand
+from .robot import CommandStatus, Heartbeat, RobotCommand
 from .state import State
 from .truth import Truth
 
@@ -26,6 +26,7 @@ MESSAGE_TYPES: tuple[type[Message], ...] = (
     Truth,
     RobotCommand,
     CommandStatus,
+    Heartbeat,
     Mind,
 )
 """All message types, in the order the documentation lists them."""

@@ -10,6 +10,7 @@ anything for the robot: it only carries out what it is told, or says why it cann
 from __future__ import annotations
 
 import enum
+from typing import Annotated
 
 import msgspec
 
@@ -125,3 +126,14 @@ class CommandStatus(Message, frozen=True, kw_only=True, tag="command_status"):
     tick: Tick
     reason: str = ""
     answer: bool | None = None
+
+
+class Heartbeat(Message, frozen=True, kw_only=True, tag="heartbeat"):
+    """The brain is alive and still driving robot ``robot`` (on ``robot/<id>/heartbeat``).
+
+    A real-time engine stops the robot, failing its commands, when neither a heartbeat nor a
+    command has come for its heartbeat timeout (sim2d: 1 s); brains send one every 0.25 s.
+    """
+
+    robot: Id
+    seq: Annotated[int, msgspec.Meta(ge=0)] = 0

@@ -171,6 +171,13 @@ class Engine:
         robot.receive(self.world, command)
         return self._drain()
 
+    def stop_robots(self, reason: str) -> tuple[CommandStatus, ...]:
+        """Stop every robot that has work, failing its commands with ``reason``."""
+        for robot in self.robots.values():
+            if not robot.idle:
+                robot.stop_all(self.world, reason)
+        return self._drain()
+
     def _drain(self) -> tuple[CommandStatus, ...]:
         out: list[CommandStatus] = []
         for robot in self.robots.values():

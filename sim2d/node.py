@@ -7,7 +7,9 @@ network is congested: a newer state supersedes it), ``engine/events`` for every 
 ``robot/<id>/command``, and holds the liveliness token ``@alive/engine/sim2d``.
 
 In lock-step the world advances only on ``step``; in real time it runs at ``rate`` times
-wall-clock speed, and ``pause`` / ``resume`` stop and restart it.
+wall-clock speed, and ``pause`` / ``resume`` stop and restart it. In real time the robot is
+stopped (its commands failed) when neither a command nor a ``heartbeat`` has come from the
+brain for ``heartbeat_timeout`` seconds: a dead brain never leaves a robot driving.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from protocol import (
     EngineInfo,
     ErrorCode,
     Event,
+    Heartbeat,
     Message,
     Pause,
     Reset,
@@ -50,7 +53,13 @@ class EngineNode:
     """
 
     def __init__(
-        self, engine: Engine, bridge: Bridge, *, clock: ClockMode = ClockMode.LOCKSTEP, rate: float = 1.0
+        self,
+        engine: Engine,
+        bridge: Bridge,
+        *,
+        clock: ClockMode = ClockMode.LOCKSTEP,
+        rate: float = 1.0,
+        heartbeat_timeout: float = 1.0,
     ) -> None:
         self.engine = engine
         self.bridge = bridge
@@ -67,6 +76,9 @@ class EngineNode:
         serve_info(bridge, self.info)
         bridge.queryable(keys.control, self._control, expected=(Reset, Step, Pause, Resume))
         bridge.subscribe(keys.command(), self._on_command, expected=RobotCommand)
+        bridge.subscribe(keys.heartbeat(), self._on_heartbeat, expected=Heartbeat)
+        self.heartbeat_timeout = heartbeat_timeout
+        self._last_heard = time.monotonic()
         bridge.token("engine", "sim2d")
         self._ticker: threading.Thread | None = None
         if clock is ClockMode.REALTIME:
@@ -146,8 +158,23 @@ class EngineNode:
                 self.paused = False
             return self._reply()
 
+    def _on_heartbeat(self, beat: Heartbeat, _: Received) -> None:
+        self._last_heard = time.monotonic()
+
+    def _check_heartbeat(self) -> None:
+        """Real time: stop the robot when its brain has been silent for the heartbeat timeout."""
+        silent = time.monotonic() - self._last_heard
+        if silent > self.heartbeat_timeout:
+            statuses = self.engine.stop_robots(
+                f"stopped: no heartbeat or command from the brain for {silent:.1f} s"
+            )
+            if statuses:
+                log.warning("brain silent for %.1f s: robot stopped", silent)
+                self._publish_statuses(TickResult(self.engine.state(), (), statuses))
+
     def _on_command(self, command: RobotCommand, received: Received) -> None:
         robot_in_key = received.key.split("/")[-2]
+        self._last_heard = time.monotonic()
         with self._lock:
             if robot_in_key != command.robot:
                 log.warning(
@@ -162,6 +189,7 @@ class EngineNode:
         while not self._stop.is_set():
             if not self.paused:
                 with self._lock:
+                    self._check_heartbeat()
                     result = self.engine.step()
                     self._publish(result)
             next_at += period

@@ -153,6 +153,14 @@ class RobotBody:
         self._status(world, victim, CommandState.CANCELLED, f"cancelled by '{command.id}'")
         self._status(world, command, CommandState.SUCCEEDED)
 
+    def stop_all(self, world: World, reason: str) -> None:
+        """Fail every queued and running command with ``reason`` and stop the body."""
+        for command in ([self.running] if self.running is not None else []) + list(self.queue):
+            self._status(world, command, CommandState.FAILED, reason)
+        self.running = None
+        self.queue.clear()
+        world.stop(self.id)
+
     def update(self, world: World, people: Mapping[str, Person]) -> None:
         """Carry the running command forward by one tick (starting the next when idle)."""
         if self.running is None:
