@@ -18,14 +18,16 @@ from __future__ import annotations
 
 import logging
 import queue
+import threading
 import time
 from collections.abc import Callable
 from typing import Literal
 
-from bridge import Bridge, LockstepClient, Publisher, StepTimeout, handshake
+from bridge import Bridge, LockstepClient, NoReply, Publisher, StepTimeout, handshake
 from protocol import (
     AgentKind,
     ClockMode,
+    CommandState,
     CommandStatus,
     ControlReply,
     EngineInfo,
@@ -121,6 +123,8 @@ class BrainNode:
         log.info("engine '%s', scenario '%s', scene '%s'", info.engine, info.scenario, info.scene.name)
         tracker = MindTracker(info.scene, self.settings, self.observer)
         robot, inbox, commands = self._connect_robot(info, tracker)
+        lost = threading.Event()
+        self.bridge.presence("engine", lambda e: lost.clear() if e.alive else lost.set())
         events = clock.last_reply.events if clock.last_reply is not None else ()
         while True:
             tracker.observe(state, events)
@@ -134,7 +138,15 @@ class BrainNode:
                 on_tick(state, events)
             if state.done or (max_ticks is not None and state.tick >= max_ticks):
                 break
-            state = clock.step(1)
+            try:
+                state = clock.step(1)
+            except (StepTimeout, NoReply):
+                if not lost.wait(2.0):  # the engine is there but does not answer: a real failure
+                    raise
+                info, tracker, robot, inbox, commands, _ = self._engine_lost(info, tracker, robot, lost)
+                state = clock.reset(scenario=scenario or info.scenario or None, seed=seed)
+                events = clock.last_reply.events if clock.last_reply is not None else ()
+                continue
             reply = clock.last_reply
             events = reply.events if reply is not None else ()
             if robot is not None and reply is not None:
@@ -170,13 +182,27 @@ class BrainNode:
         robot, inbox, commands = self._connect_robot(info, tracker)
         heartbeats = _Heartbeats(self.bridge, robot.robot if robot is not None else "none")
         pending: list[Event] = []
+        lost = threading.Event()
+        self.bridge.presence("engine", lambda e: lost.clear() if e.alive else lost.set())
+        last_state = time.monotonic()
         while True:
             try:
-                state = states.get(timeout=self.timeout)
+                state = states.get(timeout=0.2)
             except queue.Empty:
-                raise StepTimeout(
-                    f"no state from the real-time engine on '{self.bridge.keys.state}' for {self.timeout:g} s"
-                ) from None
+                if lost.is_set():
+                    info, tracker, robot, inbox, commands, episode = self._engine_lost(
+                        info, tracker, robot, lost
+                    )
+                    heartbeats = _Heartbeats(self.bridge, robot.robot if robot is not None else "none")
+                    pending.clear()  # the old engine's events
+                    last_state = time.monotonic()
+                elif self.timeout is not None and time.monotonic() - last_state > self.timeout:
+                    key = self.bridge.keys.state
+                    raise StepTimeout(
+                        f"no state from the real-time engine on '{key}' for {self.timeout:g} s"
+                    ) from None
+                continue
+            last_state = time.monotonic()
             while not states.empty():  # take the newest
                 state = states.get_nowait()
             if episode is None:
@@ -203,6 +229,46 @@ class BrainNode:
             if state.done or (max_ticks is not None and state.tick >= max_ticks):
                 break
         return info.scenario, tracker
+
+    def _engine_lost(
+        self,
+        info: EngineInfo,
+        tracker: MindTracker,
+        robot: RobotBrain | None,
+        lost: threading.Event,
+    ) -> tuple[
+        EngineInfo,
+        MindTracker,
+        RobotBrain | None,
+        queue.Queue[CommandStatus],
+        Publisher[Message] | None,
+        None,
+    ]:
+        """The engine went away: say so, give up its commands, keep the estimates, and wait
+        for an engine of the same world; then shake hands again (a new model if the scene
+        changed)."""
+        log.warning("engine '%s' lost: keeping the estimates, waiting for it to come back", info.engine)
+        if robot is not None:
+            for command in robot.tree.context.book.in_flight():
+                robot.record(
+                    CommandStatus(
+                        command=command,
+                        robot=robot.robot,
+                        state=CommandState.FAILED,
+                        tick=0,
+                        reason="engine lost",
+                    )
+                )
+        while lost.is_set():
+            time.sleep(0.1)
+        again = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
+        if again.scene != info.scene:
+            log.warning("engine '%s' is back with another scene: a new model", again.engine)
+            tracker = MindTracker(again.scene, self.settings, self.observer)
+        else:
+            log.warning("engine '%s' is back: carrying on", again.engine)
+        robot, inbox, commands = self._connect_robot(again, tracker)
+        return again, tracker, robot, inbox, commands, None
 
     @staticmethod
     def _drain(robot: RobotBrain, inbox: queue.Queue[CommandStatus]) -> None:

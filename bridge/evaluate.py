@@ -24,7 +24,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from protocol import Event, EventKind, Mind, RegionKind, State, Truth
+from protocol import Event, EventKind, Mind, RegionKind, Truth
 
 from .launch import engine_command, node_command, report_failure, start_node, wait_for_engine
 from .metrics import Counts, Outcome, score_tick
@@ -64,7 +64,6 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
     brain = None
     minds: dict[int, Mind] = {}
     truths: dict[int, Truth] = {}
-    states: dict[int, State] = {}
     took: dict[int, set[str]] = {}
     lock = threading.Lock()
 
@@ -75,10 +74,24 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
 
         return put
 
+    playing: dict[str, str | None] = {}
+    regions: dict[str, str] = {}
+
     def on_event(event: Event, _: object) -> None:
-        if event.kind is EventKind.TAKE:
-            with lock:
+        """Events are never dropped: who took what, who plays with what, who is where."""
+        with lock:
+            if event.kind is EventKind.TAKE:
                 took.setdefault(event.tick, set()).add(event.actor)
+            elif event.kind is EventKind.PLAY:
+                playing[event.actor] = event.item
+            elif event.kind in (EventKind.STOP, EventKind.DROP):
+                playing[event.actor] = None
+            elif event.kind is EventKind.GIVE:
+                playing[event.actor] = None
+                if event.target is not None:
+                    playing[event.target] = None
+            elif event.kind is EventKind.ENTER and event.location is not None:
+                regions[event.actor] = event.location
 
     try:
         with Bridge(world, settings) as bridge:
@@ -88,7 +101,6 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
                 raise RuntimeError(f"{tag}: the engine failed")
             bridge.subscribe(bridge.keys.mind, keep(minds), expected=Mind)  # type: ignore[arg-type]
             bridge.subscribe(bridge.keys.truth, keep(truths), expected=Truth)  # type: ignore[arg-type]
-            bridge.subscribe(bridge.keys.state, keep(states), expected=State)  # type: ignore[arg-type]
             bridge.subscribe(bridge.keys.events, on_event, expected=Event)
             brain = start_node(
                 node_command(
@@ -111,7 +123,10 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
             if brain.wait(timeout=1800) != 0:
                 report_failure("brain", brain.returncode, brain_log)
                 raise RuntimeError(f"{tag}: the brain failed")
-            time.sleep(0.3)  # the last messages
+            _settle(
+                lambda: (len(minds), len(truths)),
+                done=lambda: bool(minds) and max(minds) >= max(truths, default=0),
+            )
     finally:
         for process in (brain, engine):
             if process is not None and process.poll() is None:
@@ -120,28 +135,43 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
     outside = {r.id for r in info.scene.regions if r.kind is RegionKind.OUTSIDE}
     result = RunResult()
     seen: set[str] = set()
-    for tick in sorted(truths):  # truth and minds are never dropped; states may be
+    for tick in sorted(truths):  # scored from channels that are never dropped: truth, minds, events
         seen |= {p for t, people in took.items() if t <= tick for p in people}
         if tick not in minds:
             continue
         where = {place.item: place.location for place in truths[tick].items}
         result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
         result.ticks += 1
-    last_tick = max(states) if states else None
-    if last_tick is not None and truths:
-        state, truth = states[last_tick], truths[max(truths)]
-        agents = {a.id: a for a in state.agents}
+    if truths:
+        truth = truths[max(truths)]
+        homes = {a.id: (a.home.col, a.home.row) for a in info.scene.agents}
+        home_region = {(c.col, c.row): r.id for r in info.scene.regions for c in r.cells}
         for person in truth.agents:
-            agent = agents[person.agent]
+            region = regions.get(person.agent, home_region.get(homes.get(person.agent, (-1, -1)), ""))
             ok = (
-                agent.region in outside
+                region in outside
                 if person.preference == "out"
-                else agent.holding == person.preference and agent.activity.value == "playing"
+                else playing.get(person.agent) == person.preference
             )
             result.outcome.per_person[person.agent] = ok
             result.outcome.people += 1
             result.outcome.successes += ok
     return result
+
+
+def _settle(
+    count: Callable[[], tuple[int, int]], done: Callable[[], bool], quiet: float = 0.3, limit: float = 15.0
+) -> None:
+    """Wait until the last messages have arrived: ``done()`` and nothing new for ``quiet`` s."""
+    deadline = time.monotonic() + limit
+    seen, since = count(), time.monotonic()
+    while time.monotonic() < deadline:
+        time.sleep(0.05)
+        now = count()
+        if now != seen:
+            seen, since = now, time.monotonic()
+        elif done() and time.monotonic() - since >= quiet:
+            return
 
 
 def generate(directory: Path, index: int, seed: int) -> Path:

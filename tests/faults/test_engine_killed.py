@@ -1,0 +1,103 @@
+"""The engine is killed mid-episode: the brain reports it lost within about a second, keeps
+its estimates, and carries on when an engine for the same world comes back."""
+
+from __future__ import annotations
+
+import queue
+import subprocess
+import sys
+import threading
+import time
+
+from support import EngineProcess
+
+from bridge import Bridge, handshake
+from protocol import Mind
+
+
+def test_brain_survives_an_engine_restart(world: str) -> None:
+    minds: queue.Queue[Mind] = queue.Queue()
+    lines: queue.Queue[tuple[float, str]] = queue.Queue()
+    engine = EngineProcess(world, "--scenario", "paper-robot", "--realtime", "2")
+    brain = subprocess.Popen(
+        [sys.executable, "-m", "brain", "--world", world, "--log-level", "WARNING", "--timeout", "60"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+    def read_log() -> None:
+        assert brain.stderr is not None
+        for line in brain.stderr:
+            lines.put((time.monotonic(), line))
+
+    threading.Thread(target=read_log, daemon=True).start()
+    try:
+        with Bridge(world) as watcher:
+            handshake(watcher, client="test", timeout=30.0)
+            watcher.subscribe(watcher.keys.mind, lambda m, _: minds.put(m), expected=Mind)
+            minds.get(timeout=30)  # the brain follows the engine
+            killed_at = time.monotonic()
+            engine.process.kill()
+            engine.process.wait(timeout=10)
+            at, line = lines.get(timeout=5)
+            assert "lost" in line, line
+            assert at - killed_at < 1.5, f"the brain noticed {at - killed_at:.2f} s after the engine died"
+            assert brain.poll() is None, "the brain must wait for the engine, not die"
+            with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "2"):
+                at, line = lines.get(timeout=30)
+                assert "back" in line, line
+                while not minds.empty():
+                    minds.get_nowait()
+                mind = minds.get(timeout=30)
+                assert mind.agents, "the brain publishes its estimates again"
+                assert brain.poll() is None
+    finally:
+        brain.kill()
+        engine.close()
+
+
+def test_lockstep_brain_resumes_after_an_engine_restart(world: str) -> None:
+    lines: queue.Queue[tuple[float, str]] = queue.Queue()
+    minds: queue.Queue[Mind] = queue.Queue()
+    engine = EngineProcess(world, "--scenario", "paper-auto")
+    brain = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "brain",
+            "--world",
+            world,
+            "--scenario",
+            "paper-auto",
+            "--log-level",
+            "WARNING",
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+    def read_log() -> None:
+        assert brain.stderr is not None
+        for line in brain.stderr:
+            lines.put((time.monotonic(), line))
+
+    threading.Thread(target=read_log, daemon=True).start()
+    try:
+        with Bridge(world) as watcher:
+            watcher.subscribe(watcher.keys.mind, lambda m, _: minds.put(m), expected=Mind)
+            minds.get(timeout=30)
+            killed_at = time.monotonic()
+            engine.process.kill()
+            engine.process.wait(timeout=10)
+            at, line = lines.get(timeout=5)
+            assert "lost" in line and at - killed_at < 2.5, (line, at - killed_at)
+            with EngineProcess(world, "--scenario", "paper-auto"):
+                at, line = lines.get(timeout=30)
+                assert "back" in line, line
+                assert brain.wait(timeout=120) == 0, "the brain should finish the episode on the new engine"
+    finally:
+        if brain.poll() is None:
+            brain.kill()
+        engine.close()
