@@ -1,5 +1,6 @@
 """The engine is killed mid-episode: the brain reports it lost within about a second, keeps
-its estimates, and carries on when an engine for the same world comes back."""
+its estimates, and carries on when an engine for the same world comes back (with a new
+model when the scene changed)."""
 
 from __future__ import annotations
 
@@ -44,13 +45,15 @@ def test_brain_survives_an_engine_restart(world: str) -> None:
             assert "lost" in line, line
             assert at - killed_at < 1.5, f"the brain noticed {at - killed_at:.2f} s after the engine died"
             assert brain.poll() is None, "the brain must wait for the engine, not die"
-            with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "2"):
+            with EngineProcess(world, "--scenario", "sally-anne", "--realtime", "2"):
                 at, line = lines.get(timeout=30)
-                assert "back" in line, line
+                assert "back with another scene" in line, line  # a new model for the new scene
                 while not minds.empty():
                     minds.get_nowait()
                 mind = minds.get(timeout=30)
-                assert mind.agents, "the brain publishes its estimates again"
+                assert {a.agent for a in mind.agents} == {"sally", "anne"}, (
+                    "estimates of the new scene's people"
+                )
                 assert brain.poll() is None
     finally:
         brain.kill()
