@@ -213,6 +213,10 @@ def build_parser() -> argparse.ArgumentParser:
     infer.add_argument("--out", type=Path, required=True)
     infer.add_argument("--observer", choices=("btom", "truebelief", "perceptonly"), default="btom")
 
+    bench = commands.add_parser("bench", help="measure the transport, lock-step and brain speeds in one run")
+    bench.add_argument("--quick", action="store_true")
+    bench.add_argument("--out", type=Path, default=Path("out/bench"))
+
     evaluation = commands.add_parser(
         "eval", help="measure the brain on random episodes with simulated people"
     )
@@ -274,6 +278,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                 view=args.view,
             )
             return run(config, settings_from_args(args))
+        if args.command == "bench":
+            suite = Path(__file__).resolve().parents[1] / "bench" / "suite.py"
+            quick = ["--quick"] if args.quick else []
+            os.execv(sys.executable, [sys.executable, str(suite), *quick, "--out", str(args.out)])
         if args.command == "eval":
             return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out)
         if args.command == "conform":

@@ -26,3 +26,27 @@ def test_view_bench_runs() -> None:
     )
     assert result.returncode == 0, result.stderr
     assert "frame, median" in result.stdout
+
+
+def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
+    import json
+
+    result = subprocess.run(
+        [sys.executable, "-m", "bridge", "bench", "--quick", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 0, result.stderr
+    numbers = json.loads((tmp_path / "bench.json").read_text())
+    for field in (
+        "zenoh_rtt_us",
+        "bridge_rtt_us",
+        "lockstep_tick_us",
+        "lockstep_ticks_per_s",
+        "brain_step_us",
+        "planner_cold_s",
+        "scaling",
+    ):
+        assert field in numbers, field
+    assert numbers["zenoh_rtt_us"] > 0 and numbers["lockstep_ticks_per_s"] > 0
