@@ -27,45 +27,28 @@ from mcap.writer import Writer
 from protocol import EngineInfo, Message, encode, tag_of
 from protocol.schema import message_schema
 
-from .handshake import handshake
 from .node import Bridge
-from .recorder import trace_line
-from .typed import Received
+from .recorder import Recorder, trace_line
 
 FLUSH_SECONDS = 0.5
 
 
-class McapRecorder:
-    """Writes every message of ``bridge``'s world to ``path``. A context manager.
-
-    Args:
-        bridge: an open bridge on the world.
-        path: the ``.mcap`` file to write (truncated).
-        info: the engine's handshake answer to record first (``None``: ask the engine).
-        timeout: seconds to wait for the engine's handshake.
-    """
+class McapRecorder(Recorder):
+    """Writes every message of a world to an MCAP file (see the module docstring)."""
 
     def __init__(
         self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
     ) -> None:
         self.path = path
-        self.count = 0
-        self._lock = threading.Lock()
-        self._file: IO[bytes] | None = path.open("wb")
+        self._file: IO[bytes] = path.open("wb")
         self._writer = Writer(self._file, use_chunking=False)
         self._writer.start(profile="", library="toyroom")
         self._schemas: dict[str, int] = {}
         self._channels: dict[tuple[str, str], int] = {}
         self._stop = threading.Event()
         self._flusher = threading.Thread(target=self._flush_every, name="mcap flush", daemon=True)
+        super().__init__(bridge, info=info, timeout=timeout)
         self._flusher.start()
-        self._subscriber = bridge.subscribe(bridge.keys.all, self._write)
-        info = (
-            info
-            if info is not None
-            else handshake(bridge, client="toyroom-recorder", role="recorder", timeout=timeout)
-        )
-        self._write(info, Received(bridge.keys.info, bridge.encoding))
 
     def _channel(self, key: str, message: Message) -> int:
         tag = tag_of(type(message))
@@ -82,38 +65,26 @@ class McapRecorder:
             self._channels[(key, tag)] = channel
         return channel
 
-    def _write(self, message: Message, received: Received) -> None:
+    def _store(self, key: str, message: Message) -> None:
         now = time.time_ns()
-        with self._lock:
-            if self._file is None:
-                return
-            channel = self._channel(received.key, message)
-            self._writer.add_message(
-                channel_id=channel, log_time=now, data=encode(message), publish_time=now, sequence=self.count
-            )
-            self.count += 1
+        self._writer.add_message(
+            channel_id=self._channel(key, message),
+            log_time=now,
+            data=encode(message),
+            publish_time=now,
+            sequence=self.count,
+        )
 
     def _flush_every(self) -> None:
         while not self._stop.wait(FLUSH_SECONDS):
             with self._lock:
-                if self._file is not None:
+                if self._open:
                     self._file.flush()
 
-    def close(self) -> None:
-        """Stop recording and finish the file (with its summary); safe to call twice."""
-        self._subscriber.close()
+    def _finish(self) -> None:
         self._stop.set()
-        with self._lock:
-            if self._file is not None:
-                self._writer.finish()
-                self._file.close()
-                self._file = None
-
-    def __enter__(self) -> McapRecorder:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+        self._writer.finish()
+        self._file.close()
 
 
 @dataclass(frozen=True)

@@ -27,50 +27,66 @@ def trace_line(key: str, message: Message) -> str:
     return json.dumps({"key": key, "tick": tick if isinstance(tick, int) else None, "payload": payload})
 
 
-class TraceRecorder:
-    """Writes every message of ``bridge``'s world to ``path``. A context manager.
+class Recorder:
+    """Records every message of ``bridge``'s world, the engine's handshake first. A context
+    manager; subclasses say how a message is stored (:meth:`_store`) and how the file ends
+    (:meth:`_finish`).
 
     Args:
         bridge: an open bridge on the world.
-        path: the ``.jsonl`` file to write (truncated).
-        info: the engine's handshake answer to write first (``None``: ask the engine).
+        info: the engine's handshake answer to record first (``None``: ask the engine).
         timeout: seconds to wait for the engine's handshake.
     """
+
+    def __init__(self, bridge: Bridge, *, info: EngineInfo | None = None, timeout: float = 30.0) -> None:
+        self.count = 0
+        self._lock = threading.Lock()
+        self._open = True
+        self._subscriber = bridge.subscribe(bridge.keys.all, self._write)
+        if info is None:
+            info = handshake(bridge, client="toyroom-recorder", role="recorder", timeout=timeout)
+        self._write(info, Received(bridge.keys.info, bridge.encoding))
+
+    def _store(self, key: str, message: Message) -> None:
+        raise NotImplementedError
+
+    def _finish(self) -> None:
+        raise NotImplementedError
+
+    def _write(self, message: Message, received: Received) -> None:
+        with self._lock:
+            if self._open:
+                self._store(received.key, message)
+                self.count += 1
+
+    def close(self) -> None:
+        """Stop recording and finish the file; safe to call twice."""
+        self._subscriber.close()
+        with self._lock:
+            if self._open:
+                self._open = False
+                self._finish()
+
+    def __enter__(self) -> Recorder:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class TraceRecorder(Recorder):
+    """Writes every message of a world to a ``trace.jsonl`` (flushed line by line)."""
 
     def __init__(
         self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
     ) -> None:
         self.path = path
-        self.count = 0
-        self._lock = threading.Lock()
-        self._file: IO[str] | None = path.open("w", encoding="utf-8")
-        self._subscriber = bridge.subscribe(bridge.keys.all, self._write)
-        info = (
-            info
-            if info is not None
-            else handshake(bridge, client="toyroom-recorder", role="recorder", timeout=timeout)
-        )
-        self._write(info, Received(bridge.keys.info, bridge.encoding))
+        self._file: IO[str] = path.open("w", encoding="utf-8")
+        super().__init__(bridge, info=info, timeout=timeout)
 
-    def _write(self, message: Message, received: Received) -> None:
-        line = trace_line(received.key, message)
-        with self._lock:
-            if self._file is None:
-                return
-            self._file.write(line + "\n")
-            self._file.flush()
-            self.count += 1
+    def _store(self, key: str, message: Message) -> None:
+        self._file.write(trace_line(key, message) + "\n")
+        self._file.flush()
 
-    def close(self) -> None:
-        """Stop recording and close the file; safe to call twice."""
-        self._subscriber.close()
-        with self._lock:
-            if self._file is not None:
-                self._file.close()
-                self._file = None
-
-    def __enter__(self) -> TraceRecorder:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def _finish(self) -> None:
+        self._file.close()
