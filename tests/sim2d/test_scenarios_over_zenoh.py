@@ -83,14 +83,14 @@ def test_paper_1_world_at_step_6(world: str) -> None:
     """At A1's step 6 (back in S1), the ball lies in S1 and A2 holds the skate in P2."""
     with EngineProcess(world, "--scenario", "paper-1"), Bridge(world) as bridge:
         handshake(bridge, client="test", timeout=30.0)
-        recorder = Recorder(bridge)
         client = LockstepClient(bridge, timeout=10.0)
         client.reset(scenario="paper-1")
         step6 = None
-        while step6 is None:
+        hits: list[Event] = []
+        while step6 is None:  # the step's reply carries its events: no race with a subscription
             state = client.step(1)
-            with recorder.lock:
-                hits = [e for e in recorder.events if e.label == "6" and e.actor == "A1"]
+            assert client.last_reply is not None
+            hits = [e for e in client.last_reply.events if e.label == "6" and e.actor == "A1"]
             if hits:
                 step6 = state
         assert step6 is not None and step6.tick == hits[0].tick
