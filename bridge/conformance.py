@@ -20,7 +20,6 @@ clock) are checked only when the handshake declares them.
 from __future__ import annotations
 
 import threading
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
@@ -54,7 +53,8 @@ from protocol import (
     scene_problems,
 )
 
-from .errors import BridgeError, NoReply
+from .errors import BridgeError
+from .handshake import ask_engine
 from .node import Bridge
 from .presence import PresenceWatcher
 from .typed import Received
@@ -168,16 +168,7 @@ class Checker:
     # ----- the checks -----------------------------------------------------------------
 
     def check_handshake(self) -> str:
-        hello = Hello(client="toyroom-conform", role="conform")
-        deadline = time.monotonic() + self.timeout
-        while True:  # an engine that is still starting is waited for
-            try:
-                info = self.bridge.query(self.keys.info, hello, EngineInfo, timeout=self.timeout)
-                break
-            except NoReply:
-                if time.monotonic() > deadline:
-                    raise
-                time.sleep(0.05)
+        info = ask_engine(self.bridge, Hello(client="toyroom-conform", role="conform"), self.timeout)
         self.info = info
         ours, theirs = Version.parse(PROTOCOL_VERSION), Version.parse(info.protocol)
         if theirs.major != ours.major:

@@ -38,18 +38,7 @@ def handshake(
         NoReply: no engine answered within ``timeout`` seconds.
     """
     request = hello if hello is not None else Hello(client=client, role=role)
-    deadline = None if timeout is None else time.monotonic() + timeout
-    while True:  # an engine that is still starting is waited for, until the deadline
-        remaining = None if deadline is None else deadline - time.monotonic()
-        try:
-            info = bridge.query(bridge.keys.info, request, EngineInfo, timeout=remaining)
-            break
-        except NoReply as err:
-            if remaining is not None and deadline is not None and time.monotonic() + 0.05 >= deadline:
-                raise NoReply(
-                    f"no engine answered the handshake on '{bridge.keys.info}' within {timeout:g} s ({err})"
-                ) from None
-            time.sleep(0.05)
+    info = ask_engine(bridge, request, timeout)
     if not check_version(info.protocol, message_type="engine_info"):
         log.warning(
             "engine '%s' speaks protocol %s and this side %s: minor versions differ, continuing",
@@ -59,6 +48,26 @@ def handshake(
         )
     validate_scene(info.scene)
     return info
+
+
+def ask_engine(bridge: Bridge, hello: Hello, timeout: float | None) -> EngineInfo:
+    """The engine's answer to ``hello``, waiting for an engine that is still starting until
+    ``timeout`` seconds pass (``None``: forever); no checks on the answer.
+
+    Raises:
+        NoReply: no engine answered in time.
+    """
+    deadline = None if timeout is None else time.monotonic() + timeout
+    while True:
+        remaining = None if deadline is None else deadline - time.monotonic()
+        try:
+            return bridge.query(bridge.keys.info, hello, EngineInfo, timeout=remaining)
+        except NoReply as err:
+            if deadline is not None and time.monotonic() + 0.05 >= deadline:
+                raise NoReply(
+                    f"no engine answered the handshake on '{bridge.keys.info}' within {timeout:g} s ({err})"
+                ) from None
+            time.sleep(0.05)
 
 
 def serve_info(bridge: Bridge, current: Callable[[], EngineInfo]) -> Queryable[Message]:

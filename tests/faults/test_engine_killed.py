@@ -16,16 +16,15 @@ from bridge import Bridge, handshake
 from protocol import Mind
 
 
-def test_brain_survives_an_engine_restart(world: str) -> None:
-    minds: queue.Queue[Mind] = queue.Queue()
-    lines: queue.Queue[tuple[float, str]] = queue.Queue()
-    engine = EngineProcess(world, "--scenario", "paper-robot", "--realtime", "2")
+def start_brain(world: str, *args: str) -> tuple[subprocess.Popen[str], queue.Queue[tuple[float, str]]]:
+    """A brain process and its log lines, each stamped with when it was read."""
     brain = subprocess.Popen(
-        [sys.executable, "-m", "brain", "--world", world, "--log-level", "WARNING", "--timeout", "60"],
+        [sys.executable, "-m", "brain", "--world", world, "--log-level", "WARNING", *args],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
     )
+    lines: queue.Queue[tuple[float, str]] = queue.Queue()
 
     def read_log() -> None:
         assert brain.stderr is not None
@@ -33,6 +32,13 @@ def test_brain_survives_an_engine_restart(world: str) -> None:
             lines.put((time.monotonic(), line))
 
     threading.Thread(target=read_log, daemon=True).start()
+    return brain, lines
+
+
+def test_brain_survives_an_engine_restart(world: str) -> None:
+    minds: queue.Queue[Mind] = queue.Queue()
+    engine = EngineProcess(world, "--scenario", "paper-robot", "--realtime", "2")
+    brain, lines = start_brain(world, "--timeout", "60")
     try:
         with Bridge(world) as watcher:
             handshake(watcher, client="test", timeout=30.0)
@@ -61,32 +67,9 @@ def test_brain_survives_an_engine_restart(world: str) -> None:
 
 
 def test_lockstep_brain_resumes_after_an_engine_restart(world: str) -> None:
-    lines: queue.Queue[tuple[float, str]] = queue.Queue()
     minds: queue.Queue[Mind] = queue.Queue()
     engine = EngineProcess(world, "--scenario", "paper-auto")
-    brain = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "brain",
-            "--world",
-            world,
-            "--scenario",
-            "paper-auto",
-            "--log-level",
-            "WARNING",
-        ],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-
-    def read_log() -> None:
-        assert brain.stderr is not None
-        for line in brain.stderr:
-            lines.put((time.monotonic(), line))
-
-    threading.Thread(target=read_log, daemon=True).start()
+    brain, lines = start_brain(world, "--scenario", "paper-auto")
     try:
         with Bridge(world) as watcher:
             watcher.subscribe(watcher.keys.mind, lambda m, _: minds.put(m), expected=Mind)
