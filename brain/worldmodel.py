@@ -8,7 +8,6 @@ Shapes: ``C`` walkable cells, ``L`` item locations, ``K`` items, ``V = 2L`` valu
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -16,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from protocol import RegionKind, Scene
-from protocol.carry import carry_locations
+from protocol.carry import carry_locations, location_distances
 
 NEIGHBOURS = ((0, 1), (0, -1), (-1, 0), (1, 0))
 """Up, Down, Left, Right as (d col, d row); rows grow upwards."""
@@ -124,7 +123,10 @@ def build_world_model(scene: Scene) -> WorldModel:
         if seen_from is not None:
             for loc_id in vis.locations:
                 sees[seen_from, loc_index[loc_id]] = True
-    distances = _distances(neighbour, [index[(loc.cell.col, loc.cell.row)] for loc in scene.locations])
+    walked = location_distances(scene)
+    distances = np.array(
+        [[walked[loc.id].get(cell, 1 << 30) for cell in walkable] for loc in scene.locations], dtype=np.int64
+    ).reshape(len(scene.locations), n)
     carried = carry_locations(scene)  # the one rule engines and evaluators use too
     nearest = np.array(
         [locations.index(carried[cell]) if cell in carried else 0 for cell in walkable], dtype=np.int64
@@ -152,19 +154,3 @@ def build_world_model(scene: Scene) -> WorldModel:
         worlds=worlds.astype(np.int64),
         distance=distances,
     )
-
-
-def _distances(neighbour: IntArray, sources: list[int]) -> IntArray:
-    """``(len(sources), C)`` path lengths (in cells) from each source to every cell."""
-    n = len(neighbour)
-    out = np.full((len(sources), n), 1 << 30, dtype=np.int64)
-    for s, start in enumerate(sources):
-        out[s, start] = 0
-        queue = deque([start])
-        while queue:
-            cell = queue.popleft()
-            for nxt in neighbour[cell]:
-                if nxt >= 0 and out[s, nxt] > out[s, cell] + 1:
-                    out[s, nxt] = out[s, cell] + 1
-                    queue.append(int(nxt))
-    return out

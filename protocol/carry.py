@@ -15,11 +15,9 @@ from .scene import Scene
 GridCell = tuple[int, int]
 
 
-def carry_locations(scene: Scene) -> dict[GridCell, str]:
-    """For every walkable cell, the location id an item carried there counts as being at."""
+def location_distances(scene: Scene) -> dict[str, dict[GridCell, int]]:
+    """Walking distance, in cells, from each location to every walkable cell it reaches."""
     walkable = scene.walkable()
-    region_of = {(c.col, c.row): r.id for r in scene.regions for c in r.cells}
-    order = [loc.id for loc in scene.locations]
     distance: dict[str, dict[GridCell, int]] = {}
     for loc in scene.locations:
         start = (loc.cell.col, loc.cell.row)
@@ -33,8 +31,16 @@ def carry_locations(scene: Scene) -> dict[GridCell, str]:
                     seen[nxt] = seen[cell] + 1
                     queue.append(nxt)
         distance[loc.id] = seen
+    return distance
+
+
+def carry_locations(scene: Scene) -> dict[GridCell, str]:
+    """For every walkable cell, the location id an item carried there counts as being at."""
+    region_of = {(c.col, c.row): r.id for r in scene.regions for c in r.cells}
+    order = [loc.id for loc in scene.locations]
+    distance = location_distances(scene)
     out: dict[GridCell, str] = {}
-    for cell in walkable:
+    for cell in scene.walkable():
         own = [loc.id for loc in scene.locations if loc.region == region_of.get(cell)]
         pool = own or order
         if pool:
