@@ -54,6 +54,16 @@ def run_parser() -> argparse.ArgumentParser:
         choices=("act", "observe"),
         help="override whether the robot acts (default: as the scene says)",
     )
+    parser.add_argument(
+        "--shadow",
+        choices=OBSERVERS,
+        action="append",
+        default=[],
+        help="also run this observer on the same ticks, writing its minds to --shadow-out (repeatable)",
+    )
+    parser.add_argument(
+        "--shadow-out", type=Path, default=Path("."), help="directory of the shadow minds-*.jsonl files"
+    )
     parser.add_argument("--print-tree", action="store_true", help="print the robot's behaviour tree and exit")
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
@@ -112,6 +122,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 timeout=args.timeout or None,
                 handshake_timeout=args.handshake_timeout or None,
                 robot=args.robot,
+                shadows=[Observer(o) for o in args.shadow],
+                shadow_dir=args.shadow_out,
             )
             scenario, tracker = node.run(args.scenario, args.seed, max_ticks=args.max_ticks)
             if args.out is not None:

@@ -20,7 +20,8 @@ import logging
 import queue
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Literal
 
 from bridge import Bridge, LockstepClient, NoReply, Publisher, StepTimeout, handshake
@@ -41,6 +42,7 @@ from protocol import (
 from .outputs import mind_message
 from .robot import RobotBrain
 from .settings import ModelSettings, RobotSettings
+from .shadows import ShadowMinds
 from .tracker import MindTracker, Observer
 
 log = logging.getLogger("toyroom.brain")
@@ -57,6 +59,8 @@ class BrainNode:
         observer: which person model to use.
         timeout: seconds each lock-step request may take (``None``: no limit).
         handshake_timeout: seconds to wait for an engine to answer.
+        shadows: other observers run on the same ticks, each writing its minds to
+            ``shadow_dir`` (:mod:`brain.shadows`).
     """
 
     def __init__(
@@ -69,8 +73,13 @@ class BrainNode:
         handshake_timeout: float | None = 30.0,
         robot: Literal["act", "observe"] | None = None,
         robot_settings: RobotSettings | None = None,
+        shadows: Sequence[Observer] = (),
+        shadow_dir: Path | None = None,
     ) -> None:
         self.bridge = bridge
+        self.shadows = tuple(shadows)
+        self.shadow_dir = shadow_dir or Path(".")
+        self._open_shadows: list[ShadowMinds] = []
         self.robot_mode = robot
         self.robot_settings = robot_settings or RobotSettings()
         self.settings = settings or ModelSettings()
@@ -79,6 +88,13 @@ class BrainNode:
         self.handshake_timeout = handshake_timeout
         self._mind = bridge.publisher(bridge.keys.mind)
         bridge.token("brain", BRAIN_NAME)
+
+    def _shadow(self, info: EngineInfo) -> ShadowMinds | None:
+        if not self.shadows:
+            return None
+        shadow = ShadowMinds(info.scene, self.shadows, self.shadow_dir, self.settings)
+        self._open_shadows.append(shadow)
+        return shadow
 
     def _robot(self, info: EngineInfo, tracker: MindTracker) -> RobotBrain | None:
         robots = [a for a in info.scene.agents if a.kind is AgentKind.ROBOT]
@@ -114,6 +130,21 @@ class BrainNode:
         on_tick: Callable[[State, tuple[Event, ...]], None] | None = None,
     ) -> tuple[str, MindTracker]:
         """Reset the engine, follow the episode to its end, return (scenario, tracker)."""
+        try:
+            return self._run(scenario, seed, max_ticks=max_ticks, on_tick=on_tick)
+        finally:
+            for shadow in self._open_shadows:
+                shadow.close()
+            self._open_shadows.clear()
+
+    def _run(
+        self,
+        scenario: str | None,
+        seed: int,
+        *,
+        max_ticks: int | None,
+        on_tick: Callable[[State, tuple[Event, ...]], None] | None,
+    ) -> tuple[str, MindTracker]:
         first = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         if first.clock is ClockMode.REALTIME:
             return self._free_run(first, scenario, seed, max_ticks=max_ticks, on_tick=on_tick)
@@ -122,12 +153,15 @@ class BrainNode:
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("engine '%s', scenario '%s', scene '%s'", info.engine, info.scenario, info.scene.name)
         tracker = MindTracker(info.scene, self.settings, self.observer)
+        shadow = self._shadow(info)
         robot, inbox, commands = self._connect_robot(info, tracker)
         lost = threading.Event()
         self.bridge.presence("engine", lambda e: lost.clear() if e.alive else lost.set())
         events = clock.last_reply.events if clock.last_reply is not None else ()
         while True:
             tracker.observe(state, events)
+            if shadow is not None:
+                shadow.observe(state, events)
             if robot is not None and commands is not None:
                 robot.observe(events)
                 for command in robot.tick(state):
@@ -179,6 +213,7 @@ class BrainNode:
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("free-running with engine '%s', scenario '%s'", info.engine, info.scenario)
         tracker = MindTracker(info.scene, self.settings, self.observer)
+        shadow = self._shadow(info)
         robot, inbox, commands = self._connect_robot(info, tracker)
         heartbeats = _Heartbeats(self.bridge, robot.robot if robot is not None else "none")
         pending: list[Event] = []
@@ -194,6 +229,9 @@ class BrainNode:
                         info, tracker, robot, lost
                     )
                     heartbeats = _Heartbeats(self.bridge, robot.robot if robot is not None else "none")
+                    if shadow is not None and shadow.scene != info.scene:
+                        log.warning("another scene: the shadow observers stop here")
+                        shadow = None
                     pending.clear()  # the old engine's events
                     last_state = time.monotonic()
                 elif self.timeout is not None and time.monotonic() - last_state > self.timeout:
@@ -217,6 +255,8 @@ class BrainNode:
             now = tuple(e for e in pending if e.episode == state.episode and e.tick <= state.tick)
             pending = [e for e in pending if (e.episode, e.tick) > (state.episode, state.tick)]
             tracker.observe(state, now)
+            if shadow is not None:
+                shadow.observe(state, now)
             if robot is not None and commands is not None:
                 heartbeats.beat()
                 self._drain(robot, inbox)

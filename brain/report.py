@@ -6,16 +6,24 @@ from __future__ import annotations
 
 from collections import defaultdict
 from pathlib import Path
+from types import ModuleType
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .groundtruth import GroundTruth  # noqa: E402
-from .mindtable import MindRow  # noqa: E402
+from .groundtruth import GroundTruth
+from .mindtable import MindRow
 
 COLOURS = ["#4C72B0", "#DD8452", "#55A868", "#C44E52", "#8172B3", "#937860", "#DA8BC3", "#8C8C8C"]
+
+
+def pyplot() -> ModuleType:
+    """matplotlib's pyplot on the Agg backend, imported on first use (half a second that a
+    brain which writes no figures does not pay)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
 
 Table = dict[str, dict[str, dict[str, dict[str, float]]]]
 """label -> quantity -> item -> value -> (smoothed) probability."""
@@ -52,6 +60,7 @@ def belief_figure(rows: list[MindRow], agent: str, truth: GroundTruth | None, pa
     labels, table = labelled(rows, agent)
     items = sorted({r.item for r in rows if r.quantity == "belief"})
     locations = list(dict.fromkeys(r.value for r in rows if r.quantity == "belief"))
+    plt = pyplot()
     fig, axes = plt.subplots(
         len(items), 1, figsize=(max(6, 1.0 * len(labels) + 2), 2.8 * len(items)), squeeze=False
     )
@@ -95,6 +104,7 @@ def preference_figure(rows: list[MindRow], agent: str, truth: GroundTruth | None
     """Bars of the preference per step, model (smoothed) and ground truth."""
     labels, table = labelled(rows, agent)
     options = list(dict.fromkeys(r.item for r in rows if r.quantity == "preference"))
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(max(6, 1.1 * len(labels) + 2), 3.2))
     width = 0.8 / (len(options) * (2 if truth else 1))
     for oi, option in enumerate(options):

@@ -85,7 +85,8 @@ def eval_main(episodes: int, seed: int, workers: int, backend: str, out: Path) -
     from rich.markdown import Markdown
     from rich.progress import Progress
 
-    from .evaluate import evaluate, report
+    from .evalreport import report
+    from .evaluate import evaluate
 
     with Progress() as bar:
         task = bar.add_task(f"{episodes} episodes", total=episodes)

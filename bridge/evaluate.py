@@ -1,10 +1,11 @@
 """``toyroom eval``: the brain measured on random episodes whose true minds are known.
 
 Each episode is a random scenario (``python -m sim2d generate``) on the paper map or one
-of two generated houses, with autonomous simulated people. It runs four times, each time
-an engine and a brain process over loopback Zenoh in lock-step: the brain observing with
-each person model (``btom``, ``truebelief``, ``perceptonly``), and the BToM brain with the
-robot acting. The evaluator listens to ``brain/mind`` and ``engine/truth`` and scores every
+of two generated houses, with autonomous simulated people. It runs twice, each time an
+engine and a brain process over loopback Zenoh in lock-step: the robot observing (the BToM
+brain live, with ``truebelief`` and ``perceptonly`` as shadow observers of the same ticks,
+:mod:`brain.shadows`), and the BToM brain with the robot acting.
+The evaluator listens to ``brain/mind`` and ``engine/truth`` and scores every
 tick (:mod:`bridge.metrics`); robot success is whether each person ends the episode with
 what they want (playing with their preferred item, or outside if they want to leave), with
 and without the robot. Episodes run ``workers`` at a time, locally or as Ray tasks.
@@ -24,8 +25,9 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from protocol import Event, EventKind, Mind, RegionKind, Truth
+from protocol import Event, EventKind, Mind, RegionKind, Truth, decode
 
+from .evalreport import report
 from .launch import engine_command, node_command, report_failure, start_node, wait_for_engine
 from .metrics import Counts, Outcome, score_tick
 from .node import Bridge
@@ -43,6 +45,8 @@ class RunSpec:
     observer: str
     robot: str
     timeout: float = 30.0
+    shadows: tuple[str, ...] = ()
+    """Observers the same brain runs alongside on the same ticks (``python -m brain --shadow``)."""
 
 
 @dataclass
@@ -52,12 +56,17 @@ class RunResult:
     ticks: int = 0
 
 
-def run_once(spec: RunSpec, logs: Path) -> RunResult:
-    """Run an engine and a brain on ``spec`` and score the brain's minds against the truth."""
+def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
+    """Run an engine and a brain on ``spec`` and score the brain's minds against the truth:
+    the live observer's from ``brain/mind``, each shadow's from its file."""
     world = f"eval-{uuid.uuid4().hex[:10]}"
     settings = SessionSettings()
     tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
     engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
+    shadow_dir = logs / f"{tag}.shadows"
+    shadow_args = [a for o in spec.shadows for a in ("--shadow", o)]
+    if spec.shadows:
+        shadow_args += ["--shadow-out", str(shadow_dir)]
     engine = start_node(
         engine_command("sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep"), engine_log
     )
@@ -117,6 +126,7 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
                     str(spec.timeout),
                     "--log-level",
                     "WARNING",
+                    *shadow_args,
                 ),
                 brain_log,
             )
@@ -133,15 +143,7 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
                 process.terminate()
                 process.wait(timeout=10)
     outside = {r.id for r in info.scene.regions if r.kind is RegionKind.OUTSIDE}
-    result = RunResult()
-    seen: set[str] = set()
-    for tick in sorted(truths):  # scored from channels that are never dropped: truth, minds, events
-        seen |= {p for t, people in took.items() if t <= tick for p in people}
-        if tick not in minds:
-            continue
-        where = {place.item: place.location for place in truths[tick].items}
-        result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
-        result.ticks += 1
+    outcome = Outcome()
     if truths:
         truth = truths[max(truths)]
         homes = {a.id: (a.home.col, a.home.row) for a in info.scene.agents}
@@ -153,9 +155,30 @@ def run_once(spec: RunSpec, logs: Path) -> RunResult:
                 if person.preference == "out"
                 else playing.get(person.agent) == person.preference
             )
-            result.outcome.per_person[person.agent] = ok
-            result.outcome.people += 1
-            result.outcome.successes += ok
+            outcome.per_person[person.agent] = ok
+            outcome.people += 1
+            outcome.successes += ok
+    results = {spec.observer: _score(minds, truths, took, outcome)}
+    for observer in spec.shadows:
+        lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
+        shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
+        results[observer] = _score(shadow, truths, took, outcome)
+    return results
+
+
+def _score(
+    minds: dict[int, Mind], truths: dict[int, Truth], took: dict[int, set[str]], outcome: Outcome
+) -> RunResult:
+    """Score every tick that has both a mind and the truth (channels that are never dropped)."""
+    result = RunResult(outcome=outcome)
+    seen: set[str] = set()
+    for tick in sorted(truths):
+        seen |= {p for t, people in took.items() if t <= tick for p in people}
+        if tick not in minds:
+            continue
+        where = {place.item: place.location for place in truths[tick].items}
+        result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
+        result.ticks += 1
     return result
 
 
@@ -203,8 +226,11 @@ def generate(directory: Path, index: int, seed: int) -> Path:
 
 
 def episode_runs(scenario: Path) -> list[RunSpec]:
-    return [RunSpec(scenario, observer, "observe") for observer in OBSERVERS] + [
-        RunSpec(scenario, "btom", "act")
+    """Two runs: the robot observing (BToM live, the baselines as shadows of the same ticks:
+    an observing robot changes nothing, so one run serves every observer), then acting."""
+    return [
+        RunSpec(scenario, OBSERVERS[0], "observe", shadows=OBSERVERS[1:]),
+        RunSpec(scenario, "btom", "act"),
     ]
 
 
@@ -216,13 +242,13 @@ def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
     logs.mkdir(parents=True, exist_ok=True)
     out: dict[str, object] = {"index": index, "scenario": scenario.stem}
     for spec in episode_runs(scenario):
-        result = run_once(spec, logs)
-        key = spec.observer if spec.robot == "observe" else "robot"
-        out[key] = {
-            "counts": result.counts.__dict__,
-            "outcome": result.outcome.per_person,
-            "ticks": result.ticks,
-        }
+        for observer, result in run_once(spec, logs).items():
+            key = observer if spec.robot == "observe" else "robot"
+            out[key] = {
+                "counts": result.counts.__dict__,
+                "outcome": result.outcome.per_person,
+                "ticks": result.ticks,
+            }
     return out
 
 
@@ -273,45 +299,11 @@ def evaluate(
                     progress(1)
     results.sort(key=lambda r: int(r["index"]))  # type: ignore[call-overload]
     metrics = aggregate(results, seed)
+    by_map = {
+        name: aggregate([r for r in results if str(r["scenario"]).startswith(f"{name}-")], seed)
+        for name in MAPS
+    }
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
     (out / "episodes.json").write_text(json.dumps(results, indent=1) + "\n")
-    (out / "report.md").write_text(report(metrics))
+    (out / "report.md").write_text(report(metrics, by_map, out))
     return metrics
-
-
-def report(metrics: dict[str, object]) -> str:
-    """``report.md``: the metrics as tables."""
-    observers = metrics["observers"]
-    assert isinstance(observers, dict)
-    names = [
-        "belief_tv",
-        "preference_accuracy",
-        "false_belief_precision",
-        "false_belief_recall",
-        "false_belief_f1",
-    ]
-
-    def cell(value: object) -> str:
-        return "-" if value is None else f"{value:.3f}"  # type: ignore[str-format]
-
-    lines = [
-        f"# Evaluation: {metrics['episodes']} episodes, seed {metrics['seed']}",
-        "",
-        "Online estimates against the simulated people's true minds (lower `belief_tv` is better).",
-        "",
-        "| observer | " + " | ".join(names) + " |",
-        "|---" * (len(names) + 1) + "|",
-    ]
-    for observer, values in observers.items():
-        lines.append(f"| {observer} | " + " | ".join(cell(values[n]) for n in names) + " |")
-    robot = metrics["robot"]
-    assert isinstance(robot, dict)
-    lines += [
-        "",
-        "| people who end with what they want | rate |",
-        "|---|---|",
-        f"| with the robot acting | {cell(robot['with'])} |",
-        f"| without (observing) | {cell(robot['without'])} |",
-        "",
-    ]
-    return "\n".join(lines)
