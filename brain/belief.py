@@ -87,10 +87,21 @@ class BeliefModel:
         self.delta = delta
 
     @cached_property
-    def same(self) -> npt.NDArray[np.bool_]:
-        """``(W, W, K)``: whether worlds ``i`` and ``j`` agree on item ``k``."""
+    def bit(self) -> npt.NDArray[np.unsignedinteger]:
+        """``(K,)`` the bit of each item in an item set packed into the smallest unsigned
+        integer that holds ``K`` bits."""
+        K = self.model.n_items
+        dtype = next(t for t in (np.uint8, np.uint16, np.uint32, np.uint64) if np.iinfo(t).bits >= K)
+        return np.left_shift(dtype(1), np.arange(K, dtype=dtype))
+
+    @cached_property
+    def differ(self) -> npt.NDArray[np.unsignedinteger]:
+        """``(W, W)``: the set of items on which worlds ``i`` and ``j`` differ, as bits."""
         worlds = self.model.worlds
-        return worlds[:, None, :] == worlds[None, :, :]
+        bits = np.zeros((len(worlds), len(worlds)), dtype=self.bit.dtype)
+        for k in range(self.model.n_items):  # K passes over (W, W), not a (W, W, K) array
+            bits |= np.where(worlds[:, None, k] != worlds[None, :, k], self.bit[k], 0).astype(bits.dtype)
+        return bits
 
     def percept_likelihood(self, p: Percept) -> FloatArray:
         """``(W,)`` ``P(o | x, w)`` for every world."""
@@ -105,11 +116,13 @@ class BeliefModel:
         model = self.model
         seen = np.array(p.seen)
         affected = (seen[None, :] >= 0) | model.sees[p.cell][model.place]  # (W_j, K)
-        in_pw = np.all(self.same | affected[None, :, :], axis=2)  # (W_i, W_j)
-        g = np.where(in_pw, self.r, 0.0)
-        np.fill_diagonal(g, 1.0)
-        t = self.percept_likelihood(p)[:, None] * g
-        return t / t.sum(axis=0, keepdims=True)
+        fixed = np.bitwise_or.reduce(np.where(affected, 0, self.bit), axis=1)  # (W_j,) must stay put
+        in_pw = (self.differ & fixed[None, :]) == 0  # (W_i, W_j)
+        likelihood = self.percept_likelihood(p)
+        t = in_pw * (self.r * likelihood)[:, None]
+        np.fill_diagonal(t, likelihood)
+        t /= t.sum(axis=0, keepdims=True)
+        return t
 
     def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
         """``(W, W)`` transition of an observer who assumes people know the true world."""

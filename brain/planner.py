@@ -136,21 +136,28 @@ def rewards(model: WorldModel, trans: Transitions, settings: ModelSettings, pref
 def value_iteration(
     trans: Transitions, reward: FloatArray, discount: float, tolerance: float, max_sweeps: int = 10_000
 ) -> FloatArray:
-    """``(S, A)`` optimal Q-values (hard max); infeasible actions are ``-inf``."""
+    """``(S, A)`` optimal Q-values (hard max); infeasible actions are ``-inf``.
+
+    A sweep only touches the (state, action) pairs that continue: their Q is refreshed in
+    place by a gather of the successors' values; the rest (terminal rewards, ``-inf``) is fixed.
+    """
     nxt = trans.next_state
     feasible = nxt != INFEASIBLE
-    continues = nxt >= 0
-    target = np.where(continues, nxt, 0)
-    value = np.zeros(len(nxt))
+    flat = np.flatnonzero(nxt >= 0)  # continuing pairs, as flat indices into (S, A)
+    target = nxt.reshape(-1)[flat]
+    step_reward = reward.reshape(-1)[flat]
     q = np.where(feasible, reward, -np.inf)
+    q_flat = q.reshape(-1)
+    value = np.zeros(len(nxt))
     for _ in range(max_sweeps):
-        q = np.where(continues, reward + discount * value[target], np.where(feasible, reward, -np.inf))
+        q_flat[flat] = step_reward + discount * value[target]
         new = q.max(axis=1)
-        if np.max(np.abs(new - value)) <= tolerance:
-            value = new
-            break
+        converged = np.max(np.abs(new - value)) <= tolerance
         value = new
-    return np.where(continues, reward + discount * value[target], np.where(feasible, reward, -np.inf))
+        if converged:
+            break
+    q_flat[flat] = step_reward + discount * value[target]
+    return q
 
 
 def boltzmann(q: FloatArray, beta: float, epsilon: float) -> FloatArray:
