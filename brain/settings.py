@@ -27,6 +27,8 @@ class ModelSettings:
         leave_utility_out: reward of reaching the outside for a person who wants to leave.
         step_cost: cost of every non-terminal action.
         vi_tolerance: value iteration stops when no value moves more than this.
+        exact_max_worlds: the largest number of worlds ``W = (2 L)**K`` for which the exact
+            joint model is used; above it, the factored model (``brain/factored.py``).
     """
 
     r: float = 8.0
@@ -42,6 +44,7 @@ class ModelSettings:
     leave_utility_out: float = 30.0
     step_cost: float = 1.0
     vi_tolerance: float = 1e-9
+    exact_max_worlds: int = 1024
 
     def __post_init__(self) -> None:
         checks = {

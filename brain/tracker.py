@@ -13,16 +13,18 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from protocol import AgentKind, Event, EventKind, Scene, State
 
-from .belief import BeliefModel, Percept, percept, told, true_values
-from .estimates import Estimate, estimate, false_beliefs
-from .inference import HmmStep, forward_step, smooth, switch_probability
-from .planner import TAKE, Move, Policy, cached_policy, drop_action, play_action
+from .belief import Percept, percept, told, true_values
+from .estimates import Estimate, false_beliefs
+from .inference import switch_probability
+from .personmodel import StepRecord, person_model
+from .planner import TAKE, Move, drop_action, play_action
 from .settings import ModelSettings
 from .worldmodel import NEIGHBOURS
 
@@ -53,9 +55,9 @@ class PersonTrack:
     held: int = 0
     last_decision: float | None = None
     percept: Percept | None = None
-    steps: list[HmmStep] = field(default_factory=list)
-    online: list[FloatArray] = field(default_factory=list)
-    truths: list[tuple[int, ...]] = field(default_factory=list)
+    steps: list[StepRecord] = field(default_factory=list)
+    posterior: Any = None
+    """The latest filtered posterior (the model's form), ``None`` before the first sight."""
     estimates: list[Estimate] = field(default_factory=list)
 
 
@@ -74,11 +76,10 @@ class MindTracker:
         self.scene = scene
         self.settings = settings or ModelSettings()
         self.observer = observer
-        self.policy: Policy = cached_policy(scene, self.settings)
-        self.model = self.policy.model
-        self.beliefs = BeliefModel(self.model, self.settings.r, self.settings.delta)
-        W, D = self.model.n_worlds, self.model.n_items + 1
-        self.prior = np.full((W, D), 1.0 / (W * D))
+        self.person_model = person_model(scene, self.settings, true_world=observer is Observer.TRUEBELIEF)
+        self.model = self.person_model.model
+        self.exact = self.person_model.exact
+        """Whether the exact joint model is used (else the factored one: see ``exact_max_worlds``)."""
         self.people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
         self.tracks = {p: PersonTrack(p) for p in self.people}
         self.ticks: list[int] = []
@@ -133,13 +134,13 @@ class MindTracker:
         else:
             action = self._action(track, cell, events)
             if action is not None:
-                likelihood = self.policy.action_likelihood(track.cell, track.held, action)
+                likelihood = self.person_model.likelihood(track.cell, track.held, action)
                 elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
                 switch = switch_probability(self.settings.hazard, elapsed)
                 self._push(track, tick, seen, likelihood, truth, switch=switch)
                 track.last_decision = state.time
             elif seen != track.percept or (
-                self.observer is Observer.TRUEBELIEF and truth != track.truths[-1]
+                self.observer is Observer.TRUEBELIEF and truth != track.steps[-1].truth
             ):
                 # a new percept; or, to an observer without theory of mind, any change of the world
                 self._push(track, tick, seen, None, truth, switch=0.0)
@@ -177,19 +178,13 @@ class MindTracker:
         truth: tuple[int, ...],
         switch: float,
     ) -> None:
-        if self.observer is Observer.TRUEBELIEF:
-            transition = self.beliefs.true_world(truth, seen)
-        else:
-            transition = self.beliefs.transition(seen)
         if self.observer is Observer.PERCEPTONLY:
             likelihood = None
-        step = HmmStep(tick=tick, transition=transition, likelihood=likelihood, switch=switch)
-        previous = track.online[-1] if track.online else self.prior
-        posterior = forward_step(previous, step)
-        track.steps.append(step)
-        track.online.append(posterior)
-        track.truths.append(truth)
-        track.estimates.append(estimate(self.model, posterior, truth))
+        record = StepRecord(tick=tick, percept=seen, truth=truth, likelihood=likelihood, switch=switch)
+        previous = track.posterior if track.posterior is not None else self.person_model.prior()
+        track.posterior = self.person_model.step(previous, record)
+        track.steps.append(record)
+        track.estimates.append(self.person_model.estimate(track.posterior, truth))
         track.percept = seen
 
     # ----- reading ----------------------------------------------------------------------
@@ -204,7 +199,7 @@ class MindTracker:
         return dataclasses.replace(latest, false_beliefs=false_beliefs(latest.beliefs, self.truth))
 
     def smoothed(self, person: str) -> list[Estimate]:
-        """Smoothed estimates after each of ``person``'s steps."""
+        """Smoothed estimates after each of ``person``'s steps (the online ones when the
+        factored model is used: it only filters)."""
         track = self.tracks[person]
-        posteriors = smooth(self.prior, track.steps)
-        return [estimate(self.model, p, truth) for p, truth in zip(posteriors, track.truths, strict=True)]
+        return self.person_model.smoothed(track.steps, track.estimates)

@@ -38,7 +38,6 @@ class WorldModel:
             location of the cell's region, or the nearest of all for regions with none.
         sees: ``(C, L)`` whether a location is visible from a cell.
         locations: ``L`` location ids; items: ``K`` item ids.
-        worlds: ``(W, K)`` item values of every world.
         distance: ``(L, C)`` path length in cells from each location to every cell.
     """
 
@@ -52,7 +51,6 @@ class WorldModel:
     locations: tuple[str, ...]
     items: tuple[str, ...]
     cell_index: dict[tuple[int, int], int]
-    worlds: IntArray
     distance: IntArray
 
     @property
@@ -73,7 +71,17 @@ class WorldModel:
 
     @property
     def n_worlds(self) -> int:
-        return len(self.worlds)
+        """``W = V**K`` (a Python int: it may be far too many to build)."""
+        return int(self.n_values) ** self.n_items
+
+    @cached_property
+    def worlds(self) -> IntArray:
+        """``(W, K)`` item values of every world, built on first use (the exact model only)."""
+        K, V = self.n_items, self.n_values
+        if K == 0:
+            return np.zeros((1, 0), dtype=np.int64)
+        grid = np.stack(np.meshgrid(*[np.arange(V)] * K, indexing="ij"), axis=-1)
+        return grid.reshape(-1, K).astype(np.int64)
 
     @cached_property
     def place(self) -> IntArray:
@@ -132,14 +140,6 @@ def build_world_model(scene: Scene) -> WorldModel:
         [locations.index(carried[cell]) if cell in carried else 0 for cell in walkable], dtype=np.int64
     )
     items = tuple(item.id for item in scene.items)
-    values = 2 * len(locations)
-    worlds = (
-        np.stack(np.meshgrid(*[np.arange(values)] * len(items), indexing="ij"), axis=-1).reshape(
-            -1, len(items)
-        )
-        if items
-        else np.zeros((1, 0), dtype=np.int64)
-    )
     return WorldModel(
         cells=np.array(walkable, dtype=np.int64),
         neighbour=neighbour,
@@ -151,6 +151,5 @@ def build_world_model(scene: Scene) -> WorldModel:
         locations=locations,
         items=items,
         cell_index=index,
-        worlds=worlds.astype(np.int64),
         distance=distances,
     )

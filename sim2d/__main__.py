@@ -41,18 +41,29 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def generate_main(argv: Sequence[str]) -> int:
-    """``python -m sim2d generate --map M --seed S --out DIR``: write a random episode."""
-    from .generate import MAPS, write_episode
+    """``python -m sim2d generate --map M --seed S --out DIR``: write a random episode
+    (``--rooms R --items K``: on a new house of that size instead)."""
+    from .generate import ITEM_SHAPES, MAPS, write_episode, write_house_episode
 
     parser = argparse.ArgumentParser(
         prog="python -m sim2d generate", description="Write a random episode file."
     )
     parser.add_argument("--map", choices=sorted(MAPS), default="paper")
+    parser.add_argument("--rooms", type=int, help="generate a house of this many rooms (instead of --map)")
+    parser.add_argument(
+        "--items", type=int, default=3, help=f"items on a --rooms house (1 to {len(ITEM_SHAPES)})"
+    )
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--max-ticks", type=int, default=1500)
     parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
     args = parser.parse_args(argv)
-    print(write_episode(args.out, args.map, args.seed, args.max_ticks))
+    if args.rooms is not None:
+        try:
+            print(write_house_episode(args.out, args.rooms, args.items, args.seed, args.max_ticks))
+        except ValueError as err:
+            parser.error(str(err))
+    else:
+        print(write_episode(args.out, args.map, args.seed, args.max_ticks))
     return 0
 
 

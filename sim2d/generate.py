@@ -19,7 +19,17 @@ import numpy as np
 
 from .maps import load_map
 
-ITEM_SHAPES = (("ball", "ball"), ("skate", "board"), ("block", "block"), ("marble", "marble"))
+ITEM_SHAPES = (
+    ("ball", "ball"),
+    ("skate", "board"),
+    ("block", "block"),
+    ("marble", "marble"),
+    ("car", "block"),
+    ("frisbee", "ball"),
+    ("kite", "board"),
+    ("top", "marble"),
+)
+"""Item ids and shapes, in the order episodes use them (at most this many items)."""
 
 
 def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
@@ -143,8 +153,10 @@ def episode(name: str, map_path: Path, items: int, seed: int, *, max_ticks: int 
         "wait_ticks = [20, 60]",
         "",
     ]
+    if not 1 <= items <= len(ITEM_SHAPES):
+        raise ValueError(f"an episode has 1 to {len(ITEM_SHAPES)} items, not {items}")
     for k in range(items):
-        item, shape = ITEM_SHAPES[k % len(ITEM_SHAPES)]
+        item, shape = ITEM_SHAPES[k]
         lines += [
             "[[items]]",
             f'id = "{item}"',
@@ -173,6 +185,20 @@ MAPS = {
 """The maps episodes are drawn on: the paper's, and two generated houses (rooms, spots, seed)."""
 
 ITEMS = {"paper": 2, "house-a": 3, "house-b": 3}
+
+
+def write_house_episode(directory: Path, rooms: int, items: int, seed: int, max_ticks: int = 1500) -> Path:
+    """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
+    ``items`` items on it (the scaling family of ``toyroom bench``); return its path."""
+    if rooms < 2:
+        raise ValueError(f"a house has at least 2 rooms, not {rooms}")
+    directory.mkdir(parents=True, exist_ok=True)
+    name = f"house-{rooms}r{items}i"
+    map_path = directory / f"{name}.map.toml"
+    map_path.write_text(house_map(name, rooms, rooms, seed))
+    path = directory / f"{name}-{seed}.toml"
+    path.write_text(episode(f"{name}-{seed}", map_path.resolve(), items, seed, max_ticks=max_ticks))
+    return path
 
 
 def write_episode(directory: Path, map_name: str, seed: int, max_ticks: int = 1500) -> Path:

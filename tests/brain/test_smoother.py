@@ -10,6 +10,7 @@ import pytest
 from scenes import tiny_scene, tiny_state
 
 from brain.inference import HmmStep, forward, hazard_matrix, smooth
+from brain.personmodel import ExactModel
 from brain.tracker import MindTracker
 
 
@@ -87,10 +88,14 @@ def test_real_trace_of_the_tiny_scene() -> None:
                 ),
             )
         tracker.observe(tiny_state(tick, cell, None if holding else "B", holding), events)
-    steps = tracker.tracks["p"].steps
-    assert len(steps) == 6 and [s.likelihood is None for s in steps] == [True] + [False] * 5
-    _, want_smoothed = enumerate_marginals(tracker.prior, steps[:4])
-    for got, want in zip(smooth(tracker.prior, steps[:4]), want_smoothed, strict=True):
+    records = tracker.tracks["p"].steps
+    assert len(records) == 6 and [s.likelihood is None for s in records] == [True] + [False] * 5
+    exact = tracker.person_model
+    assert isinstance(exact, ExactModel), "the tiny scene fits the exact model"
+    steps = [exact.hmm_step(r) for r in records]
+    prior = exact.prior()
+    _, want_smoothed = enumerate_marginals(prior, steps[:4])
+    for got, want in zip(smooth(prior, steps[:4]), want_smoothed, strict=True):
         assert np.allclose(got, want, atol=1e-9, rtol=0)
     final = tracker.online("p")
     assert final is not None and final.preference[0] > 0.9, (
