@@ -7,9 +7,13 @@
   process for one tick and gets its state back;
 - ``brain_step_us`` (median, p99): the online update per person per step, paper map;
 - ``planner_cold_s``: the planner on the paper map with an empty cache;
-- ``scaling``: the exact model on generated houses, as far as it fits (see below).
+- ``scaling``: the brain on a family of generated houses from 4 rooms and 2 items to 10 (12)
+  rooms and 6 items, exact or factored as it runs by default, with ``tv_vs_exact`` wherever
+  the exact model fits; ``paper_tv_vs_exact`` the same on the paper map's scenarios
+  (``bench/scaling.py``).
 
-It prints a table and writes ``DIR/bench.json``.
+It prints tables and writes ``DIR/bench.json``, ``DIR/perf.md`` and ``DIR/scaling.png``
+(``bench/perfreport.py``: the README's performance section).
 """
 
 from __future__ import annotations
@@ -33,6 +37,8 @@ from rich.table import Table
 sys.path.insert(0, str(Path(__file__).parent))
 
 import brain_bench  # noqa: E402
+import perfreport  # noqa: E402
+import scaling  # noqa: E402
 
 from bridge import Bridge, LockstepClient, handshake  # noqa: E402
 from bridge.session import SessionSettings, build_config  # noqa: E402
@@ -133,6 +139,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     bridge_times = bridge_rtt(rounds, state)
     tick_times = lockstep(rounds)
     brain = brain_bench.main(repeats=1 if quick else 5)
+    scaled = scaling.main(quick)
     numbers: dict[str, Any] = {
         "quick": quick,
         "payload_bytes": len(payload),
@@ -142,8 +149,8 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
         "lockstep_ticks_per_s": 1.0 / statistics.median(tick_times),
         "brain_step_us": {"median": brain["brain_step_us_median"], "p99": brain["brain_step_us_p99"]},
         "planner_cold_s": brain["planner_cold_s"],
-        "scaling": [],
-        "scaling_note": "the exact model only; the factored model for large houses is not built yet",
+        "scaling": scaled["scaling"],
+        "paper_tv_vs_exact": scaled["paper_tv_vs_exact"],
     }
     out.mkdir(parents=True, exist_ok=True)
     (out / "bench.json").write_text(json.dumps(numbers, indent=2) + "\n")
@@ -166,7 +173,8 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     )
     table.add_row("planner_cold_s", f"{numbers['planner_cold_s']:.3f}", "<= 0.5")
     Console().print(table)
-    print(f"wrote {out / 'bench.json'}")
+    perfreport.write(out / "bench.json")
+    print(f"wrote {out / 'bench.json'}, {out / 'perf.md'} and {out / 'scaling.png'}")
     return numbers
 
 

@@ -44,7 +44,7 @@ class ModelSettings:
     leave_utility_out: float = 30.0
     step_cost: float = 1.0
     vi_tolerance: float = 1e-9
-    exact_max_worlds: int = 1024
+    exact_max_worlds: int = 512
 
     def __post_init__(self) -> None:
         checks = {

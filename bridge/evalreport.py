@@ -79,6 +79,13 @@ def report(
         f"| without (observing) | {_cell(robot['without'])} |",
         "",
     ]
+    retried = metrics.get("failed_runs_retried", 0)
+    if retried:
+        lines += [
+            f"{retried} run(s) failed (a node process crashed) and were run again; their logs are kept "
+            "as `*.failed<N>.log` and their reasons in `episodes.json` (`failed_runs`).",
+            "",
+        ]
     if out is not None:
         plot(metrics, out / FIGURE)
         lines += [f"![metrics per observer]({FIGURE})", ""]

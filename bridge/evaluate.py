@@ -14,6 +14,7 @@ and without the robot. Episodes run ``workers`` at a time, locally or as Ray tas
 from __future__ import annotations
 
 import json
+import logging
 import subprocess
 import sys
 import tempfile
@@ -33,7 +34,11 @@ from .metrics import Counts, Outcome, score_tick
 from .node import Bridge
 from .session import SessionSettings
 
+log = logging.getLogger("toyroom.eval")
+
 OBSERVERS = ("btom", "truebelief", "perceptonly")
+RUN_ATTEMPTS = 3
+"""How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
 MAPS = ("paper", "house-a", "house-b")
 
 
@@ -241,15 +246,39 @@ def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
     logs = directory / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     out: dict[str, object] = {"index": index, "scenario": scenario.stem}
+    failures: list[str] = []
     for spec in episode_runs(scenario):
-        for observer, result in run_once(spec, logs).items():
+        for observer, result in _run_with_retries(spec, logs, failures).items():
             key = observer if spec.robot == "observe" else "robot"
             out[key] = {
                 "counts": result.counts.__dict__,
                 "outcome": result.outcome.per_person,
                 "ticks": result.ticks,
             }
+    out["failed_runs"] = failures
     return out
+
+
+def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[str, RunResult]:
+    """``run_once``, again (up to ``RUN_ATTEMPTS`` times) when a node process failed; each
+    failure is kept (with its log, renamed) and counted in ``metrics.json``. A run is
+    deterministic, so a retry measures the same episode."""
+    for attempt in range(1, RUN_ATTEMPTS + 1):
+        try:
+            return run_once(spec, logs)
+        except RuntimeError as err:
+            failures.append(str(err))
+            log.warning("%s (attempt %d of %d)", err, attempt, RUN_ATTEMPTS)
+            tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
+            for path in logs.glob(f"{tag}.*.log"):
+                path.rename(path.with_suffix(f".failed{attempt}.log"))
+            if attempt == RUN_ATTEMPTS:
+                raise
+    raise AssertionError("unreachable")
+
+
+def _count(value: object) -> int:
+    return len(value) if isinstance(value, list) else 0
 
 
 def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]:
@@ -267,6 +296,7 @@ def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]
     return {
         "episodes": len(episodes),
         "seed": seed,
+        "failed_runs_retried": sum(_count(e.get("failed_runs")) for e in episodes),
         "observers": {observer: totals[observer].metrics() for observer in OBSERVERS},
         "robot": {"with": with_robot.rate, "without": without.rate},
     }

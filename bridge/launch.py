@@ -79,8 +79,19 @@ GRID_ENGINE = Path(__file__).resolve().parents[1] / "examples" / "grid_engine" /
 
 
 def node_command(package: str, world: str, settings: SessionSettings, *args: str) -> list[str]:
-    """The command line of a node process."""
-    return [sys.executable, "-m", package, "--world", world, *_network_args(settings), *args]
+    """The command line of a node process (with Python's fault handler on, so a crash in
+    native code leaves every thread's Python stack in the node's log)."""
+    return [
+        sys.executable,
+        "-X",
+        "faulthandler",
+        "-m",
+        package,
+        "--world",
+        world,
+        *_network_args(settings),
+        *args,
+    ]
 
 
 def engine_command(engine: str, world: str, settings: SessionSettings, *args: str) -> list[str]:

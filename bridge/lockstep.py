@@ -15,7 +15,7 @@ from protocol import ControlReply, Message, Pause, Reset, Resume, State, Step
 
 from .errors import NoReply, StepTimeout
 from .node import Bridge
-from .typed import Received
+from .typed import Received, Subscriber
 
 
 class LockstepClient:
@@ -33,7 +33,11 @@ class LockstepClient:
         self._latest: State | None = None
         self.last_reply: ControlReply | None = None
         """The engine's reply to the last reset or step: its ``events`` list what happened."""
-        self._subscriber = bridge.subscribe(bridge.keys.state, self._on_state, expected=State)
+        self._subscriber: Subscriber[State] | None = bridge.subscribe(
+            bridge.keys.state, self._on_state, expected=State
+        )
+        """Follows ``engine/state`` until the engine shows that its replies carry the state
+        (then every tick would be decoded twice, once for nothing)."""
 
     def _on_state(self, state: State, _: Received) -> None:
         with self._cond:
@@ -77,7 +81,12 @@ class LockstepClient:
         self.last_reply = reply
         if reply.state is not None:
             self._on_state(reply.state, Received(self.bridge.keys.state, self.bridge.encoding))
+            if self._subscriber is not None:
+                self._subscriber.close()
+                self._subscriber = None
             return reply.state
+        if self._subscriber is None:  # an engine that stopped sending states in replies
+            self._subscriber = self.bridge.subscribe(self.bridge.keys.state, self._on_state, expected=State)
         target = (reply.episode, reply.tick)
 
         def arrived() -> bool:
@@ -117,7 +126,9 @@ class LockstepClient:
 
     def close(self) -> None:
         """Stop following the state; safe to call twice."""
-        self._subscriber.close()
+        if self._subscriber is not None:
+            self._subscriber.close()
+            self._subscriber = None
 
     def __enter__(self) -> LockstepClient:
         return self

@@ -93,9 +93,12 @@ class Bridge:
         *,
         expected: tuple[type[Message], ...] | None = None,
         allow_empty: bool = True,
+        inline: bool = False,
     ) -> Queryable[Message]:
         """Answer queries on ``key`` with ``handler`` (see :class:`bridge.typed.Queryable`)."""
-        return self._track(Queryable(self.session, key, handler, expected=expected, allow_empty=allow_empty))
+        return self._track(
+            Queryable(self.session, key, handler, expected=expected, allow_empty=allow_empty, inline=inline)
+        )
 
     def token(self, role: str, name: str) -> Token:
         """Declare this node alive as ``role``/``name`` until closed."""

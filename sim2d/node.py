@@ -74,7 +74,13 @@ class EngineNode:
         self._truth = bridge.publisher(keys.truth)  # evaluation data: never dropped
         self._status = {rid: bridge.publisher(keys.status(rid)) for rid in engine.robots}
         serve_info(bridge, self.info)
-        bridge.queryable(keys.control, self._control, expected=(Reset, Step, Pause, Resume))
+        # lock-step: answer in Zenoh's thread (a tick is short; the hand-off would double it)
+        bridge.queryable(
+            keys.control,
+            self._control,
+            expected=(Reset, Step, Pause, Resume),
+            inline=clock is ClockMode.LOCKSTEP,
+        )
         bridge.subscribe(keys.command(), self._on_command, expected=RobotCommand)
         bridge.subscribe(keys.heartbeat(), self._on_heartbeat, expected=Heartbeat)
         self.heartbeat_timeout = heartbeat_timeout

@@ -50,3 +50,17 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     ):
         assert field in numbers, field
     assert numbers["zenoh_rtt_us"] > 0 and numbers["lockstep_ticks_per_s"] > 0
+    rows = numbers["scaling"]
+    for row in rows:
+        for field in ("rooms", "items", "worlds", "step_us", "planner_s", "exact", "tv_vs_exact"):
+            assert field in row, f"scaling rows need '{field}', got {sorted(row)}"
+    sizes = [(r["rooms"], r["items"]) for r in rows]
+    assert sizes[0] == (4, 2) and max(sizes) >= (10, 6), (
+        f"the family should span 4r/2i to 10r/6i, got {sizes}"
+    )
+    assert all(r["tv_vs_exact"] is not None for r in rows if r["worlds"] <= 1000), (
+        f"tv_vs_exact is due wherever the exact model fits: {rows}"
+    )
+    big = [r for r in rows if r["worlds"] > 10**6]
+    assert big and not any(r["exact"] for r in big), f"large houses should run factored: {big}"
+    assert (tmp_path / "perf.md").exists() and (tmp_path / "scaling.png").stat().st_size > 0

@@ -1,0 +1,140 @@
+"""The README's performance section, generated from ``bench.json``: a table of the numbers
+against their targets, the scaling table and ``scaling.png``.
+
+    python bench/perfreport.py DIR/bench.json [--readme README.md --figure docs/perf/scaling.png]
+
+Writes ``DIR/perf.md`` and ``DIR/scaling.png``; with ``--readme``, replaces the text between
+``<!-- perf:start -->`` and ``<!-- perf:end -->`` in the README and copies the figure to
+``--figure`` (the path the README links).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+from pathlib import Path
+from typing import Any
+
+START, END = "<!-- perf:start -->", "<!-- perf:end -->"
+
+
+def plot(numbers: dict[str, Any], path: Path) -> None:
+    """Step time and planner time against the number of worlds, exact and factored."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = numbers["scaling"]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 3.6))
+    worlds = [r["worlds"] for r in rows]
+    used = ["exact" if r["exact"] else "factored" for r in rows]
+    for ax, key, exact_key, unit, target in (
+        (left, "step_us", "exact_step_us", "online step per person (ms)", 20.0),
+        (right, "planner_s", "exact_planner_s", "planner, cold (s)", 30.0),
+    ):
+        scale = 1e-3 if key == "step_us" else 1.0
+        ax.plot(worlds, [r[key] * scale for r in rows], "o-", color="#4C72B0", label="as run (auto)")
+        for w, r, kind in zip(worlds, rows, used, strict=True):
+            ax.annotate(
+                f"{r['rooms']}r/{r['items']}i\n{kind}",
+                (w, r[key] * scale),
+                fontsize=7,
+                textcoords="offset points",
+                xytext=(4, 4),
+            )
+        exact = [(r["worlds"], r[exact_key] * scale) for r in rows if r.get(exact_key) is not None]
+        if exact:
+            ax.plot(*zip(*exact, strict=True), "s--", color="#C44E52", label="exact model")
+        ax.axhline(target, color="#8C8C8C", linestyle=":", label=f"target ({target:g})")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("worlds W = (2 locations)^items")
+        ax.set_ylabel(unit)
+        ax.legend(fontsize=7)
+    fig.suptitle("the brain on generated houses (toyroom bench)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
+    """The section's text."""
+    zenoh = numbers["zenoh_rtt_us"]
+    step = numbers["brain_step_us"]
+    lines = [
+        f"Measured on this project's 2-core machine by `{command}`; every number below is from "
+        "one run (compare ratios, not absolute times, across machines).",
+        "",
+        "| measure | value | target |",
+        "|---|---|---|",
+        f"| `zenoh_rtt_us`: raw zenoh-python ping-pong, {numbers['payload_bytes']} B | {zenoh:.0f} | |",
+        f"| `bridge_rtt_us`: the same with typed messages | {numbers['bridge_rtt_us']:.0f} | |",
+        f"| `lockstep_tick_us`: step one tick, get its state | {numbers['lockstep_tick_us']:.0f} "
+        f"| <= {2 * zenoh:.0f} (2 x zenoh) |",
+        f"| `lockstep_ticks_per_s` | {numbers['lockstep_ticks_per_s']:.0f} | |",
+        f"| `brain_step_us` median / p99, paper map | {step['median']:.0f} / {step['p99']:.0f} | <= 1000 |",
+        f"| `planner_cold_s`, paper map | {numbers['planner_cold_s']:.3f} | <= 0.5 |",
+        "",
+        "Scaling: generated houses (`python -m sim2d generate --rooms R --items K`), the brain as it "
+        "runs by default: the exact model up to `ModelSettings.exact_max_worlds` worlds, the "
+        "factored one above (`brain/factored.py`). `tv vs exact`: mean total-variation distance "
+        "between the factored and exact item beliefs per person, item and tick, where the exact "
+        "model fits.",
+        "",
+        "| rooms | items | worlds | model | planner s | step us (p99) | exact: planner s, step us "
+        "| tv vs exact | preference tv |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in numbers["scaling"]:
+        exact = "-" if r["exact_step_us"] is None else f"{r['exact_planner_s']:.2f}, {r['exact_step_us']:.0f}"
+        tv = "-" if r["tv_vs_exact"] is None else f"{r['tv_vs_exact']:.4f}"
+        ptv = "-" if r["preference_tv_vs_exact"] is None else f"{r['preference_tv_vs_exact']:.4f}"
+        lines.append(
+            f"| {r['rooms']} | {r['items']} | {r['worlds']:.3g} | {'exact' if r['exact'] else 'factored'} "
+            f"| {r['planner_s']:.2f} | {r['step_us']:.0f} ({r['step_p99_us']:.0f}) | {exact} | {tv} | {ptv} |"
+        )
+    paper = numbers["paper_tv_vs_exact"]
+    lines += [
+        "",
+        "Factored against exact on the paper map's scenarios (target: `tv_vs_exact` <= 0.05): "
+        + ", ".join(
+            f"{name} {v['tv_vs_exact']:.4f} (preferences {v['preference_tv_vs_exact']:.4f})"
+            for name, v in paper.items()
+        )
+        + ".",
+        "",
+        f"![step and planner time against the number of worlds]({figure})",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def write(bench_json: Path, readme: Path | None = None, figure: Path | None = None) -> Path:
+    """Write ``perf.md`` and ``scaling.png`` next to ``bench_json`` (and into the README)."""
+    numbers = json.loads(bench_json.read_text())
+    out = bench_json.parent
+    plot(numbers, out / "scaling.png")
+    command = "toyroom bench --quick" if numbers.get("quick") else "toyroom bench"
+    (out / "perf.md").write_text(markdown(numbers, "scaling.png", command))
+    if readme is not None:
+        target = figure or readme.parent / "docs" / "perf" / "scaling.png"
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(out / "scaling.png", target)
+        text = readme.read_text()
+        if START not in text or END not in text:
+            raise SystemExit(f"{readme} has no '{START}' ... '{END}' block to replace")
+        head, rest = text.split(START, 1)
+        _, tail = rest.split(END, 1)
+        section = markdown(numbers, target.relative_to(readme.parent).as_posix(), command)
+        readme.write_text(f"{head}{START}\n{section}{END}{tail}")
+    return out / "perf.md"
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("bench_json", type=Path)
+    parser.add_argument("--readme", type=Path)
+    parser.add_argument("--figure", type=Path)
+    args = parser.parse_args()
+    print(f"wrote {write(args.bench_json, args.readme, args.figure)}")
