@@ -79,6 +79,13 @@ def report(
         f"| without (observing) | {_cell(robot['without'])} |",
         "",
     ]
+    waits = metrics.get("ticks_to_goal")
+    if waits and waits.get("with") is not None:
+        lines += [
+            f"Mean ticks until a person first has what they want (the episode's length when never): "
+            f"{waits['with']:.0f} with the robot acting, {waits['without']:.0f} without.",
+            "",
+        ]
     retried = metrics.get("failed_runs_retried", 0)
     if retried:
         lines += [

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import logging
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -90,6 +91,8 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
 
     playing: dict[str, str | None] = {}
     regions: dict[str, str] = {}
+    reached: list[tuple[int, str, str]] = []
+    """(tick, person, item played with or region entered), in order: when goals were met."""
 
     def on_event(event: Event, _: object) -> None:
         """Events are never dropped: who took what, who plays with what, who is where."""
@@ -98,6 +101,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
                 took.setdefault(event.tick, set()).add(event.actor)
             elif event.kind is EventKind.PLAY:
                 playing[event.actor] = event.item
+                reached.append((event.tick, event.actor, event.item or ""))
             elif event.kind in (EventKind.STOP, EventKind.DROP):
                 playing[event.actor] = None
             elif event.kind is EventKind.GIVE:
@@ -106,6 +110,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
                     playing[event.target] = None
             elif event.kind is EventKind.ENTER and event.location is not None:
                 regions[event.actor] = event.location
+                reached.append((event.tick, event.actor, event.location))
 
     try:
         with Bridge(world, settings) as bridge:
@@ -163,6 +168,11 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
             outcome.per_person[person.agent] = ok
             outcome.people += 1
             outcome.successes += ok
+            goal = outside if person.preference == "out" else {person.preference}
+            outcome.ticks_to_goal[person.agent] = next(
+                (t for t, who, what in sorted(reached) if who == person.agent and what in goal), None
+            )
+        outcome.ticks = max(truths)
     results = {spec.observer: _score(minds, truths, took, outcome)}
     for observer in spec.shadows:
         lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
@@ -253,6 +263,8 @@ def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
             out[key] = {
                 "counts": result.counts.__dict__,
                 "outcome": result.outcome.per_person,
+                "ticks_to_goal": result.outcome.ticks_to_goal,
+                "episode_ticks": result.outcome.ticks,
                 "ticks": result.ticks,
             }
     out["failed_runs"] = failures
@@ -286,19 +298,28 @@ def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]
     totals = {observer: Counts() for observer in OBSERVERS}
     with_robot = Outcome()
     without = Outcome()
+    waits: dict[str, list[int]] = {"robot": [], "btom": []}
     for episode in episodes:
         for observer in OBSERVERS:
             totals[observer].add(Counts(**episode[observer]["counts"]))  # type: ignore[index]
         for outcome, key in ((with_robot, "robot"), (without, "btom")):
-            for ok in episode[key]["outcome"].values():  # type: ignore[index]
+            run = episode[key]
+            assert isinstance(run, dict)
+            for ok in run["outcome"].values():
                 outcome.people += 1
                 outcome.successes += bool(ok)
+            for tick in run.get("ticks_to_goal", {}).values():  # never reached: the episode's length
+                waits[key].append(tick if tick is not None else run["episode_ticks"])
     return {
         "episodes": len(episodes),
         "seed": seed,
         "failed_runs_retried": sum(_count(e.get("failed_runs")) for e in episodes),
         "observers": {observer: totals[observer].metrics() for observer in OBSERVERS},
         "robot": {"with": with_robot.rate, "without": without.rate},
+        "ticks_to_goal": {
+            "with": statistics.fmean(waits["robot"]) if waits["robot"] else None,
+            "without": statistics.fmean(waits["btom"]) if waits["btom"] else None,
+        },
     }
 
 

@@ -97,6 +97,11 @@ class Outcome:
     successes: int = 0
     people: int = 0
     per_person: dict[str, bool] = field(default_factory=dict)
+    ticks_to_goal: dict[str, int | None] = field(default_factory=dict)
+    """Per person, the first tick they played with the item they want at the end (or went
+    outside, if they want to leave); ``None``: never."""
+    ticks: int = 0
+    """The episode's last tick."""
 
     @property
     def rate(self) -> float | None:
