@@ -63,6 +63,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
     """The section's text."""
     zenoh = numbers["zenoh_rtt_us"]
     step = numbers["brain_step_us"]
+    profile = numbers["lockstep_profile"]
     lines = [
         f"Measured on this project's 2-core machine by `{command}`; every number below is from "
         "one run (compare ratios, not absolute times, across machines).",
@@ -74,6 +75,9 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         f"| `lockstep_tick_us`: step one tick, get its state | {numbers['lockstep_tick_us']:.0f} "
         f"| <= {2 * zenoh:.0f} (2 x zenoh) |",
         f"| `lockstep_ticks_per_s` | {numbers['lockstep_ticks_per_s']:.0f} | |",
+        f"| of which: raw ping-pong between two processes | {profile['zenoh_rtt_two_processes_us']:.0f} | |",
+        f"| of which: raw query between two processes | {profile['zenoh_query_two_processes_us']:.0f} | |",
+        f"| of which: the engine's tick alone (`paper-auto`) | {profile['engine_step_us']:.0f} | |",
         f"| `brain_step_us` median / p99, paper map | {step['median']:.0f} / {step['p99']:.0f} | <= 1000 |",
         f"| `planner_cold_s`, paper map | {numbers['planner_cold_s']:.3f} | <= 0.5 |",
         "",

@@ -2,6 +2,9 @@
 
 - ``zenoh_rtt_us``: median round trip of a raw zenoh-python ping-pong of a state-sized payload
   between two sessions on loopback (the floor for this language);
+- ``lockstep_profile``: what a lock-step tick is made of: the same raw ping-pong and a raw
+  query between two processes (as the brain and the engine are), and the engine core's
+  tick alone;
 - ``bridge_rtt_us``: the same through the bridge's typed messages (encode, decode);
 - ``lockstep_tick_us`` / ``lockstep_ticks_per_s``: a lock-step client asks a sim2d engine
   process for one tick and gets its state back;
@@ -81,6 +84,64 @@ def zenoh_rtt(rounds: int, payload: bytes) -> list[float]:
         b.close()
 
 
+def cross_process(rounds: int, payload: bytes) -> tuple[list[float], list[float]]:
+    """Raw zenoh-python round trips with an echo peer in another process (as the brain and
+    the engine are): (publication ping-pong, query and reply)."""
+    world = f"bench{uuid.uuid4().hex[:6]}"
+    echo = subprocess.Popen(
+        [sys.executable, str(Path(__file__).parent / "echo.py"), world],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    session = zenoh.open(build_config(world, SessionSettings()))
+    try:
+        assert echo.stdout is not None and echo.stdout.readline().strip() == "ready"
+        back = threading.Event()
+        session.declare_subscriber("bench/pong", lambda s: back.set())
+        ping = session.declare_publisher("bench/ping")
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and not ping_pong(ping.put, back, payload, 1):
+            time.sleep(0.1)  # until the two sessions have found each other
+        ping_pong(ping.put, back, payload, 50)
+        pubsub = ping_pong(ping.put, back, payload, rounds)
+        querier = session.declare_querier("bench/query")
+
+        def ask() -> None:
+            for reply in querier.get(payload=payload):
+                reply.ok.payload.to_bytes()
+                return
+
+        for _ in range(50):
+            ask()
+        queries = []
+        for _ in range(rounds):
+            start = time.perf_counter()
+            ask()
+            queries.append(time.perf_counter() - start)
+        return pubsub, queries
+    finally:
+        session.close()
+        if echo.stdin is not None:
+            echo.stdin.close()
+        echo.wait(timeout=10)
+
+
+def engine_step(rounds: int) -> list[float]:
+    """The engine core's tick on ``paper-auto`` in this process (no network)."""
+    from sim2d.engine import Engine
+
+    engine = Engine("paper-auto")
+    for _ in range(50):
+        engine.step()
+    times = []
+    for _ in range(rounds):
+        start = time.perf_counter()
+        engine.step()
+        times.append(time.perf_counter() - start)
+    return times
+
+
 def bridge_rtt(rounds: int, state: State) -> list[float]:
     """The same through typed messages: encode, publish, decode, and back."""
     world = f"bench{uuid.uuid4().hex[:6]}"
@@ -137,7 +198,9 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     payload = encode(state)
     zenoh_times = zenoh_rtt(rounds, payload)
     bridge_times = bridge_rtt(rounds, state)
+    pubsub_times, query_times = cross_process(rounds, payload)
     tick_times = lockstep(rounds)
+    engine_times = engine_step(rounds)
     brain = brain_bench.main(repeats=1 if quick else 5)
     scaled = scaling.main(quick)
     numbers: dict[str, Any] = {
@@ -147,6 +210,11 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
         "bridge_rtt_us": statistics.median(bridge_times) * 1e6,
         "lockstep_tick_us": statistics.median(tick_times) * 1e6,
         "lockstep_ticks_per_s": 1.0 / statistics.median(tick_times),
+        "lockstep_profile": {
+            "zenoh_rtt_two_processes_us": statistics.median(pubsub_times) * 1e6,
+            "zenoh_query_two_processes_us": statistics.median(query_times) * 1e6,
+            "engine_step_us": statistics.median(engine_times) * 1e6,
+        },
         "brain_step_us": {"median": brain["brain_step_us_median"], "p99": brain["brain_step_us_p99"]},
         "planner_cold_s": brain["planner_cold_s"],
         "scaling": scaled["scaling"],
@@ -166,6 +234,10 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
         f"<= {2 * numbers['zenoh_rtt_us']:.0f} (2 x zenoh)",
     )
     table.add_row("lockstep_ticks_per_s", f"{numbers['lockstep_ticks_per_s']:.0f}", "")
+    profile = numbers["lockstep_profile"]
+    table.add_row("  raw ping-pong, two processes", f"{profile['zenoh_rtt_two_processes_us']:.0f}", "")
+    table.add_row("  raw query, two processes", f"{profile['zenoh_query_two_processes_us']:.0f}", "")
+    table.add_row("  engine tick alone (paper-auto)", f"{profile['engine_step_us']:.0f}", "")
     table.add_row(
         "brain_step_us median / p99",
         f"{brain['brain_step_us_median']:.0f} / {brain['brain_step_us_p99']:.0f}",

@@ -59,5 +59,7 @@ def write_outputs(tracker: MindTracker, scenario: str, out: Path) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     rows = mind_rows(tracker)
     write_csv(rows, out / "mind.csv")
-    write_report(rows, scenario, tracker.observer.value, load_ground_truth(scenario), out)
+    write_report(
+        rows, scenario, tracker.observer.value, load_ground_truth(scenario), out, exact=tracker.exact
+    )
     return out / "mind.csv"

@@ -169,14 +169,30 @@ def report_markdown(rows: list[MindRow], scenario: str, agent: str, observer: st
     return "\n".join(lines) + "\n"
 
 
+FACTORED_NOTE = (
+    "\n*This house has too many worlds for the exact model: the brain ran the factored model "
+    "(docs/model.md), which filters only, so `p_smoothed` repeats the online estimate.*\n"
+)
+
+
 def write_report(
-    rows: list[MindRow], scenario: str, observer: str, truth: GroundTruth | None, out: Path
+    rows: list[MindRow],
+    scenario: str,
+    observer: str,
+    truth: GroundTruth | None,
+    out: Path,
+    *,
+    exact: bool = True,
 ) -> None:
-    """Write ``beliefs.png``, ``preferences.png`` and ``report.md`` into ``out``."""
+    """Write ``beliefs.png``, ``preferences.png`` and ``report.md`` into ``out`` (``exact``:
+    whether the exact model ran, else the report says that smoothing was not available)."""
+    note = "" if exact else FACTORED_NOTE
     agent = observed_agent(rows, truth)
     if agent is None:
-        (out / "report.md").write_text(f"# {scenario}\n\nNo labelled steps to report.\n", encoding="utf-8")
+        text = f"# {scenario}\n\nNo labelled steps to report.\n{note}"
+        (out / "report.md").write_text(text, encoding="utf-8")
         return
     belief_figure(rows, agent, truth, out / "beliefs.png")
     preference_figure(rows, agent, truth, out / "preferences.png")
-    (out / "report.md").write_text(report_markdown(rows, scenario, agent, observer), encoding="utf-8")
+    text = report_markdown(rows, scenario, agent, observer) + note
+    (out / "report.md").write_text(text, encoding="utf-8")
