@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Sequence
 
 from rich.console import Console
 from rich.table import Table
@@ -16,7 +17,18 @@ from rich.table import Table
 from brain.planner import cached_policy
 from brain.settings import ModelSettings
 from brain.tracker import MindTracker
+from protocol import Event, State
 from sim2d.engine import Engine
+
+
+def timed_observe(tracker: MindTracker, state: State, events: Sequence[Event]) -> float | None:
+    """Feed one tick; the seconds it took per person-step, or ``None`` when nobody stepped."""
+    before = sum(len(t.steps) for t in tracker.tracks.values())
+    start = time.perf_counter()
+    tracker.observe(state, events)
+    elapsed = time.perf_counter() - start
+    stepped = sum(len(t.steps) for t in tracker.tracks.values()) - before
+    return elapsed / stepped if stepped else None
 
 
 def main(repeats: int = 5) -> dict[str, float]:
@@ -38,15 +50,10 @@ def main(repeats: int = 5) -> dict[str, float]:
     per_step: list[float] = []
     for _ in range(repeats):
         tracker = MindTracker(scene, settings)
-        people = len(tracker.people)
         for state, events in ticks:
-            before = sum(len(t.steps) for t in tracker.tracks.values())
-            start = time.perf_counter()
-            tracker.observe(state, events)
-            elapsed = time.perf_counter() - start
-            stepped = sum(len(t.steps) for t in tracker.tracks.values()) - before
-            if stepped:
-                per_step.append(elapsed / people)
+            elapsed = timed_observe(tracker, state, events)
+            if elapsed is not None:
+                per_step.append(elapsed)
     per_step.sort()
     numbers = {
         "planner_cold_s": statistics.median(cold),

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from brain_bench import timed_observe
 from rich.console import Console
 from rich.table import Table
 
@@ -62,15 +63,7 @@ def follow(engine: Engine, ticks: Ticks, settings: ModelSettings) -> tuple[MindT
     start = time.perf_counter()
     tracker = MindTracker(engine.scene(), settings)
     planner = time.perf_counter() - start
-    per_step = []
-    for state, events in ticks:
-        before = sum(len(t.steps) for t in tracker.tracks.values())
-        start = time.perf_counter()
-        tracker.observe(state, events)
-        elapsed = time.perf_counter() - start
-        stepped = sum(len(t.steps) for t in tracker.tracks.values()) - before
-        if stepped:
-            per_step.append(elapsed / stepped)
+    per_step = [t for t in (timed_observe(tracker, s, e) for s, e in ticks) if t is not None]
     return tracker, planner, per_step
 
 
@@ -85,13 +78,9 @@ def divergence(engine: Engine, ticks: Ticks) -> dict[str, float]:
     factored = MindTracker(engine.scene(), ModelSettings(exact_max_worlds=0))
     beliefs, preferences, per_step = [], [], []
     for state, events in ticks:
-        before = sum(len(t.steps) for t in exact.tracks.values())
-        start = time.perf_counter()
-        exact.observe(state, events)
-        elapsed = time.perf_counter() - start
-        stepped = sum(len(t.steps) for t in exact.tracks.values()) - before
-        if stepped:
-            per_step.append(elapsed / stepped)
+        elapsed = timed_observe(exact, state, events)
+        if elapsed is not None:
+            per_step.append(elapsed)
         factored.observe(state, events)
         for person in exact.people:
             a, b = exact.online(person), factored.online(person)

@@ -42,6 +42,7 @@ from .planner import (
     Transitions,
     boltzmann,
     drop_action,
+    fill_moves,
     n_actions,
     play_action,
     value_iteration,
@@ -72,16 +73,13 @@ def focus_transitions(model: WorldModel, focus: int | None) -> Transitions:
 
     nxt = np.full((S, A), INFEASIBLE, dtype=np.int64)
     kind = np.zeros((S, A), dtype=np.int8)
-    for a in range(4):
-        c2 = model.neighbour[c, a]
-        ok = c2 >= 0
-        safe = np.where(ok, c2, 0)
-        carried = 2 * model.nearest[safe] + 1 if focus is not None else v
-        v2 = np.where(h == WANTED, carried, v)
-        nxt[:, a] = np.where(ok, index(safe, h, v2), INFEASIBLE)
-        out = ok & model.outside[safe]
-        nxt[out, a] = TERMINAL
-        kind[out, a] = 1
+
+    def moved(cells: IntArray) -> IntArray:
+        """The wanted item, when carried, follows its carrier to ``cells``."""
+        carried = 2 * model.nearest[cells] + 1 if focus is not None else v
+        return index(cells, h, np.where(h == WANTED, carried, v))
+
+    fill_moves(model, c, nxt, kind, moved)
     nxt[:, Move.STAY] = np.where(model.outside[c], TERMINAL, index(c, h, v))
     kind[model.outside[c], Move.STAY] = 1
     spot = model.spot_at[c]

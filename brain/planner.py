@@ -11,6 +11,7 @@ and a max over an ``(S, A)`` array.
 from __future__ import annotations
 
 import enum
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -69,6 +70,26 @@ class Transitions:
     held: IntArray
 
 
+def fill_moves(
+    model: WorldModel,
+    cells: IntArray,
+    nxt: IntArray,
+    kind: npt.NDArray[np.int8],
+    successor: Callable[[IntArray], IntArray],
+) -> None:
+    """Fill the Up/Down/Left/Right columns of ``nxt`` and ``kind`` (``(S, A)``) for states
+    on ``cells`` (``(S,)``): a wall is infeasible, stepping outside is terminal, else the
+    state ``successor(new cells)``."""
+    for a in range(4):
+        c2 = model.neighbour[cells, a]
+        ok = c2 >= 0
+        safe = np.where(ok, c2, 0)
+        nxt[:, a] = np.where(ok, successor(safe), INFEASIBLE)
+        out = ok & model.outside[safe]
+        nxt[out, a] = TERMINAL
+        kind[out, a] = 1
+
+
 def transitions(model: WorldModel) -> Transitions:
     """Build the successor table of every (state, action)."""
     C, K, W = model.n_cells, model.n_items, model.n_worlds
@@ -90,14 +111,7 @@ def transitions(model: WorldModel) -> Transitions:
 
     nxt = np.full((S, A), INFEASIBLE, dtype=np.int64)
     kind = np.zeros((S, A), dtype=np.int8)
-    for a in range(4):
-        c2 = model.neighbour[c, a]
-        ok = c2 >= 0
-        safe = np.where(ok, c2, 0)
-        nxt[:, a] = np.where(ok, index(safe, h, carry(safe, w)), INFEASIBLE)
-        out = ok & model.outside[safe]
-        nxt[out, a] = TERMINAL
-        kind[out, a] = 1
+    fill_moves(model, c, nxt, kind, lambda cells: index(cells, h, carry(cells, w)))
     nxt[:, Move.STAY] = np.where(model.outside[c], TERMINAL, index(c, h, w))
     kind[model.outside[c], Move.STAY] = 1
     spot = model.spot_at[c]
