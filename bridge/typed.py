@@ -308,8 +308,10 @@ class Queryable(Generic[Q]):
         self._queue: queue.Queue[zenoh.Query | None] = queue.Queue()
         self._drops = DropLog()
         self._closed = False
-        self._worker = threading.Thread(target=self._run, name=f"queryable {key}", daemon=True)
-        self._worker.start()
+        self._worker: threading.Thread | None = None
+        if not inline:
+            self._worker = threading.Thread(target=self._run, name=f"queryable {key}", daemon=True)
+            self._worker.start()
         self._inline_lock = threading.Lock()
         self._queryable = session.declare_queryable(key, self._answer_inline if inline else self._queue.put)
 
@@ -382,9 +384,10 @@ class Queryable(Generic[Q]):
             self._queryable.undeclare()
         except Exception:
             pass
-        self._queue.put(None)
-        if threading.current_thread() is not self._worker:
-            self._worker.join(timeout=5.0)
+        if self._worker is not None:
+            self._queue.put(None)
+            if threading.current_thread() is not self._worker:
+                self._worker.join(timeout=5.0)
 
     def __enter__(self) -> Queryable[Q]:
         return self

@@ -19,10 +19,13 @@ def _answer(request: Message | None, key: str) -> ControlReply:
     return ControlReply(episode=1, tick=tick, time=tick * 0.1)
 
 
+@pytest.mark.parametrize("inline", [False, True], ids=["worker-thread", "inline"])
 @pytest.mark.parametrize("encoding", list(Encoding))
-def test_query_round_trip_and_refusals(world: str, encoding: Encoding) -> None:
+def test_query_round_trip_and_refusals(world: str, encoding: Encoding, inline: bool) -> None:
+    """The same answers and refusals whether queries are handed to the queryable's worker
+    thread or answered in Zenoh's callback thread (as a lock-step engine does)."""
     with Bridge(world) as engine, Bridge(world, encoding=encoding) as client:
-        served = engine.queryable(engine.keys.control, _answer, expected=(Reset, Step))
+        served = engine.queryable(engine.keys.control, _answer, expected=(Reset, Step), inline=inline)
         key = client.keys.control
         deadline = time.monotonic() + 5
         while True:  # wait for the queryable to be known to the client
