@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -26,6 +26,7 @@ from .estimates import Estimate, estimate
 from .factored import (
     FactoredBeliefs,
     FactoredPolicy,
+    FactoredPosterior,
     cached_factored_policy,
     factored_estimate,
     factored_prior,
@@ -58,21 +59,30 @@ class StepRecord:
     switch: float
 
 
+class PersonFilter(Protocol):
+    """One person's online filter in some model's form."""
+
+    def step(self, record: StepRecord) -> None:
+        """Take in one step."""
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        """The current estimate, false beliefs read against ``truth``."""
+
+
 class PersonModel(Protocol):
     """What the tracker needs of a model."""
 
     model: WorldModel
     exact: bool
 
-    def prior(self) -> Any: ...
+    def new_filter(self) -> PersonFilter:
+        """A filter at the prior, for a person first seen."""
 
-    def likelihood(self, cell: int, held: int, action: int) -> FloatArray: ...
+    def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
+        """The likelihood of ``action`` from ``(cell, held)``, in this model's shape."""
 
-    def step(self, previous: Any, record: StepRecord) -> Any: ...
-
-    def estimate(self, posterior: Any, truth: tuple[int, ...]) -> Estimate: ...
-
-    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]: ...
+    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
+        """Estimates after each step given all of them."""
 
 
 class ExactModel:
@@ -87,28 +97,41 @@ class ExactModel:
         self.true_world = true_world
 
     def prior(self) -> FloatArray:
+        """``(W, D)`` uniform."""
         W, D = self.model.n_worlds, self.model.n_items + 1
         return np.full((W, D), 1.0 / (W * D))
+
+    def new_filter(self) -> ExactFilter:
+        return ExactFilter(self, self.prior())
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
         return self.policy.action_likelihood(cell, held, action)
 
     def hmm_step(self, record: StepRecord) -> HmmStep:
+        """The step with its ``(W, W)`` belief transition rebuilt from the percept."""
         if self.true_world:
             transition = self.beliefs.true_world(record.truth, record.percept)
         else:
             transition = self.beliefs.transition(record.percept)
         return HmmStep(record.tick, transition, record.likelihood, record.switch)
 
-    def step(self, previous: FloatArray, record: StepRecord) -> FloatArray:
-        return forward_step(previous, self.hmm_step(record))
-
-    def estimate(self, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
-        return estimate(self.model, posterior, truth)
-
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
         posteriors = smooth(self.prior(), [self.hmm_step(r) for r in records])
-        return [self.estimate(p, r.truth) for p, r in zip(posteriors, records, strict=True)]
+        return [estimate(self.model, p, r.truth) for p, r in zip(posteriors, records, strict=True)]
+
+
+@dataclass
+class ExactFilter:
+    """The ``(W, D)`` forward pass of one person."""
+
+    owner: ExactModel
+    posterior: FloatArray
+
+    def step(self, record: StepRecord) -> None:
+        self.posterior = forward_step(self.posterior, self.owner.hmm_step(record))
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        return estimate(self.owner.model, self.posterior, truth)
 
 
 class FactoredModel:
@@ -123,24 +146,36 @@ class FactoredModel:
         self.beliefs = FactoredBeliefs(self.model, settings.r, settings.delta)
         self.true_world = true_world
 
-    def prior(self) -> Any:
-        return factored_prior(self.model)
+    def new_filter(self) -> FactoredFilter:
+        return FactoredFilter(self, factored_prior(self.model))
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
         return self.policy.action_likelihood(cell, held, action)
 
-    def step(self, previous: Any, record: StepRecord) -> Any:
+    def transition(self, record: StepRecord) -> FloatArray:
+        """``(K, V, V)`` per-item belief transitions of the step's percept."""
         if self.true_world:
-            transition = self.beliefs.true_world(record.truth, record.percept)
-        else:
-            transition = self.beliefs.transition(record.percept)
-        return factored_step(previous, transition, record.likelihood, record.switch)
-
-    def estimate(self, posterior: Any, truth: tuple[int, ...]) -> Estimate:
-        return factored_estimate(self.model, posterior, truth)
+            return self.beliefs.true_world(record.truth, record.percept)
+        return self.beliefs.transition(record.percept)
 
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
         return list(online)
+
+
+@dataclass
+class FactoredFilter:
+    """The factored forward pass of one person."""
+
+    owner: FactoredModel
+    posterior: FactoredPosterior
+
+    def step(self, record: StepRecord) -> None:
+        self.posterior = factored_step(
+            self.posterior, self.owner.transition(record), record.likelihood, record.switch
+        )
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        return factored_estimate(self.owner.model, self.posterior, truth)
 
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:

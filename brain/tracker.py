@@ -13,7 +13,6 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -23,7 +22,7 @@ from protocol import AgentKind, Event, EventKind, Scene, State
 from .belief import Percept, percept, told, true_values
 from .estimates import Estimate, false_beliefs
 from .inference import switch_probability
-from .personmodel import StepRecord, person_model
+from .personmodel import PersonFilter, StepRecord, person_model
 from .planner import TAKE, Move, drop_action, play_action
 from .settings import ModelSettings
 from .worldmodel import NEIGHBOURS
@@ -56,8 +55,8 @@ class PersonTrack:
     last_decision: float | None = None
     percept: Percept | None = None
     steps: list[StepRecord] = field(default_factory=list)
-    posterior: Any = None
-    """The latest filtered posterior (the model's form), ``None`` before the first sight."""
+    filter: PersonFilter | None = None
+    """The online filter (in the model's form), ``None`` before the first sight."""
     estimates: list[Estimate] = field(default_factory=list)
 
 
@@ -181,10 +180,11 @@ class MindTracker:
         if self.observer is Observer.PERCEPTONLY:
             likelihood = None
         record = StepRecord(tick=tick, percept=seen, truth=truth, likelihood=likelihood, switch=switch)
-        previous = track.posterior if track.posterior is not None else self.person_model.prior()
-        track.posterior = self.person_model.step(previous, record)
+        if track.filter is None:
+            track.filter = self.person_model.new_filter()
+        track.filter.step(record)
         track.steps.append(record)
-        track.estimates.append(self.person_model.estimate(track.posterior, truth))
+        track.estimates.append(track.filter.estimate(truth))
         track.percept = seen
 
     # ----- reading ----------------------------------------------------------------------
