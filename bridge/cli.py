@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import logging
 import os
-import signal
 import sys
 import threading
 from collections.abc import Sequence
@@ -20,6 +19,7 @@ from protocol import Error as ProtocolErrorBase
 
 from .errors import BridgeError
 from .session import SessionSettings
+from .stopping import stop_on_signals, wait_for_stop
 
 log = logging.getLogger("toyroom")
 
@@ -73,8 +73,7 @@ def router_main(listen: Sequence[str], config_file: Path | None) -> int:
     from .router import run_router
 
     stop = threading.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: stop.set())
+    stop_on_signals(stop)
     run_router(listen, config_file=config_file, stop=stop)
     return 0
 
@@ -104,11 +103,10 @@ def record_main(world: str, settings: SessionSettings, path: Path) -> int:
     from .node import Bridge
 
     stop = threading.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: stop.set())
+    stop_on_signals(stop)
     with Bridge(world, settings) as bridge, McapRecorder(bridge, path) as recorder:
         print(f"toyroom record: world '{world}' to {path}", flush=True)
-        stop.wait()
+        wait_for_stop(stop)
         count = recorder.count
     print(f"toyroom record: {count} messages in {path}")
     return 0
@@ -303,8 +301,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             from .replay import replay
 
             stop = threading.Event()
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                signal.signal(sig, lambda *_: stop.set())
+            stop_on_signals(stop)
             with Bridge(args.world, settings_from_args(args)) as bridge:
                 sent = replay(
                     bridge,
@@ -316,7 +313,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 )
                 print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'", flush=True)
                 if args.hold:
-                    stop.wait()
+                    wait_for_stop(stop)
             return 0
         if args.command == "record":
             return record_main(args.world, settings_from_args(args), args.file)

@@ -86,6 +86,13 @@ def report(
             f"{waits['with']:.0f} with the robot acting, {waits['without']:.0f} without.",
             "",
         ]
+    failed = metrics.get("episodes_failed", 0)
+    if failed:
+        lines += [
+            f"**{failed} episode(s) failed** even after retries and are left out of these numbers "
+            "(`episodes.json`: `error`).",
+            "",
+        ]
     retried = metrics.get("failed_runs_retried", 0)
     if retried:
         lines += [

@@ -23,7 +23,7 @@ import threading
 import time
 import uuid
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -149,9 +149,8 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
             )
     finally:
         for process in (brain, engine):
-            if process is not None and process.poll() is None:
-                process.terminate()
-                process.wait(timeout=10)
+            if process is not None:
+                _stop_process(process)
     outside = {r.id for r in info.scene.regions if r.kind is RegionKind.OUTSIDE}
     outcome = Outcome()
     if truths:
@@ -179,6 +178,19 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
         shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
         results[observer] = _score(shadow, truths, took, outcome)
     return results
+
+
+def _stop_process(process: subprocess.Popen[bytes], grace: float = 10.0) -> None:
+    """SIGTERM, then SIGKILL if it has not exited within ``grace`` seconds."""
+    if process.poll() is not None:
+        return
+    process.terminate()
+    try:
+        process.wait(timeout=grace)
+    except subprocess.TimeoutExpired:
+        log.warning("process %d ignored SIGTERM for %g s: killed", process.pid, grace)
+        process.kill()
+        process.wait(timeout=grace)
 
 
 def _score(
@@ -250,7 +262,16 @@ def episode_runs(scenario: Path) -> list[RunSpec]:
 
 
 def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
-    """Everything about one episode, as plain data (so a Ray task can return it)."""
+    """Everything about one episode, as plain data (so a Ray task can return it); an
+    episode whose runs kept failing comes back with its ``error`` and no scores."""
+    try:
+        return _episode(index, seed, workdir)
+    except Exception as err:
+        log.error("episode %d failed: %s", index, err)
+        return {"index": index, "scenario": f"episode-{index}", "error": f"{type(err).__name__}: {err}"}
+
+
+def _episode(index: int, seed: int, workdir: str) -> dict[str, object]:
     directory = Path(workdir)
     scenario = generate(directory / "scenarios", index, seed)
     logs = directory / "logs"
@@ -278,7 +299,7 @@ def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[st
     for attempt in range(1, RUN_ATTEMPTS + 1):
         try:
             return run_once(spec, logs)
-        except RuntimeError as err:
+        except (RuntimeError, OSError, subprocess.SubprocessError) as err:
             failures.append(str(err))
             log.warning("%s (attempt %d of %d)", err, attempt, RUN_ATTEMPTS)
             tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
@@ -294,7 +315,10 @@ def _count(value: object) -> int:
 
 
 def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]:
-    """``metrics.json``'s content from every episode's results."""
+    """``metrics.json``'s content from every episode's results (failed episodes are
+    counted in ``episodes_failed`` and left out of the scores)."""
+    failed = [e for e in episodes if "error" in e]
+    episodes = [e for e in episodes if "error" not in e]
     totals = {observer: Counts() for observer in OBSERVERS}
     with_robot = Outcome()
     without = Outcome()
@@ -313,6 +337,7 @@ def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]
     return {
         "episodes": len(episodes),
         "seed": seed,
+        "episodes_failed": len(failed),
         "failed_runs_retried": sum(_count(e.get("failed_runs")) for e in episodes),
         "observers": {observer: totals[observer].metrics() for observer in OBSERVERS},
         "robot": {"with": with_robot.rate, "without": without.rate},
@@ -344,8 +369,11 @@ def evaluate(
         with ThreadPoolExecutor(max_workers=workers) as pool:
             futures = [pool.submit(run_episode, i, seed, workdir) for i in range(episodes)]
             results = []
-            for future in futures:
-                results.append(future.result())
+            with (out / "episodes.jsonl").open("w") as partial:  # kept as they finish
+                for future in as_completed(futures):
+                    results.append(future.result())
+                    partial.write(json.dumps(results[-1]) + "\n")
+                    partial.flush()
                 if progress is not None:
                     progress(1)
     results.sort(key=lambda r: int(r["index"]))  # type: ignore[call-overload]

@@ -17,6 +17,7 @@ import zenoh
 
 from .errors import ConfigError
 from .session import SessionSettings, build_config
+from .stopping import wait_for_stop
 
 log = logging.getLogger("toyroom.bridge")
 
@@ -65,4 +66,4 @@ def run_router(
     with Router(listen, config_file=config_file) as router:
         log.info("router %s listening on %s", router.session.zid(), ", ".join(router.listen))
         print(f"toyroom router listening on {', '.join(router.listen)}", flush=True)
-        stop.wait()
+        wait_for_stop(stop)

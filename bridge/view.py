@@ -18,7 +18,6 @@ import argparse
 import io
 import logging
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -43,6 +42,7 @@ from .handshake import handshake  # noqa: E402
 from .node import Bridge  # noqa: E402
 from .presence import PresenceEvent  # noqa: E402
 from .session import SessionSettings  # noqa: E402
+from .stopping import stop_on_signals, wait_for_stop  # noqa: E402
 from .typed import Received  # noqa: E402
 
 log = logging.getLogger("toyroom.view")
@@ -369,9 +369,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             screenshot(viewer.url, args.screenshot)
             print(f"toyroom view: saved {args.screenshot}", flush=True)
         else:
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                signal.signal(sig, lambda *_: viewer.stop.set())
-            viewer.stop.wait()
+            stop_on_signals(viewer.stop)
+            wait_for_stop(viewer.stop)
     finally:
         viewer.close()
     return 0

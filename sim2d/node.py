@@ -19,6 +19,7 @@ import threading
 import time
 
 from bridge import Bridge, Congestion, Received, Refused, serve_info
+from bridge.stopping import wait_for_stop
 from protocol import (
     ClockMode,
     CommandStatus,
@@ -209,8 +210,10 @@ class EngineNode:
         self._stop.set()
 
     def wait(self) -> None:
-        """Block until :meth:`close` is called (from another thread or a signal)."""
-        self._stop.wait()
+        """Block until :meth:`stop` or :meth:`close` is called (from another thread or a
+        signal handler: the wait wakes regularly so that handlers run, see
+        :mod:`bridge.stopping`)."""
+        wait_for_stop(self._stop)
 
     def close(self) -> None:
         """Stop the clock and leave the network; safe to call twice."""

@@ -254,7 +254,10 @@ def main() -> int:
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())
     print(f"grid engine: scenario '{args.scenario}' on world '{args.world}'", flush=True)
-    stop.wait()
+    # wait in slices: a signal delivered to one of Zenoh's threads only runs its Python
+    # handler when the main thread next wakes (a bare stop.wait() may never return)
+    while not stop.wait(0.2):
+        pass
     engine.close()
     return 0
 
