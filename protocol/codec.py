@@ -12,14 +12,14 @@ from __future__ import annotations
 
 import enum
 import re
-from functools import cache
+import threading
 from typing import Any, TypeVar, overload
 
 import msgspec
 
 from .errors import ProtocolError
 from .message import Header, Message
-from .registry import BY_TAG
+from .registry import BY_TAG, MESSAGE_TYPES
 from .version import check_version
 
 M = TypeVar("M", bound=Message)
@@ -48,11 +48,32 @@ _header_decoders: dict[Encoding, msgspec.json.Decoder[Header] | msgspec.msgpack.
 _PATH_RE = re.compile(r"^(?P<reason>.*?)(?: - at `(?P<path>\$[^`]*)`)?$", re.DOTALL)
 
 
-@cache
-def _decoder(cls: type[Message], encoding: Encoding) -> Any:
+def _build_decoder(cls: type[Message], encoding: Encoding) -> Any:
     if encoding is Encoding.JSON:
         return msgspec.json.Decoder(cls)
     return msgspec.msgpack.Decoder(cls)
+
+
+_DECODERS: dict[tuple[type[Message], Encoding], Any] = {
+    (cls, encoding): _build_decoder(cls, encoding) for cls in MESSAGE_TYPES for encoding in Encoding
+}
+"""Every message type's decoders, built once at import. msgspec resolves a Struct's type
+annotations when its first decoder is built, and two threads doing that at once can crash
+the interpreter (a segfault seen in 1 of about 200 brain processes: Zenoh's subscriber
+thread and the main thread each decoding a first message); at import only one thread runs."""
+
+
+def _decoder(cls: type[Message], encoding: Encoding) -> Any:
+    decoder = _DECODERS.get((cls, encoding))
+    if decoder is None:  # a type outside the registry: build it under the lock
+        with _BUILD_LOCK:
+            decoder = _DECODERS.get((cls, encoding))
+            if decoder is None:
+                decoder = _DECODERS[(cls, encoding)] = _build_decoder(cls, encoding)
+    return decoder
+
+
+_BUILD_LOCK = threading.Lock()
 
 
 def encode(message: Message, encoding: Encoding = Encoding.JSON) -> bytes:

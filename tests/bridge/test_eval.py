@@ -53,4 +53,6 @@ def test_eval_writes_every_metric_and_ray_agrees(tmp_path: Path) -> None:
     assert local["observers"]["btom"]["belief_tv"] is not None
     assert (tmp_path / "local" / "report.md").read_text().startswith("# Evaluation: 2 episodes")
     ray = run_eval(tmp_path / "ray", "ray")
-    assert ray == local, f"the Ray backend gave {ray}, the local one {local}"
+    # runs retried after a node crashed say something about the machine, not the brain
+    retried = {"local": local.pop("failed_runs_retried"), "ray": ray.pop("failed_runs_retried")}
+    assert ray == local, f"the Ray backend gave {ray}, the local one {local} (retried runs: {retried})"

@@ -133,3 +133,14 @@ def test_msgpack_mime_is_recognised() -> None:
     assert Encoding.from_mime("application/json") is Encoding.JSON
     assert Encoding.from_mime("zenoh/bytes") is Encoding.JSON
     assert Encoding.from_mime(None) is Encoding.JSON
+
+
+def test_every_decoder_is_built_at_import() -> None:
+    """No thread ever builds a decoder: two threads building their first msgspec decoders
+    at once (Zenoh's subscriber thread and a node's main thread) crashed a brain process."""
+    from protocol import Encoding
+    from protocol.codec import _DECODERS
+    from protocol.registry import MESSAGE_TYPES
+
+    missing = [(cls.__name__, e.name) for cls in MESSAGE_TYPES for e in Encoding if (cls, e) not in _DECODERS]
+    assert not missing, f"decoders built lazily (from any thread): {missing}"
