@@ -59,7 +59,8 @@ def ask_engine(bridge: Bridge, hello: Hello, timeout: float | None) -> EngineInf
     """
     deadline = None if timeout is None else time.monotonic() + timeout
     while True:
-        remaining = None if deadline is None else deadline - time.monotonic()
+        # never a negative timeout (Zenoh refuses one): a late wake-up still asks once more
+        remaining = None if deadline is None else max(deadline - time.monotonic(), 0.01)
         try:
             return bridge.query(bridge.keys.info, hello, EngineInfo, timeout=remaining)
         except NoReply as err:
