@@ -30,7 +30,7 @@ from pathlib import Path
 from protocol import Event, EventKind, Mind, RegionKind, Truth, decode
 
 from .evalreport import report
-from .launch import engine_command, node_command, report_failure, start_node, wait_for_engine
+from .launch import engine_command, node_command, report_failure, start_node, stop_node, wait_for_engine
 from .metrics import Counts, Outcome, score_tick
 from .node import Bridge
 from .session import SessionSettings
@@ -150,7 +150,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     finally:
         for process in (brain, engine):
             if process is not None:
-                _stop_process(process)
+                stop_node(process)
     outside = {r.id for r in info.scene.regions if r.kind is RegionKind.OUTSIDE}
     outcome = Outcome()
     if truths:
@@ -178,19 +178,6 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
         shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
         results[observer] = _score(shadow, truths, took, outcome)
     return results
-
-
-def _stop_process(process: subprocess.Popen[bytes], grace: float = 10.0) -> None:
-    """SIGTERM, then SIGKILL if it has not exited within ``grace`` seconds."""
-    if process.poll() is not None:
-        return
-    process.terminate()
-    try:
-        process.wait(timeout=grace)
-    except subprocess.TimeoutExpired:
-        log.warning("process %d ignored SIGTERM for %g s: killed", process.pid, grace)
-        process.kill()
-        process.wait(timeout=grace)
 
 
 def _score(

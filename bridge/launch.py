@@ -151,7 +151,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     viewer = None
     if config.view:
         viewer = start_node(node_command("bridge.view", world, settings), config.out / "viewer.log")
-        print(print(f"toyroom run: the viewer's URL is in {config.out / 'viewer.log'}"))
+        print(f"toyroom run: the viewer's URL is in {config.out / 'viewer.log'}")
     try:
         with Bridge(world, settings) as bridge:
             info = wait_for_engine(bridge, engine)
@@ -192,18 +192,27 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
         return brain.returncode
     finally:
         for process in (brain, engine, viewer):
-            if process is not None and process.poll() is None:
-                process.terminate()
-                try:
-                    process.wait(timeout=10)
-                except subprocess.TimeoutExpired:
-                    process.kill()
+            if process is not None:
+                stop_node(process)
 
 
 def start_node(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
     """Start a node with its output going to ``log_path`` (kept with the results)."""
     with log_path.open("wb") as handle:
         return subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT)
+
+
+def stop_node(process: subprocess.Popen[bytes], grace: float = 10.0) -> None:
+    """SIGTERM, then SIGKILL if it has not exited within ``grace`` seconds."""
+    if process.poll() is not None:
+        return
+    process.terminate()
+    try:
+        process.wait(timeout=grace)
+    except subprocess.TimeoutExpired:
+        log.warning("process %d ignored SIGTERM for %g s: killed", process.pid, grace)
+        process.kill()
+        process.wait(timeout=grace)
 
 
 def report_failure(node: str, status: int | None, log_path: Path, lines: int = 20) -> None:
