@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import enum
 import re
-import threading
 from typing import Any, TypeVar, overload
 
 import msgspec
@@ -61,19 +60,6 @@ _DECODERS: dict[tuple[type[Message], Encoding], Any] = {
 annotations when its first decoder is built, and two threads doing that at once can crash
 the interpreter (a segfault seen in 1 of about 200 brain processes: Zenoh's subscriber
 thread and the main thread each decoding a first message); at import only one thread runs."""
-
-
-def _decoder(cls: type[Message], encoding: Encoding) -> Any:
-    decoder = _DECODERS.get((cls, encoding))
-    if decoder is None:  # a type outside the registry: build it under the lock
-        with _BUILD_LOCK:
-            decoder = _DECODERS.get((cls, encoding))
-            if decoder is None:
-                decoder = _DECODERS[(cls, encoding)] = _build_decoder(cls, encoding)
-    return decoder
-
-
-_BUILD_LOCK = threading.Lock()
 
 
 def encode(message: Message, encoding: Encoding = Encoding.JSON) -> bytes:
@@ -150,7 +136,7 @@ def decode(data: bytes, expected: type[M] | None = None, encoding: Encoding = En
         )
     check_version(header.protocol, message_type=header.type)
     try:
-        return _decoder(cls, encoding).decode(data)  # type: ignore[no-any-return]
+        return _DECODERS[(cls, encoding)].decode(data)  # type: ignore[no-any-return]
     except msgspec.ValidationError as err:
         reason, path = _split(err)
         raise ProtocolError(reason, message_type=header.type, field=path) from None
