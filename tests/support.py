@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import socket
+import subprocess
+import sys
 from pathlib import Path
 
 from protocol import BY_TAG, Message, decode
@@ -50,6 +52,16 @@ class EngineProcess:
             except Exception:
                 self.process.kill()
                 self.process.wait(timeout=10)
+
+
+def run_brain(world: str, *args: str, timeout: float = 240) -> subprocess.CompletedProcess[str]:
+    """``python -m brain`` on ``world`` as a real process, to its end (logs at WARNING)."""
+    return subprocess.run(
+        [sys.executable, "-m", "brain", "--world", world, "--log-level", "WARNING", *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
 
 
 def toyroom_run(out: Path, scenario: str, *extra: str) -> Path:

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import threading
 from pathlib import Path
 
-from support import EngineProcess
+from support import EngineProcess, run_brain
 
 from bridge import Bridge, Received
 from protocol import Event, EventKind
@@ -23,24 +21,7 @@ def test_brain_follows_a_realtime_engine(world: str, tmp_path: Path) -> None:
 
     with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "10"), Bridge(world) as watcher:
         watcher.subscribe(watcher.keys.events, on_event, expected=Event)
-        brain = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "brain",
-                "--world",
-                world,
-                "--scenario",
-                "paper-robot",
-                "--out",
-                str(tmp_path),
-                "--log-level",
-                "WARNING",
-            ],
-            capture_output=True,
-            text=True,
-            timeout=240,
-        )
+        brain = run_brain(world, "--scenario", "paper-robot", "--out", str(tmp_path))
     assert brain.returncode == 0, brain.stderr
     with lock:
         gives = [(e.actor, e.item, e.target) for e in seen if e.kind is EventKind.GIVE]

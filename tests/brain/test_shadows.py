@@ -3,14 +3,12 @@ brain with that observer publishes on the same episode (what ``toyroom eval`` re
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import threading
 import time
 from pathlib import Path
 
 import msgspec
-from support import EngineProcess
+from support import EngineProcess, run_brain
 
 from bridge import Bridge, Received
 from protocol import Mind, decode
@@ -29,26 +27,8 @@ def live_minds(world: str, observer: str, *extra: str) -> dict[int, Mind]:
 
     with Bridge(world) as watcher:
         watcher.subscribe(watcher.keys.mind, keep, expected=Mind)
-        brain = subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "brain",
-                "--world",
-                world,
-                "--scenario",
-                "paper-auto",
-                "--observer",
-                observer,
-                "--max-ticks",
-                str(TICKS),
-                "--log-level",
-                "WARNING",
-                *extra,
-            ],
-            capture_output=True,
-            text=True,
-            timeout=240,
+        brain = run_brain(
+            world, "--scenario", "paper-auto", "--observer", observer, "--max-ticks", str(TICKS), *extra
         )
         assert brain.returncode == 0, brain.stderr
         deadline = time.monotonic() + 10
