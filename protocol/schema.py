@@ -6,6 +6,7 @@ client in another language can validate or generate code without reading Python.
 
 from __future__ import annotations
 
+import inspect
 import json
 from pathlib import Path
 from typing import Any
@@ -19,10 +20,36 @@ SCHEMA_DIR = Path(__file__).parent / "schema"
 """Where the checked-in schemas live."""
 
 
+NULL = {"type": "null"}
+
+
+def normalised(node: Any) -> Any:
+    """``node`` with what msgspec releases write differently made one way, recursively.
+
+    - every ``description`` cleaned by :func:`inspect.cleandoc` (msgspec copies docstrings
+      raw up to 0.22, cleaned from 0.23 on; cleaning is idempotent);
+    - in an ``anyOf``, ``{"type": "null"}`` last (0.18 lists it first, 0.23 last).
+    """
+    if isinstance(node, dict):
+        return {key: _clean(key, value) for key, value in node.items()}
+    if isinstance(node, list):
+        return [normalised(value) for value in node]
+    return node
+
+
+def _clean(key: str, value: Any) -> Any:
+    if key == "description" and isinstance(value, str):
+        return inspect.cleandoc(value)
+    if key == "anyOf" and isinstance(value, list):
+        value = [v for v in value if v != NULL] + [v for v in value if v == NULL]
+    return normalised(value)
+
+
 def message_schema(cls: type[msgspec.Struct]) -> dict[str, Any]:
-    """The JSON Schema of one message class, self-contained (its ``$defs`` included)."""
+    """The JSON Schema of one message class, self-contained (its ``$defs`` included), with
+    what a msgspec release may format differently normalised (:func:`normalised`)."""
     tag = tag_of(cls)  # type: ignore[arg-type]
-    body = msgspec.json.schema(cls)
+    body = normalised(msgspec.json.schema(cls))
     # The envelope's ``protocol`` has a default for senders, but decoders require it.
     definition = body["$defs"][cls.__name__]
     definition["required"] = ["type", "protocol"] + [

@@ -6,13 +6,16 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import jsonschema
+import msgspec
 import pytest
 
 from protocol import BY_TAG
 from protocol.examples import example_paths
-from protocol.schema import SCHEMA_DIR, stale_schemas
+from protocol.registry import MESSAGE_TYPES, tag_of
+from protocol.schema import NULL, SCHEMA_DIR, message_schema, normalised, stale_schemas
 
 
 def _validator(tag: str) -> jsonschema.Draft202012Validator:
@@ -57,3 +60,39 @@ def test_schema_check_command(tmp_path: Path) -> None:
     stale = _toyroom("schema", "--check", "--dir", str(tmp_path))
     assert stale.returncode != 0, "a modified schema should make --check fail"
     assert "state.json" in stale.stderr and "teleport.json" in stale.stderr, stale.stderr
+
+
+def _as_old_msgspec(node: Any) -> Any:
+    """A schema written the way msgspec 0.18-0.22 did: descriptions indented as in the
+    docstring, ``{"type": "null"}`` first in an ``anyOf``."""
+    if isinstance(node, dict):
+        out = {}
+        for key, value in node.items():
+            if key == "description" and isinstance(value, str):
+                out[key] = value.replace("\n", "\n    ")
+            elif key == "anyOf":
+                out[key] = [v for v in value if v == NULL] + [_as_old_msgspec(v) for v in value if v != NULL]
+            else:
+                out[key] = _as_old_msgspec(value)
+        return out
+    if isinstance(node, list):
+        return [_as_old_msgspec(v) for v in node]
+    return node
+
+
+def test_old_style_rewrite_changes_what_old_msgspec_changed() -> None:
+    for cls in (BY_TAG["mind"], BY_TAG["command_status"]):  # nullable fields, multi-line docstrings
+        newest = msgspec.json.schema(cls)
+        assert _as_old_msgspec(newest) != newest, f"{cls.__name__}: the rewrite left the schema as it was"
+
+
+@pytest.mark.parametrize("cls", MESSAGE_TYPES, ids=lambda c: c.__name__)
+def test_schemas_do_not_depend_on_how_msgspec_formats(cls: type) -> None:
+    newest = msgspec.json.schema(cls)  # what this msgspec writes (the lock pins the newest)
+    old = _as_old_msgspec(newest)
+    assert normalised(old) == normalised(newest), (
+        f"{cls.__name__}: the schema normalised from old-style msgspec output differs from the "
+        "one normalised from this msgspec's"
+    )
+    on_disk = json.loads((SCHEMA_DIR / f"{tag_of(cls)}.json").read_text())
+    assert json.dumps(on_disk, sort_keys=True) == json.dumps(message_schema(cls), sort_keys=True)
