@@ -1,21 +1,28 @@
 # `make run` and `make test` each create .venv when it is missing and install the project
-# into it (with the test and ray extras for `make test`), then run the main job / the test suite.
+# into it, every dependency at the version pinned in constraints.txt (the lock), then run the
+# main job / the test suite. `make lock` refreshes the lock; `make test-latest` runs the suite
+# against the newest releases instead, in .venv-latest; `make wheel-check` builds the wheel and
+# runs it from a fresh venv outside the checkout (CI runs it after `make test`).
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
+LOCK := constraints.txt
+PIP_VERSION := 26.3
+UV_VERSION := 0.13.9
+LATEST := .venv-latest
 
-.PHONY: run test schema clean chromium
+.PHONY: run test lock test-latest wheel-check schema clean chromium
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet pip==$(PIP_VERSION)
 
-$(VENV)/.run-installed: pyproject.toml | $(VENV)/bin/python
-	$(PY) -m pip install --quiet -e .
+$(VENV)/.run-installed: pyproject.toml $(LOCK) | $(VENV)/bin/python
+	$(PY) -m pip install --quiet -c $(LOCK) -e .
 	touch $@
 
-$(VENV)/.test-installed: pyproject.toml | $(VENV)/bin/python
-	$(PY) -m pip install --quiet -e ".[test,ray]"
+$(VENV)/.test-installed: pyproject.toml $(LOCK) | $(VENV)/bin/python
+	$(PY) -m pip install --quiet -c $(LOCK) -e ".[test,ray]"
 	touch $@ $(VENV)/.run-installed
 
 run: $(VENV)/.run-installed
@@ -23,6 +30,25 @@ run: $(VENV)/.run-installed
 
 test: $(VENV)/.test-installed chromium
 	$(PY) -m pytest
+
+# Re-resolve every dependency (and the test and ray extras) to its newest release, for any
+# platform and Python >= 3.11, with uv (pinned here); commit the new constraints.txt.
+lock: | $(VENV)/bin/python
+	$(PY) -m pip install --quiet uv==$(UV_VERSION)
+	$(VENV)/bin/uv pip compile pyproject.toml --extra test --extra ray --universal \
+		--python-version 3.11 --upgrade --quiet --custom-compile-command "make lock" -o $(LOCK)
+
+# The suite against the newest releases of everything (no lock), to find drift on purpose.
+test-latest: chromium
+	rm -rf $(LATEST)
+	$(PYTHON) -m venv $(LATEST)
+	$(LATEST)/bin/python -m pip install --quiet --upgrade pip
+	$(LATEST)/bin/python -m pip install --quiet --upgrade --upgrade-strategy eager -e ".[test,ray]"
+	$(LATEST)/bin/python .ci/lockdiff.py $(LOCK)
+	$(LATEST)/bin/python -m pytest
+
+wheel-check: $(VENV)/.run-installed
+	.ci/wheel-check $(PY) $(LOCK)
 
 # The viewer's tests render in Debian's headless Chromium; install it when missing (as root).
 chromium:
@@ -32,4 +58,4 @@ schema: $(VENV)/.run-installed
 	$(VENV)/bin/toyroom schema
 
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache .hypothesis
+	rm -rf $(VENV) $(LATEST) build dist *.egg-info .pytest_cache .hypothesis

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import dataclass
-from pathlib import Path
 
-GROUND_TRUTH_DIR = Path(__file__).parent / "groundtruth"
+from protocol.bundled import bundled_dir
+
+GROUND_TRUTH_DIR = bundled_dir("brain", "groundtruth")
 
 
 @dataclass(frozen=True)

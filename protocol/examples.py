@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-EXAMPLES_DIR = Path(__file__).parent / "examples"
+from .bundled import bundled_dir
+
+EXAMPLES_DIR = bundled_dir("protocol", "examples")
 """Where the golden examples live; each is named ``<type>.json``."""
 
 

@@ -13,10 +13,11 @@ from typing import Any
 
 import msgspec
 
+from .bundled import bundled_dir
 from .registry import MESSAGE_TYPES, tag_of
 from .version import PROTOCOL_VERSION
 
-SCHEMA_DIR = Path(__file__).parent / "schema"
+SCHEMA_DIR = bundled_dir("protocol", "schema")
 """Where the checked-in schemas live."""
 
 

@@ -27,10 +27,11 @@ from protocol import (
     Visibility,
     scene_problems,
 )
+from protocol.bundled import bundled_dir
 
 from .errors import ScenarioError
 
-SCENARIO_DIR = Path(__file__).parent / "scenarios"
+SCENARIO_DIR = bundled_dir("sim2d", "scenarios")
 """Where the bundled maps (``*.map.toml``) and scenarios (``*.toml``) live."""
 
 NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1))
