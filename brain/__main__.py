@@ -9,37 +9,45 @@
 from __future__ import annotations
 
 import argparse
-import logging
 import sys
 from collections.abc import Sequence
 from contextlib import nullcontext
 from pathlib import Path
 
 from bridge import Bridge, BridgeError
-from bridge.cli import add_zenoh_args, settings_from_args
+from bridge.cliargs import (
+    add_log_level,
+    add_network_args,
+    command_parser,
+    configure_logging,
+    settings_from_args,
+)
 from bridge.mcaprec import McapRecorder
 from protocol import Error as ProtocolError
+from protocol import Observer
 
 from .errors import BrainError
 from .node import BrainNode
 from .outputs import write_outputs
 from .trace import read_trace
-from .tracker import MindTracker, Observer
+from .tracker import MindTracker
 from .tree import RobotTree
 
-OBSERVERS = [o.value for o in Observer]
+OBSERVERS = Observer.names()
 
 
 def run_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m brain", description="The Theory-of-Mind brain node.")
+    parser = command_parser(
+        "python -m brain",
+        "The Theory-of-Mind brain node, in lock-step with the world's engine until the episode ends\n"
+        "(`python -m brain infer TRACE --out DIR`: the same outputs from a recording).",
+    )
     parser.add_argument(
         "--scenario", help="scenario to reset the engine to (default: the engine's current one)"
     )
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--seed", type=int, default=0, help="episode seed, with --scenario")
     parser.add_argument("--out", type=Path, help="write mind.csv, figures and report.md here at the end")
-    parser.add_argument(
-        "--observer", choices=OBSERVERS, default="btom", help="person model (default: %(default)s)"
-    )
+    parser.add_argument("--observer", choices=OBSERVERS, default=OBSERVERS[0], help="person model")
     parser.add_argument(
         "--timeout", type=float, default=10.0, help="seconds per lock-step request; 0: no limit"
     )
@@ -62,25 +70,23 @@ def run_parser() -> argparse.ArgumentParser:
         help="also run this observer on the same ticks, writing its minds to --shadow-out (repeatable)",
     )
     parser.add_argument(
-        "--shadow-out", type=Path, default=Path("."), help="directory of the shadow minds-*.jsonl files"
+        "--shadow-out", type=Path, default=Path("."), help="directory of the shadow minds-NAME.jsonl files"
     )
     parser.add_argument("--print-tree", action="store_true", help="print the robot's behaviour tree and exit")
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
     )
-    parser.add_argument("--log-level", default="INFO")
-    add_zenoh_args(parser)
+    add_log_level(parser)
+    add_network_args(parser)
     return parser
 
 
 def infer_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="python -m brain infer", description="Infer minds from a recorded trace."
-    )
+    parser = command_parser("python -m brain infer", "Infer minds from a recorded trace.")
     parser.add_argument("trace", type=Path, help="a trace.jsonl written by `toyroom run`")
-    parser.add_argument("--out", type=Path, required=True)
-    parser.add_argument("--observer", choices=OBSERVERS, default="btom")
-    parser.add_argument("--log-level", default="WARNING")
+    parser.add_argument("--out", type=Path, required=True, help="directory for mind.csv, figures, report.md")
+    parser.add_argument("--observer", choices=OBSERVERS, default=OBSERVERS[0], help="person model")
+    add_log_level(parser, "WARNING")
     return parser
 
 
@@ -99,9 +105,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     infer = bool(argv) and argv[0] == "infer"
     args = (infer_parser() if infer else run_parser()).parse_args(argv[1:] if infer else argv)
-    logging.basicConfig(
-        level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(name)s: %(message)s"
-    )
+    configure_logging(args.log_level)
     try:
         if infer:
             return infer_main(args.trace, args.out, Observer(args.observer))

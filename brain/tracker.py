@@ -12,12 +12,11 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from enum import Enum
 
 import numpy as np
 import numpy.typing as npt
 
-from protocol import AgentKind, Event, EventKind, Scene, State
+from protocol import AgentKind, Event, EventKind, Observer, Scene, State
 
 from .belief import Percept, percept, told, true_values
 from .estimates import Estimate, false_beliefs
@@ -28,19 +27,6 @@ from .settings import ModelSettings
 from .worldmodel import NEIGHBOURS
 
 FloatArray = npt.NDArray[np.float64]
-
-
-class Observer(Enum):
-    """Which model of the person the robot uses.
-
-    - ``btom``: Bayesian Theory of Mind (beliefs from percepts, preference from actions).
-    - ``truebelief``: no theory of mind: people are assumed to know the true world.
-    - ``perceptonly``: the belief filter alone, without the action likelihood.
-    """
-
-    BTOM = "btom"
-    TRUEBELIEF = "truebelief"
-    PERCEPTONLY = "perceptonly"
 
 
 @dataclass

@@ -23,9 +23,9 @@ from pathlib import Path
 from rich.console import Console
 from rich.live import Live
 
-from protocol import EngineInfo, Mind
+from protocol import EngineInfo, Mind, Observer
 
-from .errors import NoReply
+from .errors import BridgeError, NoReply
 from .eventlog import write_events_csv
 from .handshake import handshake
 from .livetable import mind_table
@@ -45,7 +45,7 @@ class RunConfig:
     scenario: str
     out: Path
     seed: int = 0
-    observer: str = "btom"
+    observer: str = Observer.BTOM.value
     world: str | None = None
     timeout: float = 10.0
     log_level: str = "WARNING"
@@ -59,6 +59,8 @@ class RunConfig:
     """Also record every message to this MCAP file."""
     view: bool = False
     """Also start the meshcat viewer (its URL is printed; it closes with the run)."""
+    shadows: tuple[str, ...] = ()
+    """Observers the brain also runs on the same ticks, their minds in ``out/minds-<name>.jsonl``."""
 
 
 def _network_args(settings: SessionSettings) -> list[str]:
@@ -74,7 +76,24 @@ def _network_args(settings: SessionSettings) -> list[str]:
     return args
 
 
-GRID_ENGINE = Path(__file__).resolve().parents[1] / "examples" / "grid_engine" / "main.py"
+CHECKOUT = Path(__file__).resolve().parents[1]
+"""The source checkout this package runs from (when it does: an installed wheel has no
+``bench/`` or ``examples/`` beside it)."""
+
+
+def source_file(relative: str, what: str = "") -> Path:
+    """``relative`` in the source checkout, or a :class:`BridgeError` saying in one line that
+    ``what`` (the command, when empty) needs a source checkout."""
+    path = CHECKOUT / relative
+    if not path.is_file():
+        raise BridgeError(
+            f"{what + ' ' if what else ''}needs a source checkout: {relative} is not part of the "
+            "installed package (clone the repository and run it there)"
+        )
+    return path
+
+
+GRID_ENGINE = "examples/grid_engine/main.py"
 """The example engine written from the protocol documents alone (plain zenoh and json)."""
 
 
@@ -97,7 +116,7 @@ def node_command(package: str, world: str, settings: SessionSettings, *args: str
 def engine_command(engine: str, world: str, settings: SessionSettings, *args: str) -> list[str]:
     """The command line of an engine: ``sim2d``, or ``grid`` (default loopback network only)."""
     if engine == "grid":
-        return [sys.executable, str(GRID_ENGINE), "--world", world, *args]
+        return [sys.executable, str(source_file(GRID_ENGINE, "--engine grid")), "--world", world, *args]
     return node_command("sim2d", world, settings, *args)
 
 
@@ -142,11 +161,12 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     """Run one episode; return the exit status (0 when both nodes did their job)."""
     settings = settings or SessionSettings()
     world = config.world or f"run-{os.getpid()}"
-    config.out.mkdir(parents=True, exist_ok=True)
     robot = ["--robot", config.robot] if config.robot else []
-    engine_log, brain_log = config.out / "engine.log", config.out / "brain.log"
     engine_args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
-    engine = start_node(engine_command(config.engine, world, settings, *engine_args), engine_log)
+    command = engine_command(config.engine, world, settings, *engine_args)
+    config.out.mkdir(parents=True, exist_ok=True)
+    engine_log, brain_log = config.out / "engine.log", config.out / "brain.log"
+    engine = start_node(command, engine_log)
     brain: subprocess.Popen[bytes] | None = None
     viewer = None
     if config.view:
@@ -173,6 +193,8 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                         config.log_level,
                     ),
                     *robot,
+                    *(arg for name in config.shadows for arg in ("--shadow", name)),
+                    *(("--shadow-out", str(config.out)) if config.shadows else ()),
                 ]
                 brain = start_node(node_command("brain", world, settings, *brain_args), brain_log)
                 while brain.poll() is None:

@@ -12,7 +12,7 @@ from .geometry import Cell, Pose, Vec2
 from .handshake import Capability, ClockMode, EngineInfo, Hello
 from .keys import Keys, check_name
 from .message import Header, Message
-from .mind import AgentMind, Intention, ItemBelief, Mind, Prob, RobotActivity
+from .mind import AgentMind, Intention, ItemBelief, Mind, Observer, Prob, RobotActivity
 from .registry import BY_TAG, MESSAGE_TYPES, tag_of
 from .replies import ControlReply, ErrorCode, ErrorReply
 from .robot import (
@@ -86,6 +86,7 @@ __all__ = [
     "Location",
     "MESSAGE_TYPES",
     "Message",
+    "Observer",
     "Mind",
     "Navigate",
     "Pause",

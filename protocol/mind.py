@@ -7,11 +7,30 @@ such as Unity's ``JsonUtility``, can read them.
 
 from __future__ import annotations
 
+import enum
 from typing import Annotated
 
 import msgspec
 
 from .message import Id, Message, Probability, Tick
+
+
+class Observer(enum.Enum):
+    """Which model of a person a brain's minds come from (the names every command takes).
+
+    - ``btom``: Bayesian Theory of Mind (beliefs from percepts, preference from actions).
+    - ``truebelief``: no theory of mind: people are assumed to know the true world.
+    - ``perceptonly``: the belief filter alone, without the action likelihood.
+    """
+
+    BTOM = "btom"
+    TRUEBELIEF = "truebelief"
+    PERCEPTONLY = "perceptonly"
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        """Every observer's name, ``btom`` first."""
+        return tuple(o.value for o in cls)
 
 
 class Prob(msgspec.Struct, frozen=True):

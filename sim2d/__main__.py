@@ -1,17 +1,23 @@
 """``python -m sim2d --scenario NAME [--world W] [--lockstep | --realtime RATE]``: run the
-engine node until interrupted (``toyroom sim`` starts this as a process)."""
+engine node until interrupted (``toyroom sim`` starts this as a process); ``python -m sim2d
+generate ...`` (``toyroom generate``) writes a random episode."""
 
 from __future__ import annotations
 
 import argparse
-import logging
 import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from bridge import Bridge, BridgeError
-from bridge.cli import add_zenoh_args, settings_from_args
+from bridge.cliargs import (
+    add_log_level,
+    add_network_args,
+    command_parser,
+    configure_logging,
+    settings_from_args,
+)
 from bridge.mcaprec import McapRecorder
 from protocol import ClockMode
 
@@ -22,7 +28,7 @@ from .scenario import scenario_names
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m sim2d", description="The pymunk engine node.")
+    parser = command_parser("python -m sim2d", "The pymunk engine node, until interrupted.")
     parser.add_argument(
         "--scenario", default="paper-robot", help="scenario name or .toml path (default: %(default)s)"
     )
@@ -35,27 +41,37 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
     )
-    parser.add_argument("--log-level", default="INFO")
-    add_zenoh_args(parser)
+    add_log_level(parser)
+    add_network_args(parser)
+    return parser
+
+
+def generate_parser() -> argparse.ArgumentParser:
+    """``python -m sim2d generate``'s options."""
+    from .generate import ITEM_SHAPES, MAPS
+
+    parser = command_parser(
+        "python -m sim2d generate",
+        "Write a random episode (gen-MAP-sSEED.toml, and its map when generated) and print its path.",
+    )
+    parser.add_argument("--map", choices=sorted(MAPS), default="paper", help="the map to draw the episode on")
+    parser.add_argument("--rooms", type=int, help="generate a house of this many rooms (instead of --map)")
+    parser.add_argument(
+        "--items", type=int, default=3, help=f"items on a --rooms house (1 to {len(ITEM_SHAPES)})"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="the episode's seed (items, people, their minds)")
+    parser.add_argument("--max-ticks", type=int, default=1500, help="the episode ends after this many ticks")
+    parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
+    add_log_level(parser, "WARNING")
     return parser
 
 
 def generate_main(argv: Sequence[str]) -> int:
     """``python -m sim2d generate --map M --seed S --out DIR``: write a random episode
     (``--rooms R --items K``: on a new house of that size instead)."""
-    from .generate import ITEM_SHAPES, MAPS, write_episode, write_house_episode
+    from .generate import write_episode, write_house_episode
 
-    parser = argparse.ArgumentParser(
-        prog="python -m sim2d generate", description="Write a random episode file."
-    )
-    parser.add_argument("--map", choices=sorted(MAPS), default="paper")
-    parser.add_argument("--rooms", type=int, help="generate a house of this many rooms (instead of --map)")
-    parser.add_argument(
-        "--items", type=int, default=3, help=f"items on a --rooms house (1 to {len(ITEM_SHAPES)})"
-    )
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--max-ticks", type=int, default=1500)
-    parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
+    parser = generate_parser()
     args = parser.parse_args(argv)
     if args.rooms is not None:
         try:
@@ -72,9 +88,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if argv and argv[0] == "generate":
         return generate_main(argv[1:])
     args = build_parser().parse_args(argv)
-    logging.basicConfig(
-        level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(name)s: %(message)s"
-    )
+    configure_logging(args.log_level)
     if args.list:
         print("\n".join(scenario_names()))
         return 0

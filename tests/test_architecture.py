@@ -56,3 +56,26 @@ def test_ruff_is_clean() -> None:
 def test_mypy_is_clean() -> None:
     result = _run(sys.executable, "-m", "mypy")
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def _modules(path: Path) -> set[str]:
+    """The full names of the modules ``path`` imports from (absolute imports only)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    found: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            found.add(node.module)
+    return found
+
+
+def test_nodes_do_not_import_the_command_line() -> None:
+    """The nodes take their shared flags from bridge.cliargs, never the ``toyroom`` CLI."""
+    offenders = sorted(
+        str(path.relative_to(ROOT))
+        for package in ("sim2d", "brain")
+        for path in (ROOT / package).rglob("*.py")
+        if "bridge.cli" in _modules(path)
+    )
+    assert offenders == [], f"nodes importing bridge.cli (use bridge.cliargs): {offenders}"
