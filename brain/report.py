@@ -175,6 +175,16 @@ FACTORED_NOTE = (
 )
 
 
+def truth_note(truth: GroundTruth | None) -> str:
+    """The report's sentence on where the ground truth in the figures comes from."""
+    if truth is None:
+        return "\nNo ground truth for this scenario: the figures show the model alone.\n"
+    return (
+        f"\nGround truth: {truth.agent}'s, from `brain/groundtruth/{truth.scenario}.toml`, "
+        "hatched beside the model in the figures.\n"
+    )
+
+
 def write_report(
     rows: list[MindRow],
     scenario: str,
@@ -189,10 +199,10 @@ def write_report(
     note = "" if exact else FACTORED_NOTE
     agent = observed_agent(rows, truth)
     if agent is None:
-        text = f"# {scenario}\n\nNo labelled steps to report.\n{note}"
+        text = f"# {scenario}\n\nNo labelled steps to report.\n{truth_note(truth)}{note}"
         (out / "report.md").write_text(text, encoding="utf-8")
         return
     belief_figure(rows, agent, truth, out / "beliefs.png")
     preference_figure(rows, agent, truth, out / "preferences.png")
-    text = report_markdown(rows, scenario, agent, observer) + note
+    text = report_markdown(rows, scenario, agent, observer) + truth_note(truth) + note
     (out / "report.md").write_text(text, encoding="utf-8")

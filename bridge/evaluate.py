@@ -27,7 +27,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from protocol import Event, EventKind, Mind, RegionKind, Truth, decode
+from protocol import Event, EventKind, Mind, Observer, RegionKind, Truth, decode
 
 from .evalreport import report
 from .launch import engine_command, node_command, report_failure, start_node, stop_node, wait_for_engine
@@ -37,7 +37,8 @@ from .session import SessionSettings
 
 log = logging.getLogger("toyroom.eval")
 
-OBSERVERS = ("btom", "truebelief", "perceptonly")
+OBSERVERS = Observer.names()
+BTOM = Observer.BTOM.value
 RUN_ATTEMPTS = 3
 """How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
 MAPS = ("paper", "house-a", "house-b")
@@ -211,9 +212,14 @@ def _settle(
             return
 
 
+def map_of(index: int) -> str:
+    """The map episode ``index`` of a sweep is drawn on (they cycle through ``MAPS``)."""
+    return MAPS[index % len(MAPS)]
+
+
 def generate(directory: Path, index: int, seed: int) -> Path:
-    """Write episode ``index`` of a sweep with ``seed`` (its map cycles through ``MAPS``)."""
-    map_name = MAPS[index % len(MAPS)]
+    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)."""
+    map_name = map_of(index)
     result = subprocess.run(
         [
             sys.executable,
@@ -244,7 +250,7 @@ def episode_runs(scenario: Path) -> list[RunSpec]:
     an observing robot changes nothing, so one run serves every observer), then acting."""
     return [
         RunSpec(scenario, OBSERVERS[0], "observe", shadows=OBSERVERS[1:]),
-        RunSpec(scenario, "btom", "act"),
+        RunSpec(scenario, BTOM, "act"),
     ]
 
 
@@ -255,7 +261,12 @@ def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
         return _episode(index, seed, workdir)
     except Exception as err:
         log.error("episode %d failed: %s", index, err)
-        return {"index": index, "scenario": f"episode-{index}", "error": f"{type(err).__name__}: {err}"}
+        return {
+            "index": index,
+            "map": map_of(index),
+            "scenario": f"episode-{index}",
+            "error": f"{type(err).__name__}: {err}",
+        }
 
 
 def _episode(index: int, seed: int, workdir: str) -> dict[str, object]:
@@ -263,7 +274,7 @@ def _episode(index: int, seed: int, workdir: str) -> dict[str, object]:
     scenario = generate(directory / "scenarios", index, seed)
     logs = directory / "logs"
     logs.mkdir(parents=True, exist_ok=True)
-    out: dict[str, object] = {"index": index, "scenario": scenario.stem}
+    out: dict[str, object] = {"index": index, "map": map_of(index), "scenario": scenario.stem}
     failures: list[str] = []
     for spec in episode_runs(scenario):
         for observer, result in _run_with_retries(spec, logs, failures).items():
@@ -309,11 +320,11 @@ def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]
     totals = {observer: Counts() for observer in OBSERVERS}
     with_robot = Outcome()
     without = Outcome()
-    waits: dict[str, list[int]] = {"robot": [], "btom": []}
+    waits: dict[str, list[int]] = {"robot": [], BTOM: []}
     for episode in episodes:
         for observer in OBSERVERS:
             totals[observer].add(Counts(**episode[observer]["counts"]))  # type: ignore[index]
-        for outcome, key in ((with_robot, "robot"), (without, "btom")):
+        for outcome, key in ((with_robot, "robot"), (without, BTOM)):
             run = episode[key]
             assert isinstance(run, dict)
             for ok in run["outcome"].values():
@@ -330,7 +341,7 @@ def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]
         "robot": {"with": with_robot.rate, "without": without.rate},
         "ticks_to_goal": {
             "with": statistics.fmean(waits["robot"]) if waits["robot"] else None,
-            "without": statistics.fmean(waits["btom"]) if waits["btom"] else None,
+            "without": statistics.fmean(waits[BTOM]) if waits[BTOM] else None,
         },
     }
 
@@ -361,14 +372,11 @@ def evaluate(
                     results.append(future.result())
                     partial.write(json.dumps(results[-1]) + "\n")
                     partial.flush()
-                if progress is not None:
-                    progress(1)
+                    if progress is not None:
+                        progress(1)
     results.sort(key=lambda r: int(r["index"]))  # type: ignore[call-overload]
     metrics = aggregate(results, seed)
-    by_map = {
-        name: aggregate([r for r in results if str(r["scenario"]).startswith(f"{name}-")], seed)
-        for name in MAPS
-    }
+    by_map = {name: aggregate([r for r in results if r["map"] == name], seed) for name in MAPS}
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
     (out / "episodes.json").write_text(json.dumps(results, indent=1) + "\n")
     (out / "report.md").write_text(report(metrics, by_map, out))

@@ -1,4 +1,4 @@
-"""Stopping a node's main thread on SIGINT or SIGTERM.
+"""Stopping: a node's main thread on SIGINT or SIGTERM, and a child process group.
 
 Python runs signal handlers in the main thread, between bytecodes. The kernel may deliver
 a signal to any thread of the process, Zenoh's native threads included; a main thread
@@ -9,8 +9,11 @@ So the main thread waits in short slices.
 
 from __future__ import annotations
 
+import os
 import signal
+import subprocess
 import threading
+import time
 
 POLL_S = 0.2
 """Seconds between two looks at the stop event: the longest a signal waits to be handled."""
@@ -22,7 +25,25 @@ def stop_on_signals(stop: threading.Event) -> None:
         signal.signal(sig, lambda *_: stop.set())
 
 
-def wait_for_stop(stop: threading.Event) -> None:
-    """Block until ``stop`` is set, waking every ``POLL_S`` so that signal handlers run."""
-    while not stop.wait(POLL_S):
-        pass
+def wait_for_stop(stop: threading.Event, timeout: float | None = None) -> bool:
+    """Block until ``stop`` is set (or ``timeout`` seconds have passed), waking every
+    ``POLL_S`` so that signal handlers run; whether ``stop`` is set."""
+    deadline = None if timeout is None else time.monotonic() + timeout
+    while not stop.wait(POLL_S if deadline is None else max(0.0, min(POLL_S, deadline - time.monotonic()))):
+        if deadline is not None and time.monotonic() >= deadline:
+            return False
+    return True
+
+
+def stop_process_group(process: subprocess.Popen[bytes], grace: float = 5.0) -> None:
+    """SIGTERM the process group ``process`` leads, then SIGKILL it after ``grace`` s, and reap it."""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        try:
+            os.killpg(process.pid, sig)
+        except ProcessLookupError:
+            break
+        try:
+            process.wait(timeout=grace)
+            break
+        except subprocess.TimeoutExpired:
+            continue

@@ -42,7 +42,7 @@ from .handshake import handshake  # noqa: E402
 from .node import Bridge  # noqa: E402
 from .presence import PresenceEvent  # noqa: E402
 from .session import SessionSettings  # noqa: E402
-from .stopping import stop_on_signals, wait_for_stop  # noqa: E402
+from .stopping import POLL_S, stop_on_signals, stop_process_group, wait_for_stop  # noqa: E402
 from .typed import Received  # noqa: E402
 
 log = logging.getLogger("toyroom.view")
@@ -255,12 +255,14 @@ class SceneView:
 class Viewer:
     """The viewer node: a meshcat server, a bridge to the world, and the drawing loop."""
 
-    def __init__(self, world: str, settings: SessionSettings | None = None) -> None:
+    def __init__(
+        self, world: str, settings: SessionSettings | None = None, stop: threading.Event | None = None
+    ) -> None:
         self.vis = meshcat.Visualizer()
         self.url = self.vis.url()
         self.view = SceneView(self.vis)
         self.bridge = Bridge(world, settings)
-        self.stop = threading.Event()
+        self.stop = stop or threading.Event()
         self.info: EngineInfo | None = None
         self._reconnect = threading.Event()
         self.bridge.subscribe(self.bridge.keys.state, self.view.on_state, expected=State)
@@ -308,72 +310,107 @@ class Viewer:
                 self.view.render()
 
     def close(self) -> None:
+        """Stop drawing, close the bridge and stop the meshcat server (its own process group)."""
         self.stop.set()
         self.bridge.close()
-        try:
-            self.vis.window.server_proc.terminate()  # type: ignore[attr-defined]
-        except Exception:
-            pass
+        server = self.vis.window.server_proc
+        if server is not None:
+            stop_process_group(server)
 
 
-def screenshot(url: str, path: Path, *, width: int = 1000, height: int = 750) -> None:
-    """Render ``url`` in headless Chromium and save a PNG (Debian's ``chromium``)."""
+CHROMIUM_FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+    "--disable-quic",
+    "--virtual-time-budget=8000",
+)
+"""Headless Chromium with nothing that reaches for the network (this machine's is closed)."""
+
+
+def screenshot(
+    url: str,
+    path: Path,
+    stop: threading.Event,
+    *,
+    width: int = 1000,
+    height: int = 750,
+    timeout: float = 120.0,
+) -> bool:
+    """Render ``url`` in headless Chromium (Debian's ``chromium``) and save a PNG; False when
+    ``stop`` was set first. Chromium runs in its own process group, stopped with all its
+    helpers however this returns."""
     browser = shutil.which("chromium") or shutil.which("chromium-browser")
     if browser is None:
         raise SystemExit("toyroom view: --screenshot needs chromium (apt-get install chromium)")
     with tempfile.TemporaryDirectory() as profile:
-        subprocess.run(
-            [
-                browser,
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-background-networking",
-                "--disable-component-update",
-                "--disable-sync",
-                "--no-first-run",
-                "--disable-quic",
-                f"--user-data-dir={profile}",
-                f"--window-size={width},{height}",
-                "--virtual-time-budget=8000",
-                f"--screenshot={path}",
-                url,
-            ],
-            check=True,
-            capture_output=True,
-            timeout=120,
-        )
+        command = [
+            browser,
+            *CHROMIUM_FLAGS,
+            f"--user-data-dir={profile}",
+            f"--window-size={width},{height}",
+            f"--screenshot={path}",
+            url,
+        ]
+        errors = Path(profile) / "stderr.txt"
+        with errors.open("wb") as sink:  # a file, not a pipe nobody reads while it runs
+            process = subprocess.Popen(
+                command, stdout=subprocess.DEVNULL, stderr=sink, start_new_session=True
+            )
+        try:
+            deadline = time.monotonic() + timeout
+            while process.poll() is None:
+                if stop.wait(POLL_S):
+                    return False
+                if time.monotonic() > deadline:
+                    raise RuntimeError(f"chromium did not render {url} within {timeout:g} s")
+            if process.returncode != 0:
+                error = errors.read_text(errors="replace")[-2000:]
+                raise RuntimeError(f"chromium exited with status {process.returncode}: {error}")
+            return True
+        finally:
+            stop_process_group(process)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """``python -m bridge.view``'s options."""
+    from .cliargs import add_log_level, add_network_args, command_parser
+
+    parser = command_parser("python -m bridge.view", "The meshcat live view of a world.")
+    parser.add_argument("--screenshot", type=Path, metavar="FILE.png", help="save a rendering and exit")
+    parser.add_argument("--after", type=float, default=3.0, help="seconds to draw before the screenshot")
+    add_log_level(parser, "WARNING")
+    add_network_args(parser)
+    return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    from .cli import add_zenoh_args, settings_from_args
+    """The viewer until SIGINT or SIGTERM (or, with ``--screenshot``, until the picture is
+    saved); either way its meshcat server and any Chromium are stopped before it exits."""
+    from .cliargs import configure_logging, settings_from_args
 
-    parser = argparse.ArgumentParser(
-        prog="python -m bridge.view", description="The meshcat live view of a world."
-    )
-    parser.add_argument("--screenshot", type=Path, metavar="FILE.png", help="save a rendering and exit")
-    parser.add_argument("--after", type=float, default=3.0, help="seconds to draw before the screenshot")
-    parser.add_argument("--log-level", default="WARNING")
-    add_zenoh_args(parser)
-    args = parser.parse_args(argv)
-    logging.basicConfig(
-        level=args.log_level.upper(), format="%(asctime)s %(levelname)s %(name)s: %(message)s"
-    )
-    viewer = Viewer(args.world, settings_from_args(args))
-    print(f"toyroom view: world '{args.world}' at {viewer.url}", flush=True)
-    runner = threading.Thread(target=viewer.run, daemon=True)
-    runner.start()
+    args = build_parser().parse_args(argv)
+    configure_logging(args.log_level)
+    stop = threading.Event()
+    stop_on_signals(stop)  # before the meshcat server starts, so no signal can orphan it
+    viewer = Viewer(args.world, settings_from_args(args), stop=stop)
     try:
-        if args.screenshot is not None:
-            time.sleep(args.after)
-            screenshot(viewer.url, args.screenshot)
-            print(f"toyroom view: saved {args.screenshot}", flush=True)
-        else:
-            stop_on_signals(viewer.stop)
-            wait_for_stop(viewer.stop)
+        print(f"toyroom view: world '{args.world}' at {viewer.url}", flush=True)
+        threading.Thread(target=viewer.run, daemon=True).start()
+        if args.screenshot is None:
+            wait_for_stop(stop)
+            return 0
+        if wait_for_stop(stop, args.after) or not screenshot(viewer.url, args.screenshot, stop):
+            print("toyroom view: stopped before the screenshot was saved", file=sys.stderr, flush=True)
+            return 1
+        print(f"toyroom view: saved {args.screenshot}", flush=True)
+        return 0
     finally:
         viewer.close()
-    return 0
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .maps import load_map
+from .maps import SCENARIO_DIR, load_map
 
 ITEM_SHAPES = (
     ("ball", "ball"),
@@ -125,8 +125,10 @@ def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
     return "\n".join(lines)
 
 
-def episode(name: str, map_path: Path, items: int, seed: int, *, max_ticks: int = 1500) -> str:
-    """The TOML text of a random episode on the map at ``map_path``."""
+def episode(name: str, map_ref: str, map_path: Path, items: int, seed: int, *, max_ticks: int = 1500) -> str:
+    """The TOML text of a random episode on the map at ``map_path``, which the file names as
+    ``map_ref`` (a bundled map's name, or a file name beside the episode: no absolute paths,
+    so a folder of episodes can be moved or shared)."""
     rng = np.random.default_rng(seed)
     game_map = load_map(str(map_path))
     spots = [loc.id for loc in game_map.locations]
@@ -140,7 +142,7 @@ def episode(name: str, map_path: Path, items: int, seed: int, *, max_ticks: int 
     lines = [
         f"# A generated episode (seed {seed}) on map {game_map.name}.",
         f'name = "{name}"',
-        f'map = "{map_path.as_posix()}"',
+        f'map = "{map_ref}"',
         'robot = "act"',
         "tick_seconds = 0.1",
         f"max_ticks = {max_ticks}",
@@ -187,17 +189,35 @@ MAPS = {
 ITEMS = {"paper": 2, "house-a": 3, "house-b": 3}
 
 
+PREFIX = "gen-"
+"""Every generated episode's name starts with this, so it can never be mistaken for a
+bundled scenario (``paper-1``) or get its ground truth."""
+
+
+def episode_name(map_name: str, seed: int) -> str:
+    """The name of the generated episode of ``seed`` on ``map_name``: ``gen-paper-s1``."""
+    return f"{PREFIX}{map_name}-s{seed}"
+
+
+def map_of(episode: str) -> str:
+    """The map a generated episode's name says it was drawn on (``gen-paper-s1`` -> ``paper``)."""
+    if not episode.startswith(PREFIX) or "-s" not in episode:
+        raise ValueError(f"{episode!r} is not the name of a generated episode ({PREFIX}<map>-s<seed>)")
+    return episode[len(PREFIX) :].rsplit("-s", 1)[0]
+
+
 def write_house_episode(directory: Path, rooms: int, items: int, seed: int, max_ticks: int = 1500) -> Path:
     """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
     ``items`` items on it (the scaling family of ``toyroom bench``); return its path."""
     if rooms < 2:
         raise ValueError(f"a house has at least 2 rooms, not {rooms}")
     directory.mkdir(parents=True, exist_ok=True)
-    name = f"house-{rooms}r{items}i"
-    map_path = directory / f"{name}.map.toml"
-    map_path.write_text(house_map(name, rooms, rooms, seed))
-    path = directory / f"{name}-{seed}.toml"
-    path.write_text(episode(f"{name}-{seed}", map_path.resolve(), items, seed, max_ticks=max_ticks))
+    map_name = f"house-{rooms}r{items}i"
+    map_path = directory / f"{PREFIX}{map_name}.map.toml"
+    map_path.write_text(house_map(map_name, rooms, rooms, seed))
+    name = episode_name(map_name, seed)
+    path = directory / f"{name}.toml"
+    path.write_text(episode(name, map_path.name, map_path, items, seed, max_ticks=max_ticks))
     return path
 
 
@@ -206,13 +226,13 @@ def write_episode(directory: Path, map_name: str, seed: int, max_ticks: int = 15
     directory.mkdir(parents=True, exist_ok=True)
     spec = MAPS[map_name]
     if spec is None:
-        map_path = (Path(__file__).parent / "scenarios" / f"{map_name}.map.toml").resolve()
+        map_ref, map_path = map_name, SCENARIO_DIR / f"{map_name}.map.toml"
     else:
-        map_path = directory / f"{map_name}.map.toml"
+        map_path = directory / f"{PREFIX}{map_name}.map.toml"
+        map_ref = map_path.name
         if not map_path.exists():
             map_path.write_text(house_map(map_name, *spec))
-    path = directory / f"{map_name}-{seed}.toml"
-    path.write_text(
-        episode(f"{map_name}-{seed}", map_path.resolve(), ITEMS[map_name], seed, max_ticks=max_ticks)
-    )
+    name = episode_name(map_name, seed)
+    path = directory / f"{name}.toml"
+    path.write_text(episode(name, map_ref, map_path, ITEMS[map_name], seed, max_ticks=max_ticks))
     return path

@@ -1,5 +1,6 @@
-"""``toyroom eval`` end to end: metrics.json's shape, and the Ray backend (on a local Ray
-instance, loopback only) giving the same metrics as the local one for the same seed."""
+"""``toyroom eval`` end to end: the local backend (no Ray needed) writes every metric and
+reports progress per episode; the Ray backend (a local Ray instance, loopback only) gives the
+same metrics for the same seed."""
 
 from __future__ import annotations
 
@@ -10,49 +11,59 @@ from pathlib import Path
 
 import pytest
 
+from bridge.evaluate import evaluate
 
-def run_eval(out: Path, backend: str) -> dict:
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "bridge",
-            "eval",
-            "--episodes",
-            "2",
-            "--seed",
-            "5",
-            "--workers",
-            "2",
-            "--backend",
-            backend,
-            "--out",
-            str(out),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
-    return json.loads((out / "metrics.json").read_text())
+EPISODES, SEED = 2, 5
 
 
-def test_eval_writes_every_metric_and_ray_agrees(tmp_path: Path) -> None:
-    pytest.importorskip("ray")
-    local = run_eval(tmp_path / "local", "local")
-    assert local["episodes"] == 2 and local["seed"] == 5
+@pytest.fixture(scope="module")
+def local(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, list[int], Path]:
+    """The local backend's metrics, every progress call, and its output folder."""
+    out = tmp_path_factory.mktemp("eval-local")
+    calls: list[int] = []
+    metrics = evaluate(EPISODES, SEED, out, workers=2, backend="local", progress=calls.append)
+    return metrics, calls, out
+
+
+def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> None:
+    metrics, _, out = local
+    assert metrics["episodes"] == EPISODES and metrics["seed"] == SEED
+    assert metrics["episodes_failed"] == 0, f"episodes failed: {out / 'episodes.json'}"
     for observer in ("btom", "truebelief", "perceptonly"):
-        assert set(local["observers"][observer]) == {
+        assert set(metrics["observers"][observer]) == {
             "belief_tv",
             "preference_accuracy",
             "false_belief_precision",
             "false_belief_recall",
             "false_belief_f1",
         }
-    assert set(local["robot"]) == {"with", "without"}
-    assert local["observers"]["btom"]["belief_tv"] is not None
-    assert (tmp_path / "local" / "report.md").read_text().startswith("# Evaluation: 2 episodes")
-    ray = run_eval(tmp_path / "ray", "ray")
+    assert set(metrics["robot"]) == {"with", "without"}
+    assert metrics["observers"]["btom"]["belief_tv"] is not None
+    assert (out / "report.md").read_text().startswith(f"# Evaluation: {EPISODES} episodes")
+    episodes = json.loads((out / "episodes.json").read_text())
+    assert [e["map"] for e in episodes] == ["paper", "house-a"], episodes
+    assert [e["scenario"] for e in episodes] == ["gen-paper-s5000", "gen-house-a-s5001"]
+
+
+def test_local_eval_progress_advances_per_episode(local: tuple[dict, list[int], Path]) -> None:
+    _, calls, _ = local
+    assert calls == [1] * EPISODES, f"expected one progress(1) per episode, got {calls}"
+
+
+def test_ray_backend_agrees_with_local(local: tuple[dict, list[int], Path], tmp_path: Path) -> None:
+    pytest.importorskip("ray")
+    result = subprocess.run(
+        [
+            *(sys.executable, "-m", "bridge", "eval", "--episodes", str(EPISODES), "--seed", str(SEED)),
+            *("--workers", "2", "--backend", "ray", "--out", str(tmp_path)),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    ray = json.loads((tmp_path / "metrics.json").read_text())
+    expected = json.loads((local[2] / "metrics.json").read_text())
     # runs retried after a node crashed say something about the machine, not the brain
-    retried = {"local": local.pop("failed_runs_retried"), "ray": ray.pop("failed_runs_retried")}
-    assert ray == local, f"the Ray backend gave {ray}, the local one {local} (retried runs: {retried})"
+    retried = {"local": expected.pop("failed_runs_retried"), "ray": ray.pop("failed_runs_retried")}
+    assert ray == expected, f"the Ray backend gave {ray}, the local one {expected} (retried runs: {retried})"

@@ -1,0 +1,123 @@
+"""No child process (the meshcat server, Chromium and its helpers) outlives ``toyroom view``,
+whether it ends on SIGINT, on SIGTERM, by ``timeout``, or is stopped mid-screenshot."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+VIEW = [sys.executable, "-m", "bridge", "view"]
+
+
+def _stat(pid: int) -> tuple[str, int] | None:
+    """(state, parent pid) of a process, or None when it is gone."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except (FileNotFoundError, ProcessLookupError):
+        return None
+    fields = text[text.rindex(")") + 2 :].split()
+    return fields[0], int(fields[1])
+
+
+def descendants(pid: int) -> set[int]:
+    """Every living descendant of ``pid``."""
+    parents = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit() and (stat := _stat(int(entry.name))) is not None:
+            parents[int(entry.name)] = stat[1]
+    found, frontier = set(), {pid}
+    while frontier:
+        frontier = {child for child, parent in parents.items() if parent in frontier} - found
+        found |= frontier
+    return found
+
+
+def alive(pid: int) -> bool:
+    stat = _stat(pid)
+    return stat is not None and stat[0] != "Z"
+
+
+def cmdline(pid: int) -> str:
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+    except (FileNotFoundError, ProcessLookupError):
+        return ""
+
+
+def wait_for(what: str, found: Callable[[], set[int]], limit: float = 60.0) -> set[int]:
+    """Poll ``found`` (every 20 ms) until it returns something; fail naming ``what``."""
+    deadline = time.monotonic() + limit
+    while time.monotonic() < deadline:
+        if result := found():
+            return result
+        time.sleep(0.02)
+    pytest.fail(f"no {what} appeared within {limit:g} s")
+
+
+def meshcat_server(root: int) -> set[int]:
+    return {p for p in descendants(root) if "meshcat.servers.zmqserver" in cmdline(p)}
+
+
+def assert_all_gone(pids: set[int], how: str) -> None:
+    left = {p: cmdline(p) for p in pids if alive(p)}
+    assert not left, f"after {how}, expected no child left; still running: {left}"
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_signals_stop_the_meshcat_server_too(world: str, sig: signal.Signals) -> None:
+    viewer = subprocess.Popen([*VIEW, "--world", world], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    try:
+        wait_for("meshcat server", lambda: meshcat_server(viewer.pid))
+        children = descendants(viewer.pid)
+        viewer.send_signal(sig)
+        _, err = viewer.communicate(timeout=30)
+    finally:
+        viewer.kill()
+    assert viewer.returncode == 0, f"the viewer exited {viewer.returncode} on {sig.name}: {err.decode()}"
+    assert_all_gone(children, sig.name)
+
+
+def test_timeout_stops_the_meshcat_server_too(world: str) -> None:
+    timed = subprocess.Popen(["timeout", "6", *VIEW, "--world", world], stdout=subprocess.DEVNULL)
+    try:
+        wait_for("meshcat server", lambda: meshcat_server(timed.pid))
+        children = descendants(timed.pid)
+        timed.wait(timeout=60)
+    finally:
+        timed.kill()
+    assert timed.returncode == 124, (
+        f"expected timeout's 124 (the viewer ran until stopped), got {timed.returncode}"
+    )
+    assert_all_gone(children, "`timeout 6 toyroom view`")
+
+
+def test_sigterm_mid_screenshot_stops_chromium(world: str, tmp_path: Path) -> None:
+    shot = tmp_path / "view.png"
+    viewer = subprocess.Popen(
+        [*VIEW, "--world", world, "--screenshot", str(shot), "--after", "0"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
+    try:
+        chromium = wait_for(
+            "chromium", lambda: {p for p in descendants(viewer.pid) if "chromium" in cmdline(p)}
+        )
+        children = descendants(viewer.pid)
+        viewer.send_signal(signal.SIGTERM)
+        _, err = viewer.communicate(timeout=30)
+    finally:
+        viewer.kill()
+    assert viewer.returncode == 1 and b"stopped before the screenshot" in err, (
+        f"expected exit 1 and 'stopped before the screenshot', got {viewer.returncode}: {err.decode()}"
+    )
+    assert_all_gone(children, "SIGTERM mid-screenshot")
+    for pid in chromium:
+        with pytest.raises(ProcessLookupError):
+            os.killpg(pid, 0)  # nothing left in the process group Chromium led
