@@ -81,7 +81,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         f"| `brain_step_us` median / p99, paper map | {step['median']:.0f} / {step['p99']:.0f} | <= 1000 |",
         f"| `planner_cold_s`, paper map | {numbers['planner_cold_s']:.3f} | <= 0.5 |",
         "",
-        "Scaling: generated houses (`python -m sim2d generate --rooms R --items K`), the brain as it "
+        "Scaling: generated houses (`toyroom generate --rooms R --items K`), the brain as it "
         "runs by default: the exact model up to `ModelSettings.exact_max_worlds` worlds, the "
         "factored one above (`brain/factored.py`). `tv vs exact`: mean total-variation distance "
         "between the factored and exact item beliefs per person, item and tick, where the exact "

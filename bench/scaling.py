@@ -1,6 +1,6 @@
 """The brain on a family of generated houses, and the factored model against the exact one.
 
-For each house of the family (``python -m sim2d generate --rooms R --items K``, one item
+For each house of the family (``toyroom generate --rooms R --items K``, one item
 spot per room), an episode of autonomous people is recorded with the engine core, then fed
 to the brain as it would run by default (exact below ``ModelSettings.exact_max_worlds``,
 factored above): ``planner_s`` (cold), ``step_us`` (median online update per person per

@@ -1,6 +1,6 @@
 """``toyroom eval``: the brain measured on random episodes whose true minds are known.
 
-Each episode is a random scenario (``python -m sim2d generate``) on the paper map or one
+Each episode is a random scenario (``toyroom generate``) on the paper map or one
 of two generated houses, with autonomous simulated people. It runs twice, each time an
 engine and a brain process over loopback Zenoh in lock-step: the robot observing (the BToM
 brain live, with ``truebelief`` and ``perceptonly`` as shadow observers of the same ticks,

@@ -36,14 +36,20 @@ def wait_for_stop(stop: threading.Event, timeout: float | None = None) -> bool:
 
 
 def stop_process_group(process: subprocess.Popen[bytes], grace: float = 5.0) -> None:
-    """SIGTERM the process group ``process`` leads, then SIGKILL it after ``grace`` s, and reap it."""
-    for sig in (signal.SIGTERM, signal.SIGKILL):
-        try:
-            os.killpg(process.pid, sig)
-        except ProcessLookupError:
-            break
-        try:
-            process.wait(timeout=grace)
-            break
-        except subprocess.TimeoutExpired:
-            continue
+    """Stop the process group ``process`` leads (``start_new_session=True``): SIGTERM, up to
+    ``grace`` s for the leader to exit (reaped), then SIGKILL to whatever of the group is left
+    (helpers the leader did not wait for)."""
+    try:
+        os.killpg(process.pid, signal.SIGTERM)
+    except ProcessLookupError:
+        process.poll()
+        return
+    try:
+        process.wait(timeout=grace)
+    except subprocess.TimeoutExpired:
+        pass
+    try:
+        os.killpg(process.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    process.wait(timeout=grace)
