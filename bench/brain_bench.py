@@ -14,9 +14,9 @@ from collections.abc import Sequence
 from rich.console import Console
 from rich.table import Table
 
-from brain.planner import cached_policy
+from brain.model.planner import cached_policy
 from brain.settings import ModelSettings
-from brain.tracker import MindTracker
+from brain.tracking.tracker import MindTracker
 from protocol import Event, State
 from sim2d.engine import Engine
 

@@ -27,10 +27,10 @@ from brain_bench import timed_observe
 from rich.console import Console
 from rich.table import Table
 
-from brain.factored import cached_factored_policy
-from brain.planner import cached_policy
+from brain.model.factored import cached_factored_policy
+from brain.model.planner import cached_policy
 from brain.settings import ModelSettings
-from brain.tracker import MindTracker
+from brain.tracking.tracker import MindTracker
 from protocol import Event, State
 from sim2d.engine import Engine
 from sim2d.generate import write_house_episode

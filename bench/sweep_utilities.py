@@ -15,7 +15,7 @@ from rich.console import Console
 from rich.table import Table
 
 from brain.settings import ModelSettings
-from brain.tracker import MindTracker
+from brain.tracking.tracker import MindTracker
 from sim2d.engine import Engine
 
 PAIRS = [(10.0, 5.0), (5.0, 2.0), (4.0, 2.0), (3.0, 1.0), (3.0, 0.0), (2.0, 1.0), (2.0, 0.0), (0.0, 5.0)]

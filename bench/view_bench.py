@@ -13,8 +13,8 @@ import time
 from rich.console import Console
 from rich.table import Table
 
-from brain.outputs import mind_message
-from brain.tracker import MindTracker
+from brain.outputs.results import mind_message
+from brain.tracking.tracker import MindTracker
 from bridge.view import SceneView
 from sim2d.engine import Engine
 

@@ -15,23 +15,22 @@ from contextlib import nullcontext
 from pathlib import Path
 
 from bridge import Bridge, BridgeError
-from bridge.cliargs import (
+from bridge.flags import (
     add_log_level,
-    add_network_args,
     command_parser,
     configure_logging,
-    settings_from_args,
 )
-from bridge.mcaprec import McapRecorder
+from bridge.recording.mcap import McapRecorder
+from bridge.recording.trace import read_trace
+from bridge.session import add_network_args, settings_from_args
 from protocol import Error as ProtocolError
 from protocol import Observer
 
 from .errors import BrainError
 from .node import BrainNode
-from .outputs import write_outputs
-from .trace import read_trace
-from .tracker import MindTracker
-from .tree import RobotTree
+from .outputs.results import write_outputs
+from .robot.tree import RobotTree
+from .tracking.tracker import MindTracker
 
 OBSERVERS = Observer.names()
 

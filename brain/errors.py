@@ -5,7 +5,3 @@ from __future__ import annotations
 
 class BrainError(Exception):
     """Root of every error raised by ``brain``."""
-
-
-class TraceError(BrainError):
-    """A trace file cannot be read as a recorded episode."""

@@ -39,11 +39,11 @@ from protocol import (
     State,
 )
 
-from .outputs import mind_message
-from .robot import RobotBrain
+from .outputs.results import mind_message
+from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
-from .shadows import ShadowMinds
-from .tracker import MindTracker, Observer
+from .tracking.shadows import ShadowMinds
+from .tracking.tracker import MindTracker, Observer
 
 log = logging.getLogger("toyroom.brain")
 
@@ -60,7 +60,7 @@ class BrainNode:
         timeout: seconds each lock-step request may take (``None``: no limit).
         handshake_timeout: seconds to wait for an engine to answer.
         shadows: other observers run on the same ticks, each writing its minds to
-            ``shadow_dir`` (:mod:`brain.shadows`).
+            ``shadow_dir`` (:mod:`brain.tracking.shadows`).
     """
 
     def __init__(

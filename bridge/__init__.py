@@ -4,14 +4,14 @@
 never imports them.
 """
 
+from .bridge import Bridge
 from .errors import BridgeError, ConfigError, NoReply, Refused, RemoteError, StepTimeout
 from .handshake import handshake, serve_info
 from .lockstep import LockstepClient
-from .node import Bridge
 from .presence import Peer, PresenceEvent, PresenceWatcher, Token
+from .pubsub import Congestion, Publisher, Queryable, Received, Subscriber, query
 from .router import Router, run_router
 from .session import SessionSettings, build_config, is_loopback, open_session, world_endpoint, world_port
-from .typed import Congestion, Publisher, Queryable, Received, Subscriber, query
 
 __all__ = [
     "Bridge",

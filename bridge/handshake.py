@@ -12,9 +12,9 @@ from collections.abc import Callable
 
 from protocol import PROTOCOL_VERSION, EngineInfo, Hello, Message, check_version, validate_scene
 
+from .bridge import Bridge
 from .errors import NoReply
-from .node import Bridge
-from .typed import Queryable
+from .pubsub import Queryable
 
 log = logging.getLogger("toyroom.bridge")
 

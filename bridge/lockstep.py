@@ -13,9 +13,9 @@ import time
 
 from protocol import ControlReply, Message, Pause, Reset, Resume, State, Step
 
+from .bridge import Bridge
 from .errors import NoReply, StepTimeout
-from .node import Bridge
-from .typed import Received, Subscriber
+from .pubsub import Received, Subscriber
 
 
 class LockstepClient:

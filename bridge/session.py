@@ -13,6 +13,7 @@ Overrides: a Zenoh JSON5 config file, or flags for the mode (``peer``, ``client`
 
 from __future__ import annotations
 
+import argparse
 import json
 import logging
 import re
@@ -161,3 +162,30 @@ def open_session(world: str, settings: SessionSettings | None = None) -> zenoh.S
             except Exception as again:
                 err = again
         raise ConfigError(f"cannot open a Zenoh session for world '{world}': {err}") from None
+
+
+def add_network_args(parser: argparse.ArgumentParser, *, world: bool = True) -> None:
+    """Add the flags that choose the world and override the Zenoh session."""
+    group = parser.add_argument_group("network (default: loopback only, no multicast)")
+    if world:
+        group.add_argument("--world", default="default", help="world name: the key prefix toyroom/WORLD/")
+    group.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
+    group.add_argument(
+        "--mode", choices=("peer", "client", "router"), help="Zenoh mode (default: peer, or the config's)"
+    )
+    group.add_argument(
+        "--listen", action="append", metavar="ENDPOINT", help="listen endpoint, e.g. tcp/127.0.0.1:7447"
+    )
+    group.add_argument(
+        "--connect", action="append", metavar="ENDPOINT", help="connect endpoint (a router or peer)"
+    )
+
+
+def settings_from_args(args: argparse.Namespace) -> SessionSettings:
+    """The session settings the network flags ask for."""
+    return SessionSettings(
+        mode=args.mode,
+        listen=tuple(args.listen) if args.listen else None,
+        connect=tuple(args.connect) if args.connect else None,
+        config_file=args.zenoh_config,
+    )

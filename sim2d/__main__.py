@@ -11,14 +11,13 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from bridge import Bridge, BridgeError
-from bridge.cliargs import (
+from bridge.flags import (
     add_log_level,
-    add_network_args,
     command_parser,
     configure_logging,
-    settings_from_args,
 )
-from bridge.mcaprec import McapRecorder
+from bridge.recording.mcap import McapRecorder
+from bridge.session import add_network_args, settings_from_args
 from protocol import ClockMode
 
 from .engine import Engine

@@ -71,11 +71,11 @@ def _modules(path: Path) -> set[str]:
 
 
 def test_nodes_do_not_import_the_command_line() -> None:
-    """The nodes take their shared flags from bridge.cliargs, never the ``toyroom`` CLI."""
+    """The nodes take their shared flags from bridge.flags, never the ``toyroom`` CLI."""
     offenders = sorted(
         str(path.relative_to(ROOT))
         for package in ("sim2d", "brain")
         for path in (ROOT / package).rglob("*.py")
-        if "bridge.cli" in _modules(path)
+        if "bridge.app.cli" in _modules(path)
     )
-    assert offenders == [], f"nodes importing bridge.cli (use bridge.cliargs): {offenders}"
+    assert offenders == [], f"nodes importing bridge.app.cli (use bridge.flags): {offenders}"

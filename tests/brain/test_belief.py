@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 from scenes import tiny_scene
 
-from brain.belief import NOT_IN_VIEW, BeliefModel, percept, told
-from brain.worldmodel import build_world_model
+from brain.model.belief import NOT_IN_VIEW, BeliefModel, percept, told
+from brain.model.world import build_world_model
 
 MODEL = build_world_model(tiny_scene())
 A, B = 0, 1  # location indices

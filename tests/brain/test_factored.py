@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 from scenes import tiny_scene
 
-from brain.belief import BeliefModel, percept
-from brain.factored import FactoredBeliefs, FactoredPosterior, factored_estimate, factored_step
-from brain.inference import HmmStep, forward_step
+from brain.model.belief import BeliefModel, percept
+from brain.model.factored import FactoredBeliefs, FactoredPosterior, factored_estimate, factored_step
+from brain.model.inference import HmmStep, forward_step
+from brain.model.world import build_world_model
 from brain.settings import ModelSettings
-from brain.tracker import MindTracker
-from brain.worldmodel import build_world_model
+from brain.tracking.tracker import MindTracker
 from sim2d.engine import Engine
 from sim2d.generate import write_house_episode
 from sim2d.scenario import load_scenario

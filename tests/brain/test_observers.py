@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from brain.tracker import MindTracker, Observer
+from brain.tracking.tracker import MindTracker, Observer
 from sim2d.engine import Engine
 
 

@@ -7,9 +7,9 @@ import math
 import numpy as np
 from scenes import tiny_scene
 
-from brain.planner import Move, plan
+from brain.model.planner import Move, plan
+from brain.model.world import NEIGHBOURS, build_world_model
 from brain.settings import ModelSettings
-from brain.worldmodel import NEIGHBOURS, build_world_model
 
 
 def brute_force_q(settings: ModelSettings) -> tuple[list[tuple[int, int, int]], dict]:

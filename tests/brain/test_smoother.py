@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scenes import tiny_scene, tiny_state
 
-from brain.inference import HmmStep, forward, hazard_matrix, smooth
-from brain.personmodel import ExactModel
-from brain.tracker import MindTracker
+from brain.model.inference import HmmStep, forward, hazard_matrix, smooth
+from brain.model.personmodel import ExactModel
+from brain.tracking.tracker import MindTracker
 
 
 def enumerate_marginals(prior: np.ndarray, steps: list[HmmStep]) -> tuple[list[np.ndarray], list[np.ndarray]]:

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 from support import toyroom_run
 
-from bridge.doctor import run_doctor
+from bridge.app.doctor import run_doctor
 from protocol import Mind, decode
 from protocol.schema import write_schemas
 
@@ -63,7 +63,7 @@ def _parsers() -> dict[str, argparse.ArgumentParser]:
     import brain.__main__
     import bridge.view
     import sim2d.__main__
-    from bridge.cli import NODES, build_parser
+    from bridge.app.cli import NODES, build_parser
 
     top = build_parser()
     found = {"toyroom": top}

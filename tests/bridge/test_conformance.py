@@ -12,7 +12,7 @@ import pytest
 from support import EngineProcess, GridEngineProcess
 
 from bridge import Bridge
-from bridge.conformance_suite import EngineConformance
+from bridge.conformance.suite import EngineConformance
 
 SIM2D_SCENARIOS = [
     "paper-1",

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from bridge.evaluate import evaluate
+from bridge.evaluation.episodes import evaluate
 
 EPISODES, SEED = 2, 5
 

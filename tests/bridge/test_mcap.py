@@ -14,7 +14,7 @@ from mcap.reader import make_reader
 from support import EngineProcess, toyroom_run
 
 from bridge import Bridge, LockstepClient, handshake
-from bridge.mcaprec import read_mcap
+from bridge.recording.mcap import read_mcap
 
 
 def test_recorded_run_opens_and_gives_the_same_mind(tmp_path: Path) -> None:

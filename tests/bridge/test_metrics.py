@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from bridge.metrics import Counts, score_tick
+from bridge.evaluation.metrics import Counts, score_tick
 from protocol import AgentMind, ItemBelief, Mind, Prob, TrueMind, Truth
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from brain.groundtruth import load_ground_truth
+from brain.outputs.groundtruth import load_ground_truth
 from sim2d.generate import MAPS, map_of, write_episode, write_house_episode
 from sim2d.scenario import load_scenario, scenario_names
 

@@ -1,0 +1,136 @@
+"""Percepts and the paper's belief update.
+
+A person at cell ``x`` perceives, for each item, the value it shows if it is in view (at a
+location visible from ``x``, or carried by the person), or that it is not in view; speech
+from the robot is a percept of the item it names. The believed world moves as
+
+    P(b_t = i | b_{t-1} = j, o_t)  ∝  P(o_t | x_t, w^i) · f(i, j),
+
+normalised over ``i`` for each ``j`` (the percept comes from the true world, so it is no
+evidence about the old belief), with ``f = r`` for ``i != j`` inside ``PW(j)``, 1 for
+``i = j`` and 0 outside ``PW(j)``: the worlds that differ from ``j`` only in items the person
+can now see (seen, or believed to be at a visible location). People assume unseen things
+stay put, which is what makes false beliefs. ``P(o | x, w)`` is ``1 - delta`` per item whose
+percept ``w`` reproduces and ``delta`` per item it does not.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import numpy.typing as npt
+
+from .world import WorldModel
+
+FloatArray = npt.NDArray[np.float64]
+
+NOT_IN_VIEW = -1
+
+
+@dataclass(frozen=True)
+class Percept:
+    """What a person perceives at cell index ``cell``: per item, the value it shows
+    (``2 * location + held``) or ``NOT_IN_VIEW``."""
+
+    cell: int
+    seen: tuple[int, ...]
+
+
+def true_values(
+    model: WorldModel, resting: dict[str, str | None], holders: dict[str, int | None]
+) -> tuple[int, ...]:
+    """Every item's value in the true world: ``2 l`` resting at location ``l``, ``2 l + 1``
+    held by someone near ``l`` (the location a carried item counts as being at).
+
+    Args:
+        resting: item id -> location id where it rests (``None`` when carried).
+        holders: item id -> cell index of its carrier (``None`` when resting).
+    """
+    values = []
+    for item in model.items:
+        holder_cell = holders.get(item)
+        if holder_cell is not None:
+            values.append(2 * int(model.nearest[holder_cell]) + 1)
+        else:
+            values.append(2 * model.locations.index(resting[item] or ""))
+    return tuple(values)
+
+
+def percept(model: WorldModel, cell: int, truth: tuple[int, ...], own: int | None) -> Percept:
+    """The percept at ``cell`` of a person holding item index ``own`` (or nothing)."""
+    seen = []
+    for k, value in enumerate(truth):
+        if own == k:
+            seen.append(2 * int(model.nearest[cell]) + 1)
+        elif model.sees[cell, value // 2]:
+            seen.append(value)
+        else:
+            seen.append(NOT_IN_VIEW)
+    return Percept(cell=cell, seen=tuple(seen))
+
+
+def told(p: Percept, item: int, value: int) -> Percept:
+    """``p`` plus being told that ``item`` has ``value`` (speech overrides sight)."""
+    seen = list(p.seen)
+    seen[item] = value
+    return Percept(cell=p.cell, seen=tuple(seen))
+
+
+class BeliefModel:
+    """Belief transitions of one world model (the ``(W, W, K)`` comparison table is built once)."""
+
+    def __init__(self, model: WorldModel, r: float, delta: float) -> None:
+        self.model = model
+        self.r = r
+        self.delta = delta
+
+    @cached_property
+    def bit(self) -> npt.NDArray[np.unsignedinteger]:
+        """``(K,)`` the bit of each item in an item set packed into the smallest unsigned
+        integer that holds ``K`` bits."""
+        K = self.model.n_items
+        dtype = next(t for t in (np.uint8, np.uint16, np.uint32, np.uint64) if np.iinfo(t).bits >= K)
+        return np.left_shift(dtype(1), np.arange(K, dtype=dtype))
+
+    @cached_property
+    def differ(self) -> npt.NDArray[np.unsignedinteger]:
+        """``(W, W)``: the set of items on which worlds ``i`` and ``j`` differ, as bits."""
+        worlds = self.model.worlds
+        bits = np.zeros((len(worlds), len(worlds)), dtype=self.bit.dtype)
+        for k in range(self.model.n_items):  # K passes over (W, W), not a (W, W, K) array
+            bits |= np.where(worlds[:, None, k] != worlds[None, :, k], self.bit[k], 0).astype(bits.dtype)
+        return bits
+
+    def percept_likelihood(self, p: Percept) -> FloatArray:
+        """``(W,)`` ``P(o | x, w)`` for every world."""
+        model = self.model
+        visible = model.sees[p.cell]
+        seen = np.array(p.seen)
+        match = np.where(seen[None, :] >= 0, model.worlds == seen[None, :], ~visible[model.place])
+        return np.prod(np.where(match, 1.0 - self.delta, self.delta), axis=1)
+
+    def transition(self, p: Percept) -> FloatArray:
+        """``(W, W)`` matrix ``T[i, j] = P(b_t = i | b_{t-1} = j, o_t)``; columns sum to 1."""
+        model = self.model
+        seen = np.array(p.seen)
+        affected = (seen[None, :] >= 0) | model.sees[p.cell][model.place]  # (W_j, K)
+        fixed = np.bitwise_or.reduce(np.where(affected, 0, self.bit), axis=1)  # (W_j,) must stay put
+        in_pw = (self.differ & fixed[None, :]) == 0  # (W_i, W_j)
+        likelihood = self.percept_likelihood(p)
+        t = in_pw * (self.r * likelihood)[:, None]
+        np.fill_diagonal(t, likelihood)
+        t /= t.sum(axis=0, keepdims=True)
+        return t
+
+    def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
+        """``(W, W)`` transition of an observer who assumes people know the true world."""
+        values = np.array(truth)
+        own = [k for k, v in enumerate(p.seen) if v >= 0 and v % 2 == 1 and v != values[k]]
+        for k in own:  # the person's own carried item counts at the person's location
+            values[k] = p.seen[k]
+        target = int(self.model.world_index(values))
+        t = np.zeros((self.model.n_worlds, self.model.n_worlds))
+        t[target, :] = 1.0
+        return t

@@ -1,0 +1,58 @@
+"""Reading estimates off a ``(W, D)`` posterior: each item's believed location, the
+preference, the intention and false-belief flags."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from .world import WorldModel
+
+FloatArray = npt.NDArray[np.float64]
+
+OUT = "out"
+"""The preference for leaving rather than playing."""
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """One person's estimated mind.
+
+    Attributes:
+        beliefs: ``(K, L)`` probability that the person believes item ``k`` is at location ``l``.
+        preference: ``(D,)`` over the items, then ``out``.
+        intention: ``(item index or None for out, location index or None, probability)``.
+        false_beliefs: item indices whose most probable believed location is not the true one.
+    """
+
+    beliefs: FloatArray
+    preference: FloatArray
+    intention: tuple[int | None, int | None, float]
+    false_beliefs: tuple[int, ...]
+
+
+def estimate(model: WorldModel, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
+    """The estimate of a ``(W, D)`` posterior given the true item values."""
+    L, K = model.n_locations, model.n_items
+    worlds_p = posterior.sum(axis=1)
+    beliefs = np.zeros((K, L))
+    for k in range(K):
+        beliefs[k] = np.bincount(model.place[:, k], weights=worlds_p, minlength=L)
+    preference = posterior.sum(axis=0)
+    best: tuple[int | None, int | None, float] = (None, None, float(preference[K]))
+    for k in range(K):
+        joint = np.bincount(model.place[:, k], weights=posterior[:, k], minlength=L)
+        location = int(np.argmax(joint))
+        if joint[location] > best[2]:
+            best = (k, location, float(joint[location]))
+    return Estimate(
+        beliefs=beliefs, preference=preference, intention=best, false_beliefs=false_beliefs(beliefs, truth)
+    )
+
+
+def false_beliefs(beliefs: FloatArray, truth: tuple[int, ...]) -> tuple[int, ...]:
+    """Items whose most probable believed location (``beliefs`` is ``(K, L)``) differs from
+    their true location (``truth`` holds item values ``2 * location + held``)."""
+    return tuple(k for k in range(len(truth)) if int(np.argmax(beliefs[k])) != truth[k] // 2)

@@ -1,0 +1,257 @@
+"""The factored model, for houses whose joint over worlds does not fit.
+
+The exact model's hidden state is (believed world, preference) with ``W = V**K`` worlds; a
+10-room house with 6 items has ``20**6 = 6.4e7`` of them. The factored model keeps, for
+each preference ``d``, one belief per item over its ``V`` values, and assumes:
+
+- **planning**: a person who wants item ``k`` acts on their belief about ``k`` alone. One
+  MDP per preference over ``(cell, held, value of the wanted item)`` with held in
+  {nothing, the wanted item, another item}: ``S_d = 3 C V`` states instead of ``(K + 1) C W``.
+  Taking an item one does not want is left to the likelihood's floor ``epsilon``; a person
+  who wants ``out`` plans with no item at all.
+- **beliefs**: the paper's update applied to each item on its own (``f = r`` for a change of
+  that item's value, when the item is in view or believed to be at a visible place).
+- **inference**: given ``d``, the items' beliefs stay independent (an action is evidence
+  about the wanted item only), so the posterior is ``alpha[d] * prod_k b[d, k]``. A
+  preference switch mixes the conditionals; the mixture is projected back onto per-item
+  marginals (assumed-density filtering), the one approximation of the filter itself.
+
+Shapes: ``alpha`` ``(D,)``; ``b`` ``(D, K, V)``; item transitions ``(K, V, V)``; the action
+likelihood of one decision ``(D, V)``. The error against the exact model is measured by
+``toyroom bench`` (``tv_vs_exact``) wherever the exact model still fits.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import numpy.typing as npt
+
+from protocol import Scene
+
+from ..settings import ModelSettings
+from .belief import Percept
+from .estimates import Estimate, false_beliefs
+from .inference import hazard_matrix
+from .planner import (
+    INFEASIBLE,
+    TAKE,
+    TERMINAL,
+    Move,
+    Transitions,
+    boltzmann,
+    drop_action,
+    fill_moves,
+    n_actions,
+    play_action,
+    value_iteration,
+)
+from .world import WorldModel, build_world_model
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+
+NOTHING, WANTED, OTHER = 0, 1, 2
+"""What a person holds, seen from one preference's MDP."""
+
+
+def focus_transitions(model: WorldModel, focus: int | None) -> Transitions:
+    """The dynamics of one preference's MDP over ``(cell, held in {0, 1, 2}, value)``.
+
+    ``focus`` is the wanted item (``None`` for ``out``: one value, no item to take).
+    States ``s = (c * 3 + h) * V + v``; actions as the exact planner's (``A = K + 7``).
+    """
+    C, K = model.n_cells, model.n_items
+    V = model.n_values if focus is not None else 1
+    c, h, v = (a.reshape(-1) for a in np.indices((C, 3, V)))
+    S, A = C * 3 * V, n_actions(K)
+
+    def index(cells: IntArray, held: IntArray, values: IntArray) -> IntArray:
+        return (cells * 3 + held) * V + values
+
+    nxt = np.full((S, A), INFEASIBLE, dtype=np.int64)
+    kind = np.zeros((S, A), dtype=np.int8)
+
+    def moved(cells: IntArray) -> IntArray:
+        """The wanted item, when carried, follows its carrier to ``cells``."""
+        carried = 2 * model.nearest[cells] + 1 if focus is not None else v
+        return index(cells, h, np.where(h == WANTED, carried, v))
+
+    fill_moves(model, c, nxt, kind, moved)
+    nxt[:, Move.STAY] = np.where(model.outside[c], TERMINAL, index(c, h, v))
+    kind[model.outside[c], Move.STAY] = 1
+    spot = model.spot_at[c]
+    on_spot = spot >= 0
+    if focus is not None:
+        ok = (h == NOTHING) & on_spot & (v == 2 * spot)
+        nxt[ok, TAKE + focus] = index(c[ok], np.full(ok.sum(), WANTED), 2 * spot[ok] + 1)
+    drop = (h != NOTHING) & on_spot
+    dropped = np.where(h == WANTED, 2 * spot, v) if focus is not None else v
+    nxt[drop, drop_action(K)] = index(c[drop], np.zeros(drop.sum(), dtype=np.int64), dropped[drop])
+    play = (h != NOTHING) & model.play_at[c]
+    nxt[play, play_action(K)] = TERMINAL
+    kind[play, play_action(K)] = 2
+    return Transitions(next_state=nxt, terminal_kind=kind, held=h)
+
+
+def focus_rewards(trans: Transitions, settings: ModelSettings, wants_item: bool) -> FloatArray:
+    """``(S, A)`` rewards of one preference's MDP."""
+    utility = np.array(
+        [settings.other_utility, settings.preferred_utility, settings.other_utility]
+        if wants_item
+        else [settings.other_utility] * 3
+    )
+    reward = np.full(trans.next_state.shape, -settings.step_cost)
+    reward[trans.terminal_kind == 1] = (
+        settings.leave_utility_item if wants_item else settings.leave_utility_out
+    )
+    play = trans.terminal_kind == 2
+    reward[play] = np.broadcast_to(utility[trans.held][:, None], reward.shape)[play]
+    return reward
+
+
+@dataclass(frozen=True)
+class FactoredPolicy:
+    """The planner's output for the factored model.
+
+    Attributes:
+        model: the world model (its ``worlds`` are never built).
+        likelihood: ``(D, C, 3, V, A)`` Boltzmann action likelihoods per preference
+            (``out``'s does not depend on the value: it is planned with one and broadcast).
+    """
+
+    model: WorldModel
+    likelihood: FloatArray
+
+    def action_likelihood(self, cell: int, held: int, action: int) -> FloatArray:
+        """``(D, V)`` likelihood of ``action`` from ``(cell, held)`` (``held``: 0 nothing,
+        else item index + 1) for each preference and value of its wanted item."""
+        D = self.model.n_items + 1
+        relative = np.where(held == 0, NOTHING, np.where(np.arange(D) + 1 == held, WANTED, OTHER))
+        return self.likelihood[np.arange(D), cell, relative, :, action]
+
+
+def plan_factored(model: WorldModel, settings: ModelSettings) -> FactoredPolicy:
+    """Solve one small MDP per preference (no cache; see :func:`cached_factored_policy`)."""
+    K, V, C = model.n_items, model.n_values, model.n_cells
+    out = np.empty((K + 1, C, 3, V, n_actions(K)))
+    for d in range(K + 1):
+        wants = d < K
+        trans = focus_transitions(model, d if wants else None)
+        q = value_iteration(
+            trans, focus_rewards(trans, settings, wants), settings.discount, settings.vi_tolerance
+        )
+        out[d] = boltzmann(q, settings.beta, settings.epsilon).reshape(C, 3, V if wants else 1, -1)
+    return FactoredPolicy(model=model, likelihood=out)
+
+
+@lru_cache(maxsize=8)
+def cached_factored_policy(scene: Scene, settings: ModelSettings) -> FactoredPolicy:
+    """The factored policy of a scene, computed once per (scene, settings) in this process."""
+    return plan_factored(build_world_model(scene), settings)
+
+
+class FactoredBeliefs:
+    """Each item's belief transition on its own (the paper's update, per item)."""
+
+    def __init__(self, model: WorldModel, r: float, delta: float) -> None:
+        self.model = model
+        self.r = r
+        self.delta = delta
+        values = np.arange(model.n_values)
+        self.place = values // 2
+        self.same = values[:, None] == values[None, :]
+
+    def transition(self, p: Percept) -> FloatArray:
+        """``(K, V, V)``: ``T[k, i, j] = P(item k believed at value i | j, o)``; columns sum to 1."""
+        seen = np.array(p.seen, dtype=np.int64)  # (K,)
+        visible = self.model.sees[p.cell][self.place]  # (V,)
+        values = np.arange(self.model.n_values)
+        match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], ~visible[None, :])  # (K, V)
+        likelihood = np.where(match, 1.0 - self.delta, self.delta)
+        affected = (seen[:, None] >= 0) | visible[None, :]  # (K, V_j)
+        g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
+        t = likelihood[:, :, None] * g
+        return t / t.sum(axis=1, keepdims=True)
+
+    def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
+        """``(K, V, V)`` transition of an observer who assumes people know the true world."""
+        K, V = self.model.n_items, self.model.n_values
+        t = np.zeros((K, V, V))
+        for k, value in enumerate(truth):
+            seen = p.seen[k]
+            own = seen >= 0 and seen % 2 == 1 and seen != value  # the person's own carried item
+            t[k, seen if own else value, :] = 1.0
+        return t
+
+
+@dataclass(frozen=True)
+class FactoredPosterior:
+    """A person's posterior in the factored model.
+
+    Attributes:
+        alpha: ``(D,)`` preference probabilities.
+        beliefs: ``(D, K, V)`` per preference, each item's believed value.
+    """
+
+    alpha: FloatArray
+    beliefs: FloatArray
+
+
+def factored_prior(model: WorldModel) -> FactoredPosterior:
+    """Uniform over preferences and over every item's values (the exact model's prior)."""
+    D, K, V = model.n_items + 1, model.n_items, model.n_values
+    return FactoredPosterior(alpha=np.full(D, 1.0 / D), beliefs=np.full((D, K, V), 1.0 / V))
+
+
+def factored_step(
+    previous: FactoredPosterior, transition: FloatArray, likelihood: FloatArray | None, switch: float
+) -> FactoredPosterior:
+    """The filtered posterior after one step, in the exact model's order: the action's
+    likelihood at the previous state, the belief transition of the new percept, the
+    preference switch.
+
+    Args:
+        previous: the posterior before the step.
+        transition: ``(K, V, V)`` per-item belief transitions.
+        likelihood: ``(D, V)`` action likelihood per preference and value of its wanted
+            item (``out``'s row is constant), or ``None`` for a percept alone.
+        switch: probability that the preference changes at this step.
+    """
+    alpha, b = previous.alpha, previous.beliefs
+    D, K, _ = b.shape
+    if likelihood is not None:
+        items = np.arange(K)
+        wanted = b[items, items, :] * likelihood[:K]  # (K, V): each item preference's own item
+        evidence = np.append(wanted.sum(axis=1), likelihood[K].mean())
+        weighted = alpha * evidence
+        if weighted.sum() > 0:  # else every hypothesis is ruled out: the percept alone
+            b = b.copy()
+            b[items, items, :] = wanted / np.where(evidence[:K, None] > 0, evidence[:K, None], 1.0)
+            alpha = weighted / weighted.sum()
+    b = np.einsum("kij,dkj->dki", transition, b)
+    if switch > 0 and D > 1:
+        h = hazard_matrix(D, switch)
+        mixed_alpha = alpha @ h
+        b = np.einsum("e,ed,ekv->dkv", alpha, h, b) / mixed_alpha[:, None, None]
+        alpha = mixed_alpha
+    return FactoredPosterior(alpha=alpha / alpha.sum(), beliefs=b)
+
+
+def factored_estimate(model: WorldModel, posterior: FactoredPosterior, truth: tuple[int, ...]) -> Estimate:
+    """The estimate (same fields as the exact model's) of a factored posterior."""
+    K, L = model.n_items, model.n_locations
+    alpha, b = posterior.alpha, posterior.beliefs
+    by_location = b.reshape(K + 1, K, L, 2).sum(axis=3)  # (D, K, L)
+    beliefs = np.einsum("d,dkl->kl", alpha, by_location)
+    best: tuple[int | None, int | None, float] = (None, None, float(alpha[K]))
+    for k in range(K):
+        joint = alpha[k] * by_location[k, k]
+        location = int(np.argmax(joint))
+        if joint[location] > best[2]:
+            best = (k, location, float(joint[location]))
+    return Estimate(
+        beliefs=beliefs, preference=alpha.copy(), intention=best, false_beliefs=false_beliefs(beliefs, truth)
+    )

@@ -1,0 +1,231 @@
+"""The planner: one MDP per preference over (cell, held item, world), solved by value
+iteration, and the Boltzmann action likelihood the inference uses.
+
+States ``s = (c * (K + 1) + h) * W + w`` for cell ``c``, held item ``h`` (0: nothing, else
+item ``h - 1``) and world ``w``; ``S = C (K + 1) W``. Actions ``Up, Down, Left, Right, Stay,
+Take(0..K-1), Drop, Play``; ``A = K + 7``. Preferences ``d`` are the items, then ``out``;
+``D = K + 1``. Everything is vectorised over states: one value-iteration sweep is a gather
+and a max over an ``(S, A)`` array.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import numpy.typing as npt
+
+from protocol import Scene
+
+from ..settings import ModelSettings
+from .world import WorldModel, build_world_model
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+
+INFEASIBLE = -1
+TERMINAL = -2
+
+
+class Move(enum.IntEnum):
+    """The movement actions; ``Take(k)`` is ``TAKE + k``, then ``Drop`` and ``Play``."""
+
+    UP = 0
+    DOWN = 1
+    LEFT = 2
+    RIGHT = 3
+    STAY = 4
+
+
+TAKE = 5
+
+
+def n_actions(n_items: int) -> int:
+    return TAKE + n_items + 2
+
+
+def drop_action(n_items: int) -> int:
+    return TAKE + n_items
+
+
+def play_action(n_items: int) -> int:
+    return TAKE + n_items + 1
+
+
+@dataclass(frozen=True)
+class Transitions:
+    """The MDP's deterministic dynamics, shared by every preference.
+
+    Attributes:
+        next_state: ``(S, A)`` successor, or ``INFEASIBLE`` / ``TERMINAL``.
+        terminal_kind: ``(S, A)`` 1 for reaching the outside, 2 for Play, else 0.
+        held: ``(S,)`` held item code ``h`` of each state.
+    """
+
+    next_state: IntArray
+    terminal_kind: npt.NDArray[np.int8]
+    held: IntArray
+
+
+def fill_moves(
+    model: WorldModel,
+    cells: IntArray,
+    nxt: IntArray,
+    kind: npt.NDArray[np.int8],
+    successor: Callable[[IntArray], IntArray],
+) -> None:
+    """Fill the Up/Down/Left/Right columns of ``nxt`` and ``kind`` (``(S, A)``) for states
+    on ``cells`` (``(S,)``): a wall is infeasible, stepping outside is terminal, else the
+    state ``successor(new cells)``."""
+    for a in range(4):
+        c2 = model.neighbour[cells, a]
+        ok = c2 >= 0
+        safe = np.where(ok, c2, 0)
+        nxt[:, a] = np.where(ok, successor(safe), INFEASIBLE)
+        out = ok & model.outside[safe]
+        nxt[out, a] = TERMINAL
+        kind[out, a] = 1
+
+
+def transitions(model: WorldModel) -> Transitions:
+    """Build the successor table of every (state, action)."""
+    C, K, W = model.n_cells, model.n_items, model.n_worlds
+    H = K + 1
+    A = n_actions(K)
+    c, h, w = (a.reshape(-1) for a in np.indices((C, H, W)))
+    S = C * H * W
+
+    def index(cells: IntArray, held: IntArray, worlds: IntArray) -> IntArray:
+        return (cells * H + held) * W + worlds
+
+    def carry(cells: IntArray, worlds: IntArray) -> IntArray:
+        """Worlds after the own carried item follows the carrier to ``cells``."""
+        out = worlds.copy()
+        for k in range(K):
+            mask = h == k + 1
+            out[mask] = model.with_value(worlds[mask], k, 2 * model.nearest[cells[mask]] + 1)
+        return out
+
+    nxt = np.full((S, A), INFEASIBLE, dtype=np.int64)
+    kind = np.zeros((S, A), dtype=np.int8)
+    fill_moves(model, c, nxt, kind, lambda cells: index(cells, h, carry(cells, w)))
+    nxt[:, Move.STAY] = np.where(model.outside[c], TERMINAL, index(c, h, w))
+    kind[model.outside[c], Move.STAY] = 1
+    spot = model.spot_at[c]
+    on_spot = spot >= 0
+    for k in range(K):
+        ok = (h == 0) & on_spot & (model.worlds[w, k] == 2 * spot)
+        nxt[ok, TAKE + k] = index(
+            c[ok], np.full(ok.sum(), k + 1), model.with_value(w[ok], k, 2 * spot[ok] + 1)
+        )
+    for k in range(K):
+        ok = (h == k + 1) & on_spot
+        nxt[ok, drop_action(K)] = index(
+            c[ok], np.zeros(ok.sum(), dtype=np.int64), model.with_value(w[ok], k, 2 * spot[ok])
+        )
+    play = (h > 0) & model.play_at[c]
+    nxt[play, play_action(K)] = TERMINAL
+    kind[play, play_action(K)] = 2
+    return Transitions(next_state=nxt, terminal_kind=kind, held=h)
+
+
+def rewards(model: WorldModel, trans: Transitions, settings: ModelSettings, preference: int) -> FloatArray:
+    """``(S, A)`` reward of each action for preference ``preference`` (an item, or ``K``: out)."""
+    K = model.n_items
+    out = preference == K
+    leave = settings.leave_utility_out if out else settings.leave_utility_item
+    utility = np.full(K + 1, settings.other_utility)
+    if not out:
+        utility[preference + 1] = settings.preferred_utility
+    reward = np.full(trans.next_state.shape, -settings.step_cost)
+    reward[trans.terminal_kind == 1] = leave
+    play = trans.terminal_kind == 2
+    reward[play] = np.broadcast_to(utility[trans.held][:, None], reward.shape)[play]
+    return reward
+
+
+def value_iteration(
+    trans: Transitions, reward: FloatArray, discount: float, tolerance: float, max_sweeps: int = 10_000
+) -> FloatArray:
+    """``(S, A)`` optimal Q-values (hard max); infeasible actions are ``-inf``.
+
+    A sweep only touches the (state, action) pairs that continue: their Q is refreshed in
+    place by a gather of the successors' values; the rest (terminal rewards, ``-inf``) is fixed.
+    """
+    nxt = trans.next_state
+    feasible = nxt != INFEASIBLE
+    flat = np.flatnonzero(nxt >= 0)  # continuing pairs, as flat indices into (S, A)
+    target = nxt.reshape(-1)[flat]
+    step_reward = reward.reshape(-1)[flat]
+    q = np.where(feasible, reward, -np.inf)
+    q_flat = q.reshape(-1)
+    value = np.zeros(len(nxt))
+    for _ in range(max_sweeps):
+        q_flat[flat] = step_reward + discount * value[target]
+        new = q.max(axis=1)
+        converged = np.max(np.abs(new - value)) <= tolerance
+        value = new
+        if converged:
+            break
+    q_flat[flat] = step_reward + discount * value[target]
+    return q
+
+
+def boltzmann(q: FloatArray, beta: float, epsilon: float) -> FloatArray:
+    """``(S, A)`` action likelihoods: softmax of ``beta * Q`` over feasible actions, mixed
+    with a floor ``epsilon`` spread over all actions."""
+    finite = np.isfinite(q)
+    scaled = np.where(finite, beta * q, -np.inf)
+    top = scaled.max(axis=1, keepdims=True)
+    weights = np.where(finite, np.exp(scaled - top), 0.0)
+    soft = weights / weights.sum(axis=1, keepdims=True)
+    return (1.0 - epsilon) * soft + epsilon / q.shape[1]
+
+
+@dataclass(frozen=True)
+class Policy:
+    """The planner's output for one map.
+
+    Attributes:
+        model: the world model.
+        q: ``(D, S, A)`` Q-values.
+        likelihood: ``(D, S, A)`` Boltzmann action likelihoods.
+    """
+
+    model: WorldModel
+    q: FloatArray
+    likelihood: FloatArray
+
+    def state_slice(self, cell: int, held: int) -> slice:
+        """States of ``(cell, held)`` over all worlds (a contiguous block of ``W``)."""
+        W = self.model.n_worlds
+        base = (cell * (self.model.n_items + 1) + held) * W
+        return slice(base, base + W)
+
+    def action_likelihood(self, cell: int, held: int, action: int) -> FloatArray:
+        """``(W, D)`` likelihood of ``action`` from ``(cell, held)`` for every world and preference."""
+        return self.likelihood[:, self.state_slice(cell, held), action].T
+
+
+def plan(model: WorldModel, settings: ModelSettings) -> Policy:
+    """Solve the MDP of every preference (no cache; see :func:`cached_policy`)."""
+    trans = transitions(model)
+    qs = np.stack(
+        [
+            value_iteration(
+                trans, rewards(model, trans, settings, d), settings.discount, settings.vi_tolerance
+            )
+            for d in range(model.n_items + 1)
+        ]
+    )
+    likelihood = np.stack([boltzmann(q, settings.beta, settings.epsilon) for q in qs])
+    return Policy(model=model, q=qs, likelihood=likelihood)
+
+
+@lru_cache(maxsize=8)
+def cached_policy(scene: Scene, settings: ModelSettings) -> Policy:
+    """The policy of a scene, computed once per (scene, settings) in this process."""
+    return plan(build_world_model(scene), settings)

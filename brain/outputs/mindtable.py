@@ -1,0 +1,114 @@
+"""``mind.csv``: the online and smoothed estimates of every person at every tick.
+
+Header ``tick,label,agent,quantity,item,value,p_online,p_smoothed``. Per tick and person:
+one ``belief`` row per item and location (``value`` = the location id), then one
+``preference`` row per item and one for ``out`` (``value`` empty). ``label`` is the scenario
+step the person completed at that tick, else empty. Between a person's steps the last
+estimate is carried forward.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..model.estimates import OUT, Estimate
+from ..tracking.tracker import MindTracker
+
+HEADER = ("tick", "label", "agent", "quantity", "item", "value", "p_online", "p_smoothed")
+
+
+@dataclass(frozen=True)
+class MindRow:
+    """One row of ``mind.csv``."""
+
+    tick: int
+    label: str
+    agent: str
+    quantity: str
+    item: str
+    value: str
+    p_online: float
+    p_smoothed: float
+
+    def cells(self) -> tuple[str, ...]:
+        return (
+            str(self.tick),
+            self.label,
+            self.agent,
+            self.quantity,
+            self.item,
+            self.value,
+            f"{self.p_online:.6f}",
+            f"{self.p_smoothed:.6f}",
+        )
+
+
+def mind_rows(tracker: MindTracker) -> list[MindRow]:
+    """Every row, in tick order, for every person the tracker follows."""
+    model = tracker.model
+    smoothed = {person: tracker.smoothed(person) for person in tracker.people}
+    rows: list[MindRow] = []
+    cursor = dict.fromkeys(tracker.people, -1)
+    for tick in tracker.ticks:
+        for person in tracker.people:
+            track = tracker.tracks[person]
+            i = cursor[person]
+            while i + 1 < len(track.steps) and track.steps[i + 1].tick <= tick:
+                i += 1
+            cursor[person] = i
+            if i < 0:
+                continue
+            online: Estimate = track.estimates[i]
+            smooth: Estimate = smoothed[person][i]
+            label = tracker.labels.get((tick, person), "")
+            for k, item in enumerate(model.items):
+                for li, location in enumerate(model.locations):
+                    rows.append(
+                        MindRow(
+                            tick,
+                            label,
+                            person,
+                            "belief",
+                            item,
+                            location,
+                            float(online.beliefs[k, li]),
+                            float(smooth.beliefs[k, li]),
+                        )
+                    )
+            for d, name in enumerate((*model.items, OUT)):
+                rows.append(
+                    MindRow(
+                        tick,
+                        label,
+                        person,
+                        "preference",
+                        name,
+                        "",
+                        float(online.preference[d]),
+                        float(smooth.preference[d]),
+                    )
+                )
+    return rows
+
+
+def render_csv(rows: list[MindRow]) -> str:
+    """The CSV text of ``rows`` with its header."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(HEADER)
+    writer.writerows(row.cells() for row in rows)
+    return buffer.getvalue()
+
+
+def write_csv(rows: list[MindRow], path: Path) -> None:
+    """Write ``mind.csv``."""
+    path.write_text(render_csv(rows), encoding="utf-8")
+
+
+def read_csv(path: Path) -> list[dict[str, str]]:
+    """Read a ``mind.csv`` back as dictionaries (for analysis and tests)."""
+    with path.open(encoding="utf-8", newline="") as handle:
+        return list(csv.DictReader(handle))

@@ -1,0 +1,65 @@
+"""Writing a run's results: ``mind.csv``, the figures and ``report.md``, and the ``mind``
+message the brain publishes every tick."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from protocol import AgentMind, Intention, ItemBelief, Mind, Prob, RobotActivity, State
+
+from ..model.estimates import OUT
+from ..tracking.tracker import MindTracker
+from .groundtruth import load_ground_truth
+from .mindtable import mind_rows, write_csv
+from .report import write_report
+
+
+def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None = None) -> Mind:
+    """The online estimates of every person (and what the robot does), as a ``mind`` message."""
+    model = tracker.model
+    agents = []
+    for person in tracker.people:
+        est = tracker.online(person)
+        if est is None:
+            continue
+        beliefs = tuple(
+            ItemBelief(
+                item=item,
+                locations=tuple(
+                    Prob(loc, round(float(est.beliefs[k, li]), 6)) for li, loc in enumerate(model.locations)
+                ),
+            )
+            for k, item in enumerate(model.items)
+        )
+        preference = tuple(
+            Prob(name, round(float(p), 6))
+            for name, p in zip((*model.items, OUT), est.preference, strict=True)
+        )
+        item_index, location_index, p = est.intention
+        intention = Intention(
+            item=model.items[item_index] if item_index is not None else None,
+            location=model.locations[location_index] if location_index is not None else None,
+            p=round(min(max(p, 0.0), 1.0), 6),
+        )
+        agents.append(
+            AgentMind(
+                agent=person,
+                beliefs=beliefs,
+                preference=preference,
+                intention=intention,
+                false_beliefs=tuple(model.items[k] for k in est.false_beliefs),
+            )
+        )
+    robots = (robot,) if robot is not None else ()
+    return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents), robots=robots)
+
+
+def write_outputs(tracker: MindTracker, scenario: str, out: Path) -> Path:
+    """Write ``mind.csv``, ``beliefs.png``, ``preferences.png`` and ``report.md`` into ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    rows = mind_rows(tracker)
+    write_csv(rows, out / "mind.csv")
+    write_report(
+        rows, scenario, tracker.observer.value, load_ground_truth(scenario), out, exact=tracker.exact
+    )
+    return out / "mind.csv"

@@ -1,0 +1,68 @@
+"""The robot's side of the brain: from the tracker's estimates and the world to commands.
+
+:class:`RobotBrain` keeps who left which item where, builds the tree's snapshot each tick,
+ticks the tree, and hands back the commands to send; statuses from the engine come back
+through :meth:`RobotBrain.record`. No I/O: the node sends and receives.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from protocol import AgentKind, CommandStatus, Event, EventKind, RobotActivity, RobotCommand, State
+
+from ..settings import RobotSettings
+from ..tracking.tracker import MindTracker
+from .situation import Snapshot
+from .tree import RobotTree
+
+
+class RobotBrain:
+    """Decides what the robot does, given a :class:`MindTracker` that follows the people."""
+
+    def __init__(self, tracker: MindTracker, robot: str, settings: RobotSettings | None = None) -> None:
+        spec = next(a for a in tracker.scene.agents if a.id == robot)
+        self.tracker = tracker
+        self.robot = robot
+        self.tree = RobotTree(robot, (spec.home.col, spec.home.row), settings)
+        self.owners: dict[str, str] = {}
+        self.takers: dict[str, str] = {}
+        self.people = {a.id for a in tracker.scene.agents if a.kind is AgentKind.PERSON}
+
+    def observe(self, events: Iterable[Event]) -> None:
+        """Remember who left each item where: the person who put it down, unless it was
+        then moved by someone else (who took it from there and put it elsewhere)."""
+        for event in events:
+            if event.item is None or event.actor not in self.people:
+                continue
+            if event.kind is EventKind.TAKE:
+                self.takers[event.item] = event.actor
+            elif event.kind is EventKind.DROP:
+                owner = self.owners.get(event.item)
+                moved_by_another = (
+                    owner is not None and owner != event.actor and self.takers.get(event.item) == event.actor
+                )
+                if not moved_by_another:
+                    self.owners[event.item] = event.actor
+
+    def tick(self, state: State) -> list[RobotCommand]:
+        """Tick the tree on the world as it is now; return the commands to send."""
+        estimates = {p: e for p in self.tracker.people if (e := self.tracker.online(p)) is not None}
+        snapshot = Snapshot(
+            scene=self.tracker.scene,
+            model=self.tracker.model,
+            state=state,
+            estimates=estimates,
+            owners=self.owners,
+            moved_from={p: t.moved_from for p, t in self.tracker.tracks.items()},
+        )
+        self.tree.tick(snapshot)
+        return self.tree.context.book.drain()
+
+    def record(self, status: CommandStatus) -> None:
+        """A status from the engine."""
+        self.tree.context.book.record(status)
+
+    def activity(self) -> RobotActivity:
+        ctx = self.tree.context
+        return RobotActivity(robot=self.robot, task=ctx.activity, detail=ctx.detail, utterance=ctx.utterance)

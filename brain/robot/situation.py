@@ -1,0 +1,176 @@
+"""What the robot could do, read off the estimates and the world (pure functions).
+
+In the priority order of the paper's Section IV.B:
+1. :func:`find_inform`: a person heads for an item that is not where they believe it is.
+2. :func:`find_occupied`: a person's preferred item is held by someone else (and they are
+   heading for where they believe it is).
+3. :func:`find_put_back`: an item was moved while the person who left it was away.
+Each yields every such task it sees; :func:`first_task` picks the first not skipped (done or
+given up) and :func:`still_needed` checks a task against the world as it is now.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Collection, Iterator, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from protocol import AgentKind, Scene, State
+
+from ..model.estimates import Estimate
+from ..model.world import WorldModel
+from ..settings import RobotSettings
+
+
+@dataclass(frozen=True)
+class Inform:
+    """Tell ``person`` that ``item`` is at ``location``."""
+
+    person: str
+    item: str
+    location: str
+
+
+@dataclass(frozen=True)
+class Occupied:
+    """``person`` wants ``item``, which ``holder`` has: tell them, and ask for a swap for ``offer``."""
+
+    person: str
+    item: str
+    holder: str
+    offer: str | None
+
+
+@dataclass(frozen=True)
+class PutBack:
+    """Put ``item`` back at ``location``, where ``owner`` (who left it) believes it is."""
+
+    item: str
+    location: str
+    owner: str
+
+
+Task = Inform | Occupied | PutBack
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """Everything the robot's decisions read, at one tick."""
+
+    scene: Scene
+    model: WorldModel
+    state: State
+    estimates: Mapping[str, Estimate]
+    owners: Mapping[str, str]
+    """Item id -> the person who last put it down."""
+    moved_from: Mapping[str, int | None]
+    """Person id -> the cell index they left on their last move (``None``: not moved yet)."""
+
+    @property
+    def people(self) -> list[str]:
+        return [a.id for a in self.scene.agents if a.kind is AgentKind.PERSON]
+
+    def approaching(self, person: str, location: int) -> bool:
+        """Whether ``person`` is at (or next to) location index ``location``, or their last
+        move brought them closer to it."""
+        cell = next(
+            (
+                self.model.cell_index.get((a.cell.col, a.cell.row))
+                for a in self.state.agents
+                if a.id == person
+            ),
+            None,
+        )
+        if cell is None:
+            return False
+        now = self.model.distance[location, cell]
+        before = self.moved_from.get(person)
+        return bool(now <= 1 or (before is not None and now < self.model.distance[location, before]))
+
+    def holding(self, agent: str) -> str | None:
+        """The item ``agent`` holds now, if any."""
+        return next((a.holding for a in self.state.agents if a.id == agent), None)
+
+    def item(self, item_id: str) -> tuple[str | None, str | None]:
+        """Where an item is now: ``(resting location, holder)``."""
+        for item in self.state.items:
+            if item.id == item_id:
+                return item.location, item.held_by
+        return None, None
+
+
+def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+    """People with empty hands heading for an item they believe is somewhere it is not (and
+    nobody holds it)."""
+    model = snap.model
+    for person in snap.people:
+        est = snap.estimates.get(person)
+        if est is None or snap.holding(person) is not None:
+            continue
+        k, believed, p = est.intention
+        if k is None or believed is None or p < settings.intention_threshold:
+            continue
+        item = model.items[k]
+        location, holder = snap.item(item)
+        if holder is not None or location is None or model.locations[believed] == location:
+            continue
+        if est.beliefs[k, believed] < settings.belief_threshold or not snap.approaching(person, believed):
+            continue
+        yield Inform(person=person, item=item, location=location)
+
+
+def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied]:
+    """People with empty hands who most likely want an item another person holds, and are
+    heading for where they believe it is."""
+    model = snap.model
+    people = set(snap.people)
+    for person in snap.people:
+        est = snap.estimates.get(person)
+        if est is None or snap.holding(person) is not None:
+            continue
+        d = int(np.argmax(est.preference))
+        if d >= model.n_items or est.preference[d] < settings.preference_threshold:
+            continue
+        item = model.items[d]
+        _, holder = snap.item(item)
+        if holder is None or holder == person or holder not in people:
+            continue
+        if not snap.approaching(person, int(np.argmax(est.beliefs[d]))):
+            continue  # they are not looking for it (yet)
+        offer = next(
+            (i for i in model.items if i != item and snap.item(i)[1] is None and snap.item(i)[0]), None
+        )
+        yield Occupied(person=person, item=item, holder=holder, offer=offer)
+
+
+def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+    """Items resting somewhere other than where the person who left them believes."""
+    model = snap.model
+    for k, item in enumerate(model.items):
+        location, holder = snap.item(item)
+        owner = snap.owners.get(item)
+        if holder is not None or location is None or owner is None:
+            continue
+        est = snap.estimates.get(owner)
+        if est is None:
+            continue
+        believed = int(np.argmax(est.beliefs[k]))
+        if model.locations[believed] == location or est.beliefs[k, believed] < settings.belief_threshold:
+            continue
+        yield PutBack(item=item, location=model.locations[believed], owner=owner)
+
+
+Finder = Callable[[Snapshot, RobotSettings], Iterator[Task]]
+
+
+def first_task(
+    finder: Finder, snap: Snapshot, settings: RobotSettings, skip: Collection[Task]
+) -> Task | None:
+    """The first task ``finder`` sees that is not in ``skip``."""
+    return next((task for task in finder(snap, settings) if task not in skip), None)
+
+
+def still_needed(finder: Finder, task: Task, snap: Snapshot, settings: RobotSettings) -> bool:
+    """Whether ``finder`` still sees ``task`` in the world as it is now."""
+    return any(candidate == task for candidate in finder(snap, settings))

@@ -1,0 +1,122 @@
+"""Node processes: their command lines (``python -m sim2d``, ``python -m brain``, the grid
+engine of a source checkout), starting them with their output in a log, waiting for an
+engine's handshake, and stopping them (SIGTERM, then SIGKILL after a grace)."""
+
+from __future__ import annotations
+
+import logging
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from protocol import EngineInfo
+
+from ..bridge import Bridge
+from ..errors import BridgeError, NoReply
+from ..handshake import handshake
+from ..session import SessionSettings
+
+log = logging.getLogger("toyroom.run")
+
+
+def _network_args(settings: SessionSettings) -> list[str]:
+    args: list[str] = []
+    if settings.config_file is not None:
+        args += ["--zenoh-config", str(settings.config_file)]
+    if settings.mode is not None:
+        args += ["--mode", settings.mode]
+    for endpoint in settings.listen or ():
+        args += ["--listen", endpoint]
+    for endpoint in settings.connect or ():
+        args += ["--connect", endpoint]
+    return args
+
+
+CHECKOUT = Path(__file__).resolve().parents[2]
+"""The source checkout this package runs from (when it does: an installed wheel has no
+``bench/`` or ``examples/`` beside it)."""
+
+
+def source_file(relative: str, what: str = "") -> Path:
+    """``relative`` in the source checkout, or a :class:`BridgeError` saying in one line that
+    ``what`` (the command, when empty) needs a source checkout."""
+    path = CHECKOUT / relative
+    if not path.is_file():
+        raise BridgeError(
+            f"{what + ' ' if what else ''}needs a source checkout: {relative} is not part of the "
+            "installed package (clone the repository and run it there)"
+        )
+    return path
+
+
+GRID_ENGINE = "examples/grid_engine/main.py"
+"""The example engine written from the protocol documents alone (plain zenoh and json)."""
+
+
+def node_command(package: str, world: str, settings: SessionSettings, *args: str) -> list[str]:
+    """The command line of a node process (with Python's fault handler on, so a crash in
+    native code leaves every thread's Python stack in the node's log)."""
+    return [
+        sys.executable,
+        "-X",
+        "faulthandler",
+        "-m",
+        package,
+        "--world",
+        world,
+        *_network_args(settings),
+        *args,
+    ]
+
+
+def engine_command(engine: str, world: str, settings: SessionSettings, *args: str) -> list[str]:
+    """The command line of an engine: ``sim2d``, or ``grid`` (default loopback network only)."""
+    if engine == "grid":
+        return [sys.executable, str(source_file(GRID_ENGINE, "--engine grid")), "--world", world, *args]
+    return node_command("sim2d", world, settings, *args)
+
+
+def start_node(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
+    """Start a node with its output going to ``log_path`` (kept with the results)."""
+    with log_path.open("wb") as handle:
+        return subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT)
+
+
+def stop_node(process: subprocess.Popen[bytes], grace: float = 10.0) -> None:
+    """SIGTERM, then SIGKILL if it has not exited within ``grace`` seconds."""
+    if process.poll() is not None:
+        return
+    process.terminate()
+    try:
+        process.wait(timeout=grace)
+    except subprocess.TimeoutExpired:
+        log.warning("process %d ignored SIGTERM for %g s: killed", process.pid, grace)
+        process.kill()
+        process.wait(timeout=grace)
+
+
+def report_failure(node: str, status: int | None, log_path: Path, lines: int = 20) -> None:
+    """Say that a node failed, with the end of its log."""
+    tail = (
+        log_path.read_text(encoding="utf-8", errors="replace").splitlines()[-lines:]
+        if log_path.exists()
+        else []
+    )
+    print(f"toyroom run: the {node} exited with status {status}; end of {log_path}:", file=sys.stderr)
+    for line in tail:
+        print(f"  {line}", file=sys.stderr)
+
+
+def wait_for_engine(
+    bridge: Bridge, engine: subprocess.Popen[bytes], timeout: float = 60.0
+) -> EngineInfo | None:
+    """The engine's handshake, or ``None`` when its process exits first."""
+    deadline = time.monotonic() + timeout
+    while engine.poll() is None:
+        try:
+            return handshake(bridge, client="toyroom-run", role="recorder", timeout=0.5)
+        except NoReply:
+            if time.monotonic() > deadline:
+                raise
+    return None

@@ -1,0 +1,412 @@
+"""The engine conformance kit: checks that any engine speaks the protocol, the way
+Gymnasium's ``check_env`` checks an environment.
+
+:func:`check_engine` connects to whatever engine serves a world and runs every check in
+order, each giving a :class:`CheckResult` that says what was expected and what came.
+``toyroom conform --world W`` prints them and exits non-zero on any failure; the test
+suite runs the same checks against every engine the repository has.
+
+Checks: the handshake (fields, version, capabilities by name); the scene (ids unique,
+doors joining walkable cells, every location reachable, visibility naming known
+locations); the liveliness token; reset with a seed; lock-step stepping (``step n``
+advances exactly ``n`` ticks, one state per tick, monotonic, the step's last state
+published no later than the reply or carried in it); events naming known ids; every robot
+command kind ending ``succeeded`` or ``failed`` with a reason after ``accepted`` and
+``running`` (or failing at once); an impossible command failing rather than hanging; the
+engine still serving after malformed input. Optional capabilities (``truth``, a real-time
+clock) are checked only when the handshake declares them.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+
+from protocol import (
+    PROTOCOL_VERSION,
+    Action,
+    AgentKind,
+    Cancel,
+    Capability,
+    Cell,
+    ClockMode,
+    CommandState,
+    CommandStatus,
+    ControlReply,
+    EngineInfo,
+    Event,
+    Give,
+    Hello,
+    Navigate,
+    Pick,
+    Place,
+    Request,
+    Reset,
+    RobotCommand,
+    Say,
+    SayTopic,
+    State,
+    Step,
+    Truth,
+    Version,
+    scene_problems,
+)
+
+from ..bridge import Bridge
+from ..errors import BridgeError
+from ..handshake import ask_engine
+from ..presence import PresenceWatcher
+from ..pubsub import Received
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """One check: its name, whether it passed, and what was expected and what came."""
+
+    name: str
+    passed: bool
+    detail: str = ""
+
+    def line(self) -> str:
+        mark = "pass" if self.passed else "FAIL"
+        return f"{mark}  {self.name}" + (f": {self.detail}" if self.detail else "")
+
+
+class CheckFailed(Exception):
+    """Raised inside a check: expected this, got that."""
+
+
+@dataclass
+class _Stream:
+    """Everything the engine publishes, collected in arrival order."""
+
+    states: list[State] = field(default_factory=list)
+    events: list[Event] = field(default_factory=list)
+    statuses: list[CommandStatus] = field(default_factory=list)
+    truths: list[Truth] = field(default_factory=list)
+    cond: threading.Condition = field(default_factory=threading.Condition)
+
+    def add(self, bucket: list, item: object) -> None:  # type: ignore[type-arg]
+        with self.cond:
+            bucket.append(item)
+            self.cond.notify_all()
+
+    def wait(self, predicate: Callable[[], bool], timeout: float) -> bool:
+        with self.cond:
+            return self.cond.wait_for(predicate, timeout)
+
+
+class Checker:
+    """Runs the checks against the engine of ``bridge``'s world."""
+
+    def __init__(self, bridge: Bridge, timeout: float = 5.0) -> None:
+        self.bridge = bridge
+        self.timeout = timeout
+        self.keys = bridge.keys
+        self.stream = _Stream()
+        self.info: EngineInfo | None = None
+        self.episode = 0
+        self.tick = 0
+        self._ids = 0
+        bridge.subscribe(self.keys.state, lambda m, _: self.stream.add(self.stream.states, m), expected=State)
+        bridge.subscribe(
+            self.keys.events, lambda m, _: self.stream.add(self.stream.events, m), expected=Event
+        )
+        bridge.subscribe(self.keys.status(), self._on_status, expected=CommandStatus)
+        bridge.subscribe(self.keys.truth, lambda m, _: self.stream.add(self.stream.truths, m), expected=Truth)
+
+    def _on_status(self, status: CommandStatus, _: Received) -> None:
+        self.stream.add(self.stream.statuses, status)
+
+    # ----- helpers --------------------------------------------------------------------
+
+    def control(self, request: Reset | Step) -> ControlReply:
+        try:
+            return self.bridge.query(self.keys.control, request, ControlReply, timeout=self.timeout)
+        except BridgeError as err:
+            raise CheckFailed(f"expected a control_reply to {request!r}, got: {err}") from None
+
+    def step(self, n: int) -> ControlReply:
+        reply = self.control(Step(n=n))
+        self.tick = reply.tick
+        return reply
+
+    @property
+    def robot(self) -> str | None:
+        assert self.info is not None
+        robots = [a for a in self.info.scene.agents if a.kind is AgentKind.ROBOT]
+        return robots[0].id if robots else None
+
+    def command(self, action: Action, *, max_steps: int = 400) -> list[CommandStatus]:
+        """Send a command and step until it ends; every status it got."""
+        assert self.robot is not None
+        self._ids += 1
+        command = RobotCommand(id=f"conform{self._ids}", robot=self.robot, action=action)
+        publisher = self.bridge.publisher(self.keys.command(self.robot))
+        if not publisher.wait_matched(self.timeout):
+            raise CheckFailed(
+                f"expected the engine to subscribe to '{self.keys.command(self.robot)}', it did not"
+            )
+        publisher.put(command)
+
+        def mine() -> list[CommandStatus]:
+            return [s for s in self.stream.statuses if s.command == command.id]
+
+        self.stream.wait(lambda: bool(mine()), self.timeout)
+        for _ in range(max_steps):
+            got = mine()
+            if got and got[-1].state.final:
+                return got
+            self.step(1)
+            self.stream.wait(lambda: bool(mine()) and mine()[-1].state.final, 0.05)
+        raise CheckFailed(
+            f"{type(action).__name__.lower()}: expected a final status within {max_steps} ticks, got "
+            f"{[s.state.value for s in mine()]}"
+        )
+
+    # ----- the checks -----------------------------------------------------------------
+
+    def check_handshake(self) -> str:
+        info = ask_engine(self.bridge, Hello(client="toyroom-conform", role="conform"), self.timeout)
+        self.info = info
+        ours, theirs = Version.parse(PROTOCOL_VERSION), Version.parse(info.protocol)
+        if theirs.major != ours.major:
+            raise CheckFailed(f"expected protocol {ours.major}.x, got {info.protocol}")
+        if info.world != self.bridge.world:
+            raise CheckFailed(f"expected world '{self.bridge.world}', got '{info.world}'")
+        if not info.engine:
+            raise CheckFailed("expected an engine name, got an empty string")
+        return f"engine '{info.engine}', protocol {info.protocol}, capabilities " + (
+            ", ".join(c.value for c in info.capabilities) or "none"
+        )
+
+    def check_scene(self) -> str:
+        assert self.info is not None
+        problems = scene_problems(self.info.scene)
+        if problems:
+            raise CheckFailed("expected a consistent scene, got: " + "; ".join(problems))
+        scene = self.info.scene
+        return (
+            f"{len(scene.regions)} regions, {len(scene.locations)} locations, {len(scene.agents)} agents, "
+            f"{len(scene.items)} items"
+        )
+
+    def check_liveliness(self) -> str:
+        watcher = PresenceWatcher(self.bridge.session, self.keys.alive("engine", "*"))
+        try:
+            if not watcher.wait_alive(timeout=self.timeout):
+                raise CheckFailed(
+                    f"expected a liveliness token under '{self.keys.alive('engine', '*')}', got none"
+                )
+            return ", ".join(p.name for p in watcher.alive)
+        finally:
+            watcher.close()
+
+    def check_reset(self) -> str:
+        assert self.info is not None
+        if Capability.LOCKSTEP not in self.info.capabilities:
+            raise CheckFailed("expected the 'lockstep' capability (the brain's reproducible mode), got none")
+        before = len(self.stream.states)
+        reply = self.control(Reset(scenario=None, seed=7))
+        if reply.tick != 0:
+            raise CheckFailed(f"expected tick 0 after reset, got {reply.tick}")
+        self.episode, self.tick = reply.episode, 0
+        arrived = self.stream.wait(
+            lambda: any(s.episode == reply.episode and s.tick == 0 for s in self.stream.states[before:]),
+            self.timeout,
+        )
+        if reply.state is None and not arrived:
+            raise CheckFailed("expected the state of tick 0 (in the reply or on engine/state), got neither")
+        return f"episode {reply.episode}"
+
+    def check_stepping(self) -> str:
+        for n in (1, 5, 3):
+            before_tick, mark = self.tick, len(self.stream.states)
+            reply = self.step(n)
+            if reply.tick != before_tick + n:
+                raise CheckFailed(
+                    f"step {n} from tick {before_tick}: expected tick {before_tick + n}, got {reply.tick}"
+                )
+            if reply.state is not None and reply.state.tick != reply.tick:
+                raise CheckFailed(
+                    f"expected the reply's state at tick {reply.tick}, got tick {reply.state.tick}"
+                )
+            want = list(range(before_tick + 1, before_tick + n + 1))
+
+            def published(mark: int = mark, episode: int = reply.episode) -> list[int]:
+                return [s.tick for s in self.stream.states[mark:] if s.episode == episode]
+
+            def complete(n: int = n, want: list[int] = want) -> bool:
+                return published()[-n:] == want
+
+            if not self.stream.wait(complete, self.timeout):
+                raise CheckFailed(f"step {n}: expected states for ticks {want}, got {published()}")
+            ticks = [s.tick for s in self.stream.states if s.episode == reply.episode]
+            if ticks != sorted(ticks):
+                raise CheckFailed(f"expected monotonic state ticks, got {ticks[-12:]}")
+        return f"now at tick {self.tick}"
+
+    def check_events(self) -> str:
+        assert self.info is not None
+        self.step(60)
+        scene = self.info.scene
+        agents = {a.id for a in scene.agents}
+        items = {i.id for i in scene.items}
+        places = (
+            {r.id for r in scene.regions} | {loc.id for loc in scene.locations} | {d.id for d in scene.doors}
+        )
+        for event in self.stream.events:
+            for name, value, known in (
+                ("actor", event.actor, agents),
+                ("target", event.target, agents),
+                ("item", event.item, items),
+                ("offer", event.offer, items),
+                ("location", event.location, places),
+            ):
+                if value is not None and value not in known:
+                    raise CheckFailed(
+                        f"event {event.kind.value} at tick {event.tick}: {name} '{value}' is no known id"
+                    )
+        return f"{len(self.stream.events)} events, all with known ids"
+
+    def check_commands(self) -> str:
+        assert self.info is not None
+        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
+            return "skipped: no 'robot' capability or no robot in the scene"
+        scene = self.info.scene
+        home = next(a.home for a in scene.agents if a.id == self.robot)
+        person = next((a.id for a in scene.agents if a.kind is AgentKind.PERSON), "nobody")
+        item = scene.items[0].id if scene.items else "nothing"
+        location = scene.locations[0].id if scene.locations else "nowhere"
+        actions: list[Action] = [
+            Navigate(cell=home),
+            Pick(item=item),
+            Place(location=location),
+            Give(person=person),
+            Say(person=person, item=item, topic=SayTopic.LOCATION, location=location),
+            Request(person=person, item=item),
+        ]
+        seen = []
+        for action in actions:
+            statuses = self.command(action)
+            states = [s.state for s in statuses]
+            kind = type(action).__name__.lower()
+            ok = states[:3] == [CommandState.ACCEPTED, CommandState.RUNNING, CommandState.SUCCEEDED] or (
+                states[-1] is CommandState.FAILED
+                and statuses[-1].reason
+                and states[:-1]
+                in ([], [CommandState.ACCEPTED], [CommandState.ACCEPTED, CommandState.RUNNING])
+            )
+            if not ok:
+                raise CheckFailed(
+                    f"{kind}: expected accepted -> running -> succeeded, or failed with a reason, got "
+                    f"{[f'{s.state.value}({s.reason})' if s.reason else s.state.value for s in statuses]}"
+                )
+            seen.append(f"{kind} {states[-1].value}")
+        return ", ".join(seen)
+
+    def check_cancel(self) -> str:
+        assert self.info is not None
+        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
+            return "skipped: no 'robot' capability"
+        statuses = self.command(Cancel(command="conform-no-such-command"))
+        if statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
+            raise CheckFailed(
+                f"cancel of an unknown command: expected failed with a reason, got {statuses[-1]}"
+            )
+        return f"unknown command: failed ({statuses[-1].reason})"
+
+    def check_impossible_command(self) -> str:
+        assert self.info is not None
+        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
+            return "skipped: no 'robot' capability"
+        scene = self.info.scene
+        walkable = scene.walkable()
+        wall = next(
+            ((c, r) for r in range(scene.rows) for c in range(scene.columns) if (c, r) not in walkable),
+            (scene.columns + 5, scene.rows + 5),
+        )
+        statuses = self.command(Navigate(cell=Cell(*wall)), max_steps=60)
+        if statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
+            raise CheckFailed(
+                f"navigate into a wall at {wall}: expected failed with a reason, got "
+                f"{[s.state.value for s in statuses]}"
+            )
+        unknown = self.command(Pick(item="no-such-item"), max_steps=60)
+        if unknown[-1].state is not CommandState.FAILED or not unknown[-1].reason:
+            raise CheckFailed(f"pick of an unknown item: expected failed with a reason, got {unknown[-1]}")
+        return f"wall: '{statuses[-1].reason}'; unknown item: '{unknown[-1].reason}'"
+
+    def check_malformed_input(self) -> str:
+        for payload in (b"{not json", b'{"type": "teleport", "protocol": "1.0"}', b"\xff\x00"):
+            replies = list(self.bridge.session.get(self.keys.control, payload=payload, timeout=self.timeout))
+            if not replies or replies[0].err is None:
+                raise CheckFailed(
+                    f"control query with payload {payload!r}: expected an error reply, got "
+                    f"{'none' if not replies else 'a success'}"
+                )
+        if self.robot is not None:
+            self.bridge.session.put(self.keys.command(self.robot), b"\x00 garbage")
+        self.bridge.session.put(self.keys.control, b"{}")
+        before = self.tick
+        reply = self.step(1)
+        if reply.tick != before + 1:
+            raise CheckFailed(f"after malformed input, expected step to tick {before + 1}, got {reply.tick}")
+        return "error replies to bad queries, and still stepping"
+
+    def check_truth(self) -> str:
+        assert self.info is not None
+        if Capability.TRUTH not in self.info.capabilities:
+            return "skipped: not declared"
+        before = len(self.stream.truths)
+        self.step(3)
+        if not self.stream.wait(lambda: len(self.stream.truths) > before, self.timeout):
+            raise CheckFailed("the engine declares 'truth' but published nothing on engine/truth in 3 ticks")
+        return f"{len(self.stream.truths) - before} truth messages in 3 ticks"
+
+    def check_realtime(self) -> str:
+        assert self.info is not None
+        if self.info.clock is not ClockMode.REALTIME:
+            return "skipped: the clock runs in lock-step"
+        first = len(self.stream.states)
+        if not self.stream.wait(lambda: len(self.stream.states) > first + 2, self.timeout):
+            raise CheckFailed("a real-time clock should publish states by itself; none came")
+        return "states arrive without stepping"
+
+    def checks(self) -> Iterator[tuple[str, Callable[[], str]]]:
+        """The checks in the order they run (later ones need earlier ones)."""
+        yield "handshake", self.check_handshake
+        yield "scene", self.check_scene
+        yield "liveliness", self.check_liveliness
+        if self.info is not None and self.info.clock is ClockMode.REALTIME:
+            yield "realtime", self.check_realtime
+            return
+        yield "reset", self.check_reset
+        yield "stepping", self.check_stepping
+        yield "events", self.check_events
+        yield "robot commands", self.check_commands
+        yield "cancel", self.check_cancel
+        yield "impossible command", self.check_impossible_command
+        yield "malformed input", self.check_malformed_input
+        yield "truth", self.check_truth
+
+
+def check_engine(bridge: Bridge, timeout: float = 5.0) -> list[CheckResult]:
+    """Run every check against the engine of ``bridge``'s world; stop at the first failure
+    of a check the others depend on (the handshake)."""
+    checker = Checker(bridge, timeout)
+    results = []
+    for name, check in checker.checks():
+        try:
+            detail = check()
+            results.append(CheckResult(name, True, detail))
+        except (CheckFailed, BridgeError) as err:
+            results.append(CheckResult(name, False, str(err)))
+            if name in ("handshake", "reset"):
+                break
+        except Exception as err:  # a protocol error or a bug in the engine's answers
+            results.append(CheckResult(name, False, f"{type(err).__name__}: {err}"))
+            if name in ("handshake", "reset"):
+                break
+    return results

@@ -1,0 +1,59 @@
+"""The conformance kit as a reusable pytest suite, in the manner of dm_env's test mixins.
+
+Inherit :class:`EngineConformance` in a test class and give it a class-scoped fixture
+``conformance_world`` that starts an engine and yields its world name; every check then
+runs as its own test::
+
+    class TestMyEngine(EngineConformance):
+        @pytest.fixture(scope="class")
+        @classmethod
+        def conformance_world(cls):
+            with start_my_engine("my-world"):
+                yield "my-world"
+
+Needs pytest (the ``test`` extra); the rest of ``bridge`` does not.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import pytest
+
+from ..bridge import Bridge
+from .checks import CheckResult, check_engine
+
+CHECKS = (
+    "handshake",
+    "scene",
+    "liveliness",
+    "reset",
+    "stepping",
+    "events",
+    "robot commands",
+    "cancel",
+    "impossible command",
+    "malformed input",
+    "truth",
+)
+
+
+class EngineConformance:
+    """Every conformance check as a test; subclasses provide ``conformance_world``."""
+
+    timeout: float = 10.0
+
+    @pytest.fixture(scope="class")
+    @classmethod
+    def conformance_results(cls, conformance_world: str) -> Iterator[dict[str, CheckResult]]:
+        with Bridge(conformance_world) as bridge:
+            yield {result.name: result for result in check_engine(bridge, cls.timeout)}
+
+    @staticmethod
+    def _passed(results: dict[str, CheckResult], name: str) -> None:
+        assert name in results, f"check '{name}' did not run (an earlier check failed): {list(results)}"
+        assert results[name].passed, results[name].line()
+
+    @pytest.mark.parametrize("check", CHECKS)
+    def test_check(self, conformance_results: dict[str, CheckResult], check: str) -> None:
+        self._passed(conformance_results, check)

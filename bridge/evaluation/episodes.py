@@ -1,0 +1,390 @@
+"""``toyroom eval``: the brain measured on random episodes whose true minds are known.
+
+Each episode is a random scenario (``toyroom generate``) on the paper map or one
+of two generated houses, with autonomous simulated people. It runs twice, each time an
+engine and a brain process over loopback Zenoh in lock-step: the robot observing (the BToM
+brain live, with ``truebelief`` and ``perceptonly`` as shadow observers of the same ticks,
+:mod:`brain.tracking.shadows`), and the BToM brain with the robot acting.
+The evaluator listens to ``brain/mind`` and ``engine/truth`` and scores every
+tick (:mod:`bridge.evaluation.metrics`); robot success is whether each person ends the episode with
+what they want (playing with their preferred item, or outside if they want to leave), with
+and without the robot. Episodes run ``workers`` at a time, locally or as Ray tasks.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import uuid
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from protocol import Event, EventKind, Mind, Observer, RegionKind, Truth, decode
+
+from ..app.processes import (
+    engine_command,
+    node_command,
+    report_failure,
+    start_node,
+    stop_node,
+    wait_for_engine,
+)
+from ..bridge import Bridge
+from ..session import SessionSettings
+from .metrics import Counts, Outcome, score_tick
+from .report import report
+
+log = logging.getLogger("toyroom.eval")
+
+OBSERVERS = Observer.names()
+BTOM = Observer.BTOM.value
+RUN_ATTEMPTS = 3
+"""How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
+MAPS = ("paper", "house-a", "house-b")
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of one episode."""
+
+    scenario: Path
+    observer: str
+    robot: str
+    timeout: float = 30.0
+    shadows: tuple[str, ...] = ()
+    """Observers the same brain runs alongside on the same ticks (``python -m brain --shadow``)."""
+
+
+@dataclass
+class RunResult:
+    counts: Counts = field(default_factory=Counts)
+    outcome: Outcome = field(default_factory=Outcome)
+    ticks: int = 0
+
+
+def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
+    """Run an engine and a brain on ``spec`` and score the brain's minds against the truth:
+    the live observer's from ``brain/mind``, each shadow's from its file."""
+    world = f"eval-{uuid.uuid4().hex[:10]}"
+    settings = SessionSettings()
+    tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
+    engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
+    shadow_dir = logs / f"{tag}.shadows"
+    shadow_args = [a for o in spec.shadows for a in ("--shadow", o)]
+    if spec.shadows:
+        shadow_args += ["--shadow-out", str(shadow_dir)]
+    engine = start_node(
+        engine_command("sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep"), engine_log
+    )
+    brain = None
+    minds: dict[int, Mind] = {}
+    truths: dict[int, Truth] = {}
+    took: dict[int, set[str]] = {}
+    lock = threading.Lock()
+
+    def keep(store: dict[int, object]) -> Callable[[object, object], None]:
+        def put(message: object, _: object) -> None:
+            with lock:
+                store[message.tick] = message  # type: ignore[attr-defined]
+
+        return put
+
+    playing: dict[str, str | None] = {}
+    regions: dict[str, str] = {}
+    reached: list[tuple[int, str, str]] = []
+    """(tick, person, item played with or region entered), in order: when goals were met."""
+
+    def on_event(event: Event, _: object) -> None:
+        """Events are never dropped: who took what, who plays with what, who is where."""
+        with lock:
+            if event.kind is EventKind.TAKE:
+                took.setdefault(event.tick, set()).add(event.actor)
+            elif event.kind is EventKind.PLAY:
+                playing[event.actor] = event.item
+                reached.append((event.tick, event.actor, event.item or ""))
+            elif event.kind in (EventKind.STOP, EventKind.DROP):
+                playing[event.actor] = None
+            elif event.kind is EventKind.GIVE:
+                playing[event.actor] = None
+                if event.target is not None:
+                    playing[event.target] = None
+            elif event.kind is EventKind.ENTER and event.location is not None:
+                regions[event.actor] = event.location
+                reached.append((event.tick, event.actor, event.location))
+
+    try:
+        with Bridge(world, settings) as bridge:
+            info = wait_for_engine(bridge, engine)
+            if info is None:
+                report_failure("engine", engine.returncode, engine_log)
+                raise RuntimeError(f"{tag}: the engine failed")
+            bridge.subscribe(bridge.keys.mind, keep(minds), expected=Mind)  # type: ignore[arg-type]
+            bridge.subscribe(bridge.keys.truth, keep(truths), expected=Truth)  # type: ignore[arg-type]
+            bridge.subscribe(bridge.keys.events, on_event, expected=Event)
+            brain = start_node(
+                node_command(
+                    "brain",
+                    world,
+                    settings,
+                    "--scenario",
+                    str(spec.scenario),
+                    "--observer",
+                    spec.observer,
+                    "--robot",
+                    spec.robot,
+                    "--timeout",
+                    str(spec.timeout),
+                    "--log-level",
+                    "WARNING",
+                    *shadow_args,
+                ),
+                brain_log,
+            )
+            if brain.wait(timeout=1800) != 0:
+                report_failure("brain", brain.returncode, brain_log)
+                raise RuntimeError(f"{tag}: the brain failed")
+            _settle(
+                lambda: (len(minds), len(truths)),
+                done=lambda: bool(minds) and max(minds) >= max(truths, default=0),
+            )
+    finally:
+        for process in (brain, engine):
+            if process is not None:
+                stop_node(process)
+    outside = {r.id for r in info.scene.regions if r.kind is RegionKind.OUTSIDE}
+    outcome = Outcome()
+    if truths:
+        truth = truths[max(truths)]
+        homes = {a.id: (a.home.col, a.home.row) for a in info.scene.agents}
+        home_region = {(c.col, c.row): r.id for r in info.scene.regions for c in r.cells}
+        for person in truth.agents:
+            region = regions.get(person.agent, home_region.get(homes.get(person.agent, (-1, -1)), ""))
+            ok = (
+                region in outside
+                if person.preference == "out"
+                else playing.get(person.agent) == person.preference
+            )
+            outcome.per_person[person.agent] = ok
+            outcome.people += 1
+            outcome.successes += ok
+            goal = outside if person.preference == "out" else {person.preference}
+            outcome.ticks_to_goal[person.agent] = next(
+                (t for t, who, what in sorted(reached) if who == person.agent and what in goal), None
+            )
+        outcome.ticks = max(truths)
+    results = {spec.observer: _score(minds, truths, took, outcome)}
+    for observer in spec.shadows:
+        lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
+        shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
+        results[observer] = _score(shadow, truths, took, outcome)
+    return results
+
+
+def _score(
+    minds: dict[int, Mind], truths: dict[int, Truth], took: dict[int, set[str]], outcome: Outcome
+) -> RunResult:
+    """Score every tick that has both a mind and the truth (channels that are never dropped)."""
+    result = RunResult(outcome=outcome)
+    seen: set[str] = set()
+    for tick in sorted(truths):
+        seen |= {p for t, people in took.items() if t <= tick for p in people}
+        if tick not in minds:
+            continue
+        where = {place.item: place.location for place in truths[tick].items}
+        result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
+        result.ticks += 1
+    return result
+
+
+def _settle(
+    count: Callable[[], tuple[int, int]], done: Callable[[], bool], quiet: float = 0.3, limit: float = 15.0
+) -> None:
+    """Wait until the last messages have arrived: ``done()`` and nothing new for ``quiet`` s."""
+    deadline = time.monotonic() + limit
+    seen, since = count(), time.monotonic()
+    while time.monotonic() < deadline:
+        time.sleep(0.05)
+        now = count()
+        if now != seen:
+            seen, since = now, time.monotonic()
+        elif done() and time.monotonic() - since >= quiet:
+            return
+
+
+def map_of(index: int) -> str:
+    """The map episode ``index`` of a sweep is drawn on (they cycle through ``MAPS``)."""
+    return MAPS[index % len(MAPS)]
+
+
+def generate(directory: Path, index: int, seed: int) -> Path:
+    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)."""
+    map_name = map_of(index)
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sim2d",
+            "generate",
+            "--map",
+            map_name,
+            "--seed",
+            str(seed * 1000 + index),
+            "--max-ticks",
+            "1000",
+            "--out",
+            str(directory),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    if result.returncode != 0:
+        raise RuntimeError(f"generating episode {index}: {result.stderr.strip()}")
+    return Path(result.stdout.strip())
+
+
+def episode_runs(scenario: Path) -> list[RunSpec]:
+    """Two runs: the robot observing (BToM live, the baselines as shadows of the same ticks:
+    an observing robot changes nothing, so one run serves every observer), then acting."""
+    return [
+        RunSpec(scenario, OBSERVERS[0], "observe", shadows=OBSERVERS[1:]),
+        RunSpec(scenario, BTOM, "act"),
+    ]
+
+
+def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
+    """Everything about one episode, as plain data (so a Ray task can return it); an
+    episode whose runs kept failing comes back with its ``error`` and no scores."""
+    try:
+        return _episode(index, seed, workdir)
+    except Exception as err:
+        log.error("episode %d failed: %s", index, err)
+        return {
+            "index": index,
+            "map": map_of(index),
+            "scenario": f"episode-{index}",
+            "error": f"{type(err).__name__}: {err}",
+        }
+
+
+def _episode(index: int, seed: int, workdir: str) -> dict[str, object]:
+    directory = Path(workdir)
+    scenario = generate(directory / "scenarios", index, seed)
+    logs = directory / "logs"
+    logs.mkdir(parents=True, exist_ok=True)
+    out: dict[str, object] = {"index": index, "map": map_of(index), "scenario": scenario.stem}
+    failures: list[str] = []
+    for spec in episode_runs(scenario):
+        for observer, result in _run_with_retries(spec, logs, failures).items():
+            key = observer if spec.robot == "observe" else "robot"
+            out[key] = {
+                "counts": result.counts.__dict__,
+                "outcome": result.outcome.per_person,
+                "ticks_to_goal": result.outcome.ticks_to_goal,
+                "episode_ticks": result.outcome.ticks,
+                "ticks": result.ticks,
+            }
+    out["failed_runs"] = failures
+    return out
+
+
+def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[str, RunResult]:
+    """``run_once``, again (up to ``RUN_ATTEMPTS`` times) when a node process failed; each
+    failure is kept (with its log, renamed) and counted in ``metrics.json``. A run is
+    deterministic, so a retry measures the same episode."""
+    for attempt in range(1, RUN_ATTEMPTS + 1):
+        try:
+            return run_once(spec, logs)
+        except (RuntimeError, OSError, subprocess.SubprocessError) as err:
+            failures.append(str(err))
+            log.warning("%s (attempt %d of %d)", err, attempt, RUN_ATTEMPTS)
+            tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
+            for path in logs.glob(f"{tag}.*.log"):
+                path.rename(path.with_suffix(f".failed{attempt}.log"))
+            if attempt == RUN_ATTEMPTS:
+                raise
+    raise AssertionError("unreachable")
+
+
+def _count(value: object) -> int:
+    return len(value) if isinstance(value, list) else 0
+
+
+def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]:
+    """``metrics.json``'s content from every episode's results (failed episodes are
+    counted in ``episodes_failed`` and left out of the scores)."""
+    failed = [e for e in episodes if "error" in e]
+    episodes = [e for e in episodes if "error" not in e]
+    totals = {observer: Counts() for observer in OBSERVERS}
+    with_robot = Outcome()
+    without = Outcome()
+    waits: dict[str, list[int]] = {"robot": [], BTOM: []}
+    for episode in episodes:
+        for observer in OBSERVERS:
+            totals[observer].add(Counts(**episode[observer]["counts"]))  # type: ignore[index]
+        for outcome, key in ((with_robot, "robot"), (without, BTOM)):
+            run = episode[key]
+            assert isinstance(run, dict)
+            for ok in run["outcome"].values():
+                outcome.people += 1
+                outcome.successes += bool(ok)
+            for tick in run.get("ticks_to_goal", {}).values():  # never reached: the episode's length
+                waits[key].append(tick if tick is not None else run["episode_ticks"])
+    return {
+        "episodes": len(episodes),
+        "seed": seed,
+        "episodes_failed": len(failed),
+        "failed_runs_retried": sum(_count(e.get("failed_runs")) for e in episodes),
+        "observers": {observer: totals[observer].metrics() for observer in OBSERVERS},
+        "robot": {"with": with_robot.rate, "without": without.rate},
+        "ticks_to_goal": {
+            "with": statistics.fmean(waits["robot"]) if waits["robot"] else None,
+            "without": statistics.fmean(waits[BTOM]) if waits[BTOM] else None,
+        },
+    }
+
+
+def evaluate(
+    episodes: int,
+    seed: int,
+    out: Path,
+    *,
+    workers: int = 2,
+    backend: str = "local",
+    progress: Callable[[int], None] | None = None,
+) -> dict[str, object]:
+    """Run every episode and write ``metrics.json`` and ``report.md`` into ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
+    results: list[dict[str, object]]
+    if backend == "ray":
+        from .raybackend import run_with_ray
+
+        results = run_with_ray(run_episode, episodes, seed, workdir, workers, progress)
+    else:
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            futures = [pool.submit(run_episode, i, seed, workdir) for i in range(episodes)]
+            results = []
+            with (out / "episodes.jsonl").open("w") as partial:  # kept as they finish
+                for future in as_completed(futures):
+                    results.append(future.result())
+                    partial.write(json.dumps(results[-1]) + "\n")
+                    partial.flush()
+                    if progress is not None:
+                        progress(1)
+    results.sort(key=lambda r: int(r["index"]))  # type: ignore[call-overload]
+    metrics = aggregate(results, seed)
+    by_map = {name: aggregate([r for r in results if r["map"] == name], seed) for name in MAPS}
+    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
+    (out / "episodes.json").write_text(json.dumps(results, indent=1) + "\n")
+    (out / "report.md").write_text(report(metrics, by_map, out))
+    return metrics

@@ -1,0 +1,129 @@
+"""Recording a world to MCAP, and reading it back.
+
+Every message on the world's keys goes into an MCAP file (the ``mcap`` package): one
+channel per key and message type, its schema the message's JSON Schema (encoding
+``jsonschema``), its messages JSON, so Foxglove opens the file as it is. The engine's
+handshake answer is recorded first, on ``toyroom/<world>/engine/info``. Records are written
+unchunked and the file is flushed at least every second, so a recorder that is killed
+loses at most the last second; :func:`read_mcap` reads such a cut-off file up to where it
+stops.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO
+
+from mcap.records import Channel, Schema
+from mcap.records import Message as McapMessage
+from mcap.stream_reader import StreamReader
+from mcap.writer import Writer
+
+from protocol import EngineInfo, Message, encode, tag_of
+from protocol.schema import message_schema
+
+from ..bridge import Bridge
+from .trace import Recorder, trace_line
+
+FLUSH_SECONDS = 0.5
+
+
+class McapRecorder(Recorder):
+    """Writes every message of a world to an MCAP file (see the module docstring)."""
+
+    def __init__(
+        self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
+    ) -> None:
+        self.path = path
+        self._file: IO[bytes] = path.open("wb")
+        self._writer = Writer(self._file, use_chunking=False)
+        self._writer.start(profile="", library="toyroom")
+        self._schemas: dict[str, int] = {}
+        self._channels: dict[tuple[str, str], int] = {}
+        self._stop = threading.Event()
+        self._flusher = threading.Thread(target=self._flush_every, name="mcap flush", daemon=True)
+        super().__init__(bridge, info=info, timeout=timeout)
+        self._flusher.start()
+
+    def _channel(self, key: str, message: Message) -> int:
+        tag = tag_of(type(message))
+        if tag not in self._schemas:
+            schema = json.dumps(message_schema(type(message))).encode()
+            self._schemas[tag] = self._writer.register_schema(
+                name=f"toyroom.{tag}", encoding="jsonschema", data=schema
+            )
+        channel = self._channels.get((key, tag))
+        if channel is None:
+            channel = self._writer.register_channel(
+                topic=key, message_encoding="json", schema_id=self._schemas[tag]
+            )
+            self._channels[(key, tag)] = channel
+        return channel
+
+    def _store(self, key: str, message: Message) -> None:
+        now = time.time_ns()
+        self._writer.add_message(
+            channel_id=self._channel(key, message),
+            log_time=now,
+            data=encode(message),
+            publish_time=now,
+            sequence=self.count,
+        )
+
+    def _flush_every(self) -> None:
+        while not self._stop.wait(FLUSH_SECONDS):
+            with self._lock:
+                if self._open:
+                    self._file.flush()
+
+    def _finish(self) -> None:
+        self._stop.set()
+        self._writer.finish()
+        self._file.close()
+
+
+@dataclass(frozen=True)
+class Recorded:
+    """One recorded message: its key, its JSON payload, and when it was recorded (ns)."""
+
+    key: str
+    data: bytes
+    log_time: int
+
+
+def read_mcap(path: Path) -> Iterator[Recorded]:
+    """The messages of an MCAP file in recorded order, up to where a cut-off file stops."""
+    channels: dict[int, Channel] = {}
+    with path.open("rb") as handle:
+        reader = StreamReader(handle, skip_magic=False, emit_chunks=False, validate_crcs=False)
+        try:
+            for record in reader.records:
+                if isinstance(record, Channel):
+                    channels[record.id] = record
+                elif isinstance(record, McapMessage) and record.channel_id in channels:
+                    yield Recorded(channels[record.channel_id].topic, bytes(record.data), record.log_time)
+                elif isinstance(record, Schema):
+                    continue
+        except Exception:  # a file cut off mid-record (a killed recorder) ends here
+            return
+
+
+def mcap_to_trace(source: Path, target: Path) -> int:
+    """Write an MCAP recording as a ``trace.jsonl``; return the number of messages."""
+    from protocol import ProtocolError, decode
+
+    count = 0
+    with target.open("w", encoding="utf-8") as out:
+        for recorded in read_mcap(source):
+            try:
+                message = decode(recorded.data)
+            except ProtocolError:
+                continue
+            out.write(trace_line(recorded.key, message) + "\n")
+            count += 1
+    return count

@@ -1,0 +1,92 @@
+"""``toyroom replay FILE.mcap``: republish a recording so brains and viewers run on it.
+
+Messages go out on their recorded keys (moved to another world with ``world``), spaced as
+recorded divided by ``speed`` (0: as fast as possible). The recorded handshake is served on
+``engine/info`` with a real-time clock, so a brain follows the replay as it would a live
+real-time engine, and a viewer draws it.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+
+import msgspec
+import zenoh
+
+from protocol import ClockMode, EngineInfo, Keys, ProtocolError, decode
+
+from ..bridge import Bridge
+from ..handshake import serve_info
+from .mcap import read_mcap
+
+_JSON = zenoh.Encoding("application/json")
+
+
+def replay(
+    bridge: Bridge,
+    path: Path,
+    *,
+    speed: float = 1.0,
+    stop: threading.Event | None = None,
+    until_tick: int | None = None,
+    wait_subscribers: float = 0.0,
+) -> int:
+    """Republish ``path`` into ``bridge``'s world (up to tick ``until_tick``, when given);
+    return the number of messages sent. With ``wait_subscribers``, first wait up to that many
+    seconds for someone to subscribe to the world's state."""
+    records = list(read_mcap(path))
+    info = None
+    for record in records:
+        if record.key.endswith("/engine/info"):
+            try:
+                found = decode(record.data, EngineInfo)
+            except ProtocolError:
+                continue
+            info = msgspec.structs.replace(found, world=bridge.world, clock=ClockMode.REALTIME)
+            break
+    if info is not None:
+        served = info
+        serve_info(bridge, lambda: served)
+    publishers: dict[str, object] = {}
+    if wait_subscribers > 0:
+        state_key = f"{Keys(bridge.world).prefix}/engine/state"
+        probe = publishers[state_key] = bridge.session.declare_publisher(state_key, encoding=_JSON)
+        deadline = time.monotonic() + wait_subscribers
+        while not probe.matching_status.matching and time.monotonic() < deadline:  # type: ignore[attr-defined]
+            time.sleep(0.05)
+        time.sleep(0.2)  # let every other subscription of the newcomer arrive too
+    sent = 0
+    first = records[0].log_time if records else 0
+    started = time.monotonic()
+    prefix = Keys(bridge.world).prefix
+    for record in records:
+        if record.key.endswith("/engine/info"):
+            continue
+        if stop is not None and stop.is_set():
+            break
+        if until_tick is not None and _tick(record.data) > until_tick:
+            break
+        if speed > 0:
+            due = started + (record.log_time - first) / 1e9 / speed
+            delay = due - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+        parts = record.key.split("/", 2)  # toyroom/<world>/<rest>
+        key = f"{prefix}/{parts[2]}" if len(parts) == 3 else record.key
+        publisher = publishers.get(key)
+        if publisher is None:
+            publisher = publishers[key] = bridge.session.declare_publisher(key, encoding=_JSON)
+        publisher.put(record.data)  # type: ignore[attr-defined]
+        sent += 1
+    return sent
+
+
+def _tick(data: bytes) -> int:
+    """The tick of a JSON message (-1 when it has none)."""
+    try:
+        tick = msgspec.json.decode(data).get("tick", -1)
+    except (msgspec.DecodeError, AttributeError):
+        return -1
+    return tick if isinstance(tick, int) else -1

@@ -1,0 +1,172 @@
+"""``trace.jsonl``, written and read here alone: every message on a world's keys, one JSON
+object per line, so a run can be analysed again without an engine.
+
+Each line is ``{"key": ..., "tick": ..., "payload": {...}}``; ``tick`` is the message's tick
+when it has one, else ``null``. The engine's handshake answer comes first, under the key
+``toyroom/<world>/engine/info`` (:attr:`protocol.Keys.info`). Lines are flushed as they are
+written. :func:`trace_records` reads the lines back; :func:`read_trace` the episode a brain
+consumed (the handshake, then each tick's state and events).
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+from collections import defaultdict
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO
+
+from protocol import EngineInfo, Event, Keys, Message, ProtocolError, State, decode, to_builtins
+
+from ..bridge import Bridge
+from ..errors import BridgeError
+from ..handshake import handshake
+from ..pubsub import Received
+
+
+def trace_line(key: str, message: Message) -> str:
+    """One line of a trace (without the newline)."""
+    payload = to_builtins(message)
+    tick = payload.get("tick")
+    return json.dumps({"key": key, "tick": tick if isinstance(tick, int) else None, "payload": payload})
+
+
+class Recorder:
+    """Records every message of ``bridge``'s world, the engine's handshake first. A context
+    manager; subclasses say how a message is stored (:meth:`_store`) and how the file ends
+    (:meth:`_finish`).
+
+    Args:
+        bridge: an open bridge on the world.
+        info: the engine's handshake answer to record first (``None``: ask the engine).
+        timeout: seconds to wait for the engine's handshake.
+    """
+
+    def __init__(self, bridge: Bridge, *, info: EngineInfo | None = None, timeout: float = 30.0) -> None:
+        self.count = 0
+        self._lock = threading.Lock()
+        self._open = True
+        self._subscriber = bridge.subscribe(bridge.keys.all, self._write)
+        if info is None:
+            info = handshake(bridge, client="toyroom-recorder", role="recorder", timeout=timeout)
+        self._write(info, Received(bridge.keys.info, bridge.encoding))
+
+    def _store(self, key: str, message: Message) -> None:
+        raise NotImplementedError
+
+    def _finish(self) -> None:
+        raise NotImplementedError
+
+    def _write(self, message: Message, received: Received) -> None:
+        with self._lock:
+            if self._open:
+                self._store(received.key, message)
+                self.count += 1
+
+    def close(self) -> None:
+        """Stop recording and finish the file; safe to call twice."""
+        self._subscriber.close()
+        with self._lock:
+            if self._open:
+                self._open = False
+                self._finish()
+
+    def __enter__(self) -> Recorder:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class TraceRecorder(Recorder):
+    """Writes every message of a world to a ``trace.jsonl`` (flushed line by line)."""
+
+    def __init__(
+        self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
+    ) -> None:
+        self.path = path
+        self._file: IO[str] = path.open("w", encoding="utf-8")
+        super().__init__(bridge, info=info, timeout=timeout)
+
+    def _store(self, key: str, message: Message) -> None:
+        self._file.write(trace_line(key, message) + "\n")
+        self._file.flush()
+
+    def _finish(self) -> None:
+        self._file.close()
+
+
+class TraceError(BridgeError):
+    """A trace that cannot be read: names the file (and line) and what is wrong."""
+
+
+@dataclass(frozen=True)
+class Trace:
+    """A recorded episode: the handshake and ``(state, events)`` per tick, in tick order."""
+
+    info: EngineInfo
+    ticks: tuple[tuple[State, tuple[Event, ...]], ...]
+
+    def __iter__(self) -> Iterator[tuple[State, tuple[Event, ...]]]:
+        return iter(self.ticks)
+
+
+def trace_records(path: Path, *, strict: bool = True) -> Iterator[tuple[int, str, Message]]:
+    """``(line number, key, message)`` of every line of a trace, in file order.
+
+    Raises:
+        TraceError: when the file cannot be read, or (``strict``) naming the file and line
+            of a line that is not a trace line; without ``strict`` such lines are skipped.
+    """
+    try:
+        handle = path.open(encoding="utf-8")
+    except OSError as err:
+        raise TraceError(f"{path}: cannot read the trace ({err})") from None
+    with handle:
+        for number, line in enumerate(handle, start=1):
+            if not line.strip():
+                continue
+            try:
+                record = json.loads(line)
+                key = str(record["key"])
+                message = decode(json.dumps(record["payload"]).encode())
+            except (ValueError, KeyError, TypeError, ProtocolError) as err:
+                if strict:
+                    raise TraceError(f"{path}:{number}: not a trace line ({err})") from None
+                continue
+            yield number, key, message
+
+
+def read_trace(path: Path, episode: int | None = None) -> Trace:
+    """Read the episode a brain consumed from a trace; ``episode`` defaults to the last one.
+
+    Raises:
+        TraceError: naming the file and line when a line is not a trace line, or when the
+            trace has no handshake or no state.
+    """
+    info: EngineInfo | None = None
+    keys: Keys | None = None
+    states: dict[tuple[int, int], State] = {}
+    events: dict[tuple[int, int], list[Event]] = defaultdict(list)
+    for _, key, message in trace_records(path):
+        if isinstance(message, EngineInfo) and info is None:
+            info, keys = message, Keys(key.split("/")[1]) if key.count("/") >= 2 else None
+        elif keys is None or key not in (keys.state, keys.events):
+            continue
+        elif isinstance(message, State):
+            states[(message.episode, message.tick)] = message
+        elif isinstance(message, Event):
+            events[(message.episode, message.tick)].append(message)
+    if info is None:
+        raise TraceError(f"{path}: no engine handshake (engine/info) in the trace")
+    if not states:
+        raise TraceError(f"{path}: no engine state in the trace")
+    chosen = episode if episode is not None else max(e for e, _ in states)
+    ticks = tuple(
+        (states[key], tuple(events.get(key, ()))) for key in sorted(k for k in states if k[0] == chosen)
+    )
+    if not ticks:
+        raise TraceError(f"{path}: no state of episode {chosen}")
+    return Trace(info=info, ticks=ticks)
