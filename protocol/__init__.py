@@ -8,7 +8,7 @@ from .codec import Encoding, decode, encode, read_header, to_builtins
 from .control import Pause, Reset, Resume, Step
 from .errors import Error, ProtocolError, VersionMismatch
 from .events import Event, EventKind
-from .geometry import Cell, Pose, Vec2
+from .geometry import NEIGHBOURS, Cell, GridCell, Pose, Vec2
 from .handshake import Capability, ClockMode, EngineInfo, Hello
 from .keys import Keys, check_name
 from .message import Header, Message
@@ -48,6 +48,8 @@ from .truth import ItemPlace, TrueMind, Truth
 from .version import PROTOCOL_VERSION, Version, check_version
 
 __all__ = [
+    "NEIGHBOURS",
+    "GridCell",
     "PROTOCOL_VERSION",
     "Action",
     "Activity",

@@ -10,9 +10,8 @@ from __future__ import annotations
 
 from collections import deque
 
+from .geometry import NEIGHBOURS, GridCell
 from .scene import Scene
-
-GridCell = tuple[int, int]
 
 
 def location_distances(scene: Scene) -> dict[str, dict[GridCell, int]]:
@@ -25,7 +24,7 @@ def location_distances(scene: Scene) -> dict[str, dict[GridCell, int]]:
         queue = deque([start])
         while queue:
             cell = queue.popleft()
-            for dc, dr in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            for dc, dr in NEIGHBOURS:
                 nxt = (cell[0] + dc, cell[1] + dr)
                 if nxt in walkable and nxt not in seen:
                     seen[nxt] = seen[cell] + 1

@@ -14,6 +14,13 @@ import msgspec
 
 NonNegInt = Annotated[int, msgspec.Meta(ge=0)]
 
+GridCell = tuple[int, int]
+"""A grid cell as a plain ``(col, row)`` pair (for sets, dicts and arithmetic)."""
+
+NEIGHBOURS: tuple[GridCell, ...] = ((1, 0), (-1, 0), (0, 1), (0, -1))
+"""The 4-neighbourhood as ``(dcol, drow)`` steps: the cells a body can step to, the cells a
+door must touch, and "next to" for speech and hand-overs."""
+
 
 class Cell(msgspec.Struct, frozen=True):
     """A grid cell: integer column (along +x) and row (along +y), both >= 0."""

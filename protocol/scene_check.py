@@ -12,9 +12,8 @@ from collections import Counter, deque
 from collections.abc import Iterable
 
 from .errors import ProtocolError
+from .geometry import NEIGHBOURS
 from .scene import Scene
-
-_NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1))
 
 
 class InvalidScene(ProtocolError):
@@ -91,7 +90,7 @@ def scene_problems(scene: Scene) -> list[str]:
             if joined not in region_ids:
                 problems.append(f"{name}: joins unknown region '{joined}'")
                 continue
-            touching = any(region_of.get((key[0] + dc, key[1] + dr)) == joined for dc, dr in _NEIGHBOURS)
+            touching = any(region_of.get((key[0] + dc, key[1] + dr)) == joined for dc, dr in NEIGHBOURS)
             if not touching:
                 problems.append(f"{name}: cell ({key[0]},{key[1]}) does not touch region '{joined}' it joins")
 
@@ -137,7 +136,7 @@ def scene_problems(scene: Scene) -> list[str]:
         frontier = deque([start])
         while frontier:
             col, row = frontier.popleft()
-            for dc, dr in _NEIGHBOURS:
+            for dc, dr in NEIGHBOURS:
                 nxt = (col + dc, row + dr)
                 if nxt in walkable and nxt not in reached:
                     reached.add(nxt)

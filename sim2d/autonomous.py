@@ -1,7 +1,7 @@
 """Autonomous simulated people: a true belief, a hidden preference, and a simple policy of
 their own (not the brain's planner).
 
-Each tick a person perceives (updating their :class:`~sim2d.truebelief.TrueBelief`), then
+Each tick a person perceives (updating their :class:`~sim2d.personbelief.PersonBelief`), then
 carries on with their current plan or makes a new one:
 
 - wanting to leave (``out``): walk to the outside and wait there;
@@ -28,8 +28,8 @@ import numpy as np
 
 from protocol import EventKind, ItemBelief, Prob, TrueMind
 
+from .personbelief import PersonBelief
 from .scenario import AgentSetup, Autonomy
-from .truebelief import TrueBelief
 from .world import World
 
 OUT = "out"
@@ -56,7 +56,7 @@ class AutonomousPerson:
         items = list(world.items)
         self.options = [*items, OUT]
         self.preference = setup.prefers if setup.prefers is not None else str(rng.choice(self.options))
-        self.belief = TrueBelief(items, [loc.id for loc in world.map.locations])
+        self.belief = PersonBelief(items, [loc.id for loc in world.map.locations])
         self.plan: deque[Primitive] = deque()
         self.current: Primitive | None = None
         self.left = 0

@@ -9,15 +9,18 @@ cell sees the spots of both regions it joins.
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Collection
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from protocol import (
+    NEIGHBOURS,
     AgentKind,
     AgentSpec,
     Cell,
     Door,
+    GridCell,
     ItemSpec,
     Location,
     Region,
@@ -33,10 +36,6 @@ from .errors import ScenarioError
 
 SCENARIO_DIR = bundled_dir("sim2d", "scenarios")
 """Where the bundled maps (``*.map.toml``) and scenarios (``*.toml``) live."""
-
-NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1))
-
-GridCell = tuple[int, int]
 
 
 @dataclass(frozen=True)
@@ -136,16 +135,8 @@ def map_path(name_or_path: str) -> Path:
     return SCENARIO_DIR / f"{name_or_path}.map.toml"
 
 
-def load_map(name_or_path: str) -> GameMap:
-    """Load and check a map.
-
-    Raises:
-        ScenarioError: naming the file, the entry and the problem (an unknown room, a door
-            not between two rooms, an item spot in a wall, an unreachable room...).
-    """
-    path = map_path(name_or_path)
-    data = read_toml(path)
-    name = _str(data, "name", path, "")
+def _grid(data: dict[str, Any], path: Path) -> tuple[float, int, int]:
+    """``cell_size`` (m), ``columns`` and ``rows`` of a map file."""
     try:
         cell_size = float(data.get("cell_size", 1.0))
         columns = int(data["columns"])
@@ -154,94 +145,119 @@ def load_map(name_or_path: str) -> GameMap:
         raise ScenarioError(path, "", f"expected numbers cell_size, columns and rows ({err})") from None
     if cell_size <= 0 or columns < 1 or rows < 1:
         raise ScenarioError(path, "", "cell_size must be > 0 and columns, rows >= 1")
+    return cell_size, columns, rows
 
-    regions: list[Region] = []
+
+def _rect_cells(rect: Any, path: Path, entry: str, columns: int, rows: int) -> list[GridCell]:
+    """The cells of one ``[col, row, width, height]`` rectangle, each inside the grid."""
+    if not (isinstance(rect, list) and len(rect) == 4 and all(isinstance(v, int) for v in rect)):
+        raise ScenarioError(path, entry, f"expected rects of [col, row, width, height], got {rect!r}")
+    col, row, width, height = rect
+    if width < 1 or height < 1:
+        raise ScenarioError(path, entry, f"rect {rect} has no cells")
+    cells = [(c, r) for c in range(col, col + width) for r in range(row, row + height)]
+    for c, r in cells:
+        if not (0 <= c < columns and 0 <= r < rows):
+            raise ScenarioError(path, entry, f"cell ({c},{r}) is outside the {columns}x{rows} grid")
+    return cells
+
+
+def _region(
+    table: dict[str, Any], i: int, path: Path, grid: tuple[int, int], region_of: dict[GridCell, str]
+) -> Region:
+    """``regions[i]``, its cells added to ``region_of`` (each cell in one region only)."""
+    rid = _str(table, "id", path, f"regions[{i}]")
+    entry = f"regions[{i}] '{rid}'"
+    try:
+        kind = RegionKind(table.get("kind", "room"))
+    except ValueError:
+        known = ", ".join(k.value for k in RegionKind)
+        raise ScenarioError(path, entry, f"unknown kind {table.get('kind')!r}; known: {known}") from None
+    cells: list[GridCell] = []
+    for rect in table.get("rects", []):
+        for c, r in _rect_cells(rect, path, entry, *grid):
+            if (c, r) in region_of:
+                raise ScenarioError(path, entry, f"cell ({c},{r}) already belongs to '{region_of[(c, r)]}'")
+            region_of[(c, r)] = rid
+            cells.append((c, r))
+    if not cells:
+        raise ScenarioError(path, entry, "a region needs at least one cell ('rects')")
+    return Region(id=rid, kind=kind, cells=tuple(Cell(*c) for c in cells), name=str(table.get("name", "")))
+
+
+def _regions(
+    data: dict[str, Any], path: Path, grid: tuple[int, int]
+) -> tuple[list[Region], dict[GridCell, str]]:
+    """Every region, and the region of every region cell."""
     region_of: dict[GridCell, str] = {}
-    for i, table in enumerate(data.get("regions", [])):
-        entry = f"regions[{i}]"
-        rid = _str(table, "id", path, entry)
-        entry = f"regions[{i}] '{rid}'"
-        try:
-            kind = RegionKind(table.get("kind", "room"))
-        except ValueError:
-            known = ", ".join(k.value for k in RegionKind)
-            raise ScenarioError(path, entry, f"unknown kind {table.get('kind')!r}; known: {known}") from None
-        cells: list[GridCell] = []
-        for rect in table.get("rects", []):
-            if not (isinstance(rect, list) and len(rect) == 4 and all(isinstance(v, int) for v in rect)):
-                raise ScenarioError(path, entry, f"expected rects of [col, row, width, height], got {rect!r}")
-            col, row, width, height = rect
-            if width < 1 or height < 1:
-                raise ScenarioError(path, entry, f"rect {rect} has no cells")
-            for c in range(col, col + width):
-                for r in range(row, row + height):
-                    if not (0 <= c < columns and 0 <= r < rows):
-                        raise ScenarioError(
-                            path, entry, f"cell ({c},{r}) is outside the {columns}x{rows} grid"
-                        )
-                    if (c, r) in region_of:
-                        raise ScenarioError(
-                            path, entry, f"cell ({c},{r}) already belongs to '{region_of[(c, r)]}'"
-                        )
-                    region_of[(c, r)] = rid
-                    cells.append((c, r))
-        if not cells:
-            raise ScenarioError(path, entry, "a region needs at least one cell ('rects')")
-        regions.append(
-            Region(id=rid, kind=kind, cells=tuple(Cell(*c) for c in cells), name=str(table.get("name", "")))
-        )
+    regions = [_region(table, i, path, grid, region_of) for i, table in enumerate(data.get("regions", []))]
     region_ids = [r.id for r in regions]
     if not regions:
         raise ScenarioError(path, "regions", "the map has no region")
     if len(set(region_ids)) != len(region_ids):
         raise ScenarioError(path, "regions", f"duplicate region ids in {region_ids}")
+    return regions, region_of
 
-    doors: list[Door] = []
-    for i, table in enumerate(data.get("doors", [])):
-        did = _str(table, "id", path, f"doors[{i}]")
-        entry = f"doors[{i}] '{did}'"
-        cell = parse_cell(table.get("cell"), path, entry)
-        joins = table.get("joins")
-        if not (isinstance(joins, list) and len(joins) == 2 and all(isinstance(j, str) for j in joins)):
-            raise ScenarioError(path, entry, f"expected joins = [region, region], got {joins!r}")
-        for joined in joins:
-            if joined not in region_ids:
-                raise ScenarioError(path, entry, f"unknown room '{joined}'; rooms: {', '.join(region_ids)}")
-        if cell in region_of:
-            raise ScenarioError(path, entry, f"cell {cell} is inside room '{region_of[cell]}', not in a wall")
-        touching = {region_of.get((cell[0] + dc, cell[1] + dr)) for dc, dr in NEIGHBOURS}
-        for joined in joins:
-            if joined not in touching:
-                raise ScenarioError(
-                    path,
-                    entry,
-                    f"door not on a wall shared by {joins[0]} and {joins[1]}: cell {cell} "
-                    f"does not touch '{joined}'",
-                )
-        doors.append(Door(id=did, cell=Cell(*cell), joins=(joins[0], joins[1])))
 
-    locations: list[Location] = []
-    for i, table in enumerate(data.get("locations", [])):
-        lid = _str(table, "id", path, f"locations[{i}]")
-        entry = f"locations[{i}] '{lid}'"
-        region = _str(table, "region", path, entry)
-        if region not in region_ids:
-            raise ScenarioError(path, entry, f"unknown room '{region}'")
-        cell = parse_cell(table.get("cell"), path, entry)
-        if region_of.get(cell) != region:
-            where = f"room '{region_of[cell]}'" if cell in region_of else "a wall"
-            raise ScenarioError(path, entry, f"item spot {cell} is in {where}, not in room '{region}'")
-        locations.append(
-            Location(id=lid, region=region, cell=Cell(*cell), play=bool(table.get("play", False)))
-        )
+def _door(
+    table: dict[str, Any], i: int, path: Path, region_of: dict[GridCell, str], region_ids: list[str]
+) -> Door:
+    """``doors[i]``: a wall cell touching both the regions it joins."""
+    did = _str(table, "id", path, f"doors[{i}]")
+    entry = f"doors[{i}] '{did}'"
+    cell = parse_cell(table.get("cell"), path, entry)
+    joins = table.get("joins")
+    if not (isinstance(joins, list) and len(joins) == 2 and all(isinstance(j, str) for j in joins)):
+        raise ScenarioError(path, entry, f"expected joins = [region, region], got {joins!r}")
+    for joined in joins:
+        if joined not in region_ids:
+            raise ScenarioError(path, entry, f"unknown room '{joined}'; rooms: {', '.join(region_ids)}")
+    if cell in region_of:
+        raise ScenarioError(path, entry, f"cell {cell} is inside room '{region_of[cell]}', not in a wall")
+    touching = {region_of.get((cell[0] + dc, cell[1] + dr)) for dc, dr in NEIGHBOURS}
+    for joined in joins:
+        if joined not in touching:
+            raise ScenarioError(
+                path,
+                entry,
+                f"door not on a wall shared by {joins[0]} and {joins[1]}: cell {cell} "
+                f"does not touch '{joined}'",
+            )
+    return Door(id=did, cell=Cell(*cell), joins=(joins[0], joins[1]))
 
+
+def _location(
+    table: dict[str, Any], i: int, path: Path, region_of: dict[GridCell, str], region_ids: list[str]
+) -> Location:
+    """``locations[i]``: an item spot on a cell of its region."""
+    lid = _str(table, "id", path, f"locations[{i}]")
+    entry = f"locations[{i}] '{lid}'"
+    region = _str(table, "region", path, entry)
+    if region not in region_ids:
+        raise ScenarioError(path, entry, f"unknown room '{region}'")
+    cell = parse_cell(table.get("cell"), path, entry)
+    if region_of.get(cell) != region:
+        where = f"room '{region_of[cell]}'" if cell in region_of else "a wall"
+        raise ScenarioError(path, entry, f"item spot {cell} is in {where}, not in room '{region}'")
+    return Location(id=lid, region=region, cell=Cell(*cell), play=bool(table.get("play", False)))
+
+
+def _visibility(
+    data: dict[str, Any],
+    path: Path,
+    region_of: dict[GridCell, str],
+    doors: list[Door],
+    locations: list[Location],
+) -> dict[GridCell, tuple[str, ...]]:
+    """The spots seen from every walkable cell: a region cell sees the spots of the regions its
+    visibility group names (its own when none does), a door cell those of both its regions."""
+    region_ids = set(region_of.values())
     sees_regions: dict[str, set[str]] = {}
     for i, table in enumerate(data.get("visibility", [])):
-        entry = f"visibility[{i}]"
         for key in ("from", "sees"):
             for rid in table.get(key, []):
                 if rid not in region_ids:
-                    raise ScenarioError(path, entry, f"unknown room '{rid}' in '{key}'")
+                    raise ScenarioError(path, f"visibility[{i}]", f"unknown room '{rid}' in '{key}'")
         for rid in table.get("from", []):
             sees_regions.setdefault(rid, set()).update(table.get("sees", []))
     spots_in: dict[str, list[str]] = {}
@@ -252,19 +268,51 @@ def load_map(name_or_path: str) -> GameMap:
     def spots(regions_seen: set[str]) -> tuple[str, ...]:
         return tuple(sorted((s for r in regions_seen for s in spots_in.get(r, [])), key=order.__getitem__))
 
-    sees: dict[GridCell, tuple[str, ...]] = {}
-    for cell, rid in region_of.items():
-        sees[cell] = spots(sees_regions.get(rid, {rid}))
+    sees = {cell: spots(sees_regions.get(rid, {rid})) for cell, rid in region_of.items()}
     for door in doors:
         sees[(door.cell.col, door.cell.row)] = spots(set(door.joins))
+    return sees
 
+
+def _homes(data: dict[str, Any], path: Path, walkable: Collection[GridCell]) -> dict[str, GridCell]:
+    """The agents' home cells, each walkable."""
     homes: dict[str, GridCell] = {}
     for agent, value in data.get("homes", {}).items():
         cell = parse_cell(value, path, f"homes.{agent}")
-        if cell not in sees:
+        if cell not in walkable:
             raise ScenarioError(path, f"homes.{agent}", f"home cell {cell} is not walkable")
         homes[agent] = cell
+    return homes
 
+
+def _check_reachable(game_map: GameMap) -> None:
+    """The map's scene must pass :func:`protocol.scene_problems` (every room reachable...)."""
+    problems = scene_problems(game_map.scene((), ()))
+    for problem in problems:
+        if problem.startswith("unreachable"):
+            raise ScenarioError(game_map.path, "doors", f"{problem} (unreachable room)")
+    if problems:
+        raise ScenarioError(game_map.path, "", "; ".join(problems))
+
+
+def load_map(name_or_path: str) -> GameMap:
+    """Load and check a map, section by section.
+
+    Raises:
+        ScenarioError: naming the file, the entry and the problem (an unknown room, a door
+            not between two rooms, an item spot in a wall, an unreachable room...).
+    """
+    path = map_path(name_or_path)
+    data = read_toml(path)
+    name = _str(data, "name", path, "")
+    cell_size, columns, rows = _grid(data, path)
+    regions, region_of = _regions(data, path, (columns, rows))
+    region_ids = [r.id for r in regions]
+    doors = [_door(t, i, path, region_of, region_ids) for i, t in enumerate(data.get("doors", []))]
+    locations = [
+        _location(t, i, path, region_of, region_ids) for i, t in enumerate(data.get("locations", []))
+    ]
+    sees = _visibility(data, path, region_of, doors, locations)
     game_map = GameMap(
         name=name,
         path=path,
@@ -275,14 +323,9 @@ def load_map(name_or_path: str) -> GameMap:
         doors=tuple(doors),
         locations=tuple(locations),
         sees=sees,
-        homes=homes,
+        homes=_homes(data, path, sees),
     )
-    problems = scene_problems(game_map.scene((), ()))
-    for problem in problems:
-        if problem.startswith("unreachable"):
-            raise ScenarioError(path, "doors", f"{problem} (unreachable room)")
-    if problems:
-        raise ScenarioError(path, "", "; ".join(problems))
+    _check_reachable(game_map)
     return game_map
 
 

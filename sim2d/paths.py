@@ -10,7 +10,7 @@ import heapq
 from collections import deque
 from collections.abc import Collection, Iterable
 
-from .maps import NEIGHBOURS, GridCell
+from protocol import NEIGHBOURS, GridCell
 
 
 def shortest_path(walkable: Collection[GridCell], start: GridCell, goal: GridCell) -> list[GridCell] | None:

@@ -16,7 +16,8 @@ from typing import Protocol
 
 from protocol import EventKind
 
-from .scenario import AgentSetup, Drop, Enter, Goto, Play, Step, Take, Wait
+from .scenario import AgentSetup
+from .script import Drop, Enter, Goto, Play, Step, Take, Wait
 from .world import World
 
 log = logging.getLogger("toyroom.sim2d")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Collection
 
-from .maps import GridCell
+from protocol import GridCell
 
 Segment = tuple[tuple[float, float], tuple[float, float]]
 

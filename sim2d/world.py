@@ -15,6 +15,7 @@ from protocol import (
     Cell,
     Event,
     EventKind,
+    GridCell,
     ItemState,
     Location,
     Pose,
@@ -22,7 +23,7 @@ from protocol import (
 )
 from protocol.carry import carry_locations
 
-from .maps import GameMap, GridCell
+from .maps import GameMap
 from .paths import path_to_any, shortest_path
 from .physics import Physics
 from .scenario import Scenario

@@ -22,9 +22,8 @@ from functools import cached_property
 import numpy as np
 import numpy.typing as npt
 
+from .arrays import FloatArray
 from .world import WorldModel
-
-FloatArray = npt.NDArray[np.float64]
 
 NOT_IN_VIEW = -1
 

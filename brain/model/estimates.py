@@ -6,11 +6,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
+from .arrays import FloatArray
 from .world import WorldModel
-
-FloatArray = npt.NDArray[np.float64]
 
 OUT = "out"
 """The preference for leaving rather than playing."""

@@ -27,11 +27,11 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-import numpy.typing as npt
 
 from protocol import Scene
 
 from ..settings import ModelSettings
+from .arrays import FloatArray, IntArray
 from .belief import Percept
 from .estimates import Estimate, false_beliefs
 from .inference import hazard_matrix
@@ -49,9 +49,6 @@ from .planner import (
     value_iteration,
 )
 from .world import WorldModel, build_world_model
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.int64]
 
 NOTHING, WANTED, OTHER = 0, 1, 2
 """What a person holds, seen from one preference's MDP."""

@@ -17,11 +17,11 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-import numpy.typing as npt
 
 from protocol import Scene
 
 from ..settings import ModelSettings
+from .arrays import FloatArray
 from .belief import BeliefModel, Percept
 from .estimates import Estimate, estimate
 from .factored import (
@@ -36,8 +36,6 @@ from .factored import (
 from .inference import HmmStep, forward_step, smooth
 from .planner import Policy, cached_policy
 from .world import WorldModel, build_world_model
-
-FloatArray = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)

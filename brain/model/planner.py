@@ -21,10 +21,8 @@ import numpy.typing as npt
 from protocol import Scene
 
 from ..settings import ModelSettings
+from .arrays import FloatArray, IntArray
 from .world import WorldModel, build_world_model
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.int64]
 
 INFEASIBLE = -1
 TERMINAL = -2

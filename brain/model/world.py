@@ -12,16 +12,16 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-import numpy.typing as npt
 
 from protocol import RegionKind, Scene
 from protocol.carry import carry_locations, location_distances
 
-NEIGHBOURS = ((0, 1), (0, -1), (-1, 0), (1, 0))
-"""Up, Down, Left, Right as (d col, d row); rows grow upwards."""
+from .arrays import BoolArray, IntArray
 
-IntArray = npt.NDArray[np.int64]
-BoolArray = npt.NDArray[np.bool_]
+MOVE_STEPS = ((0, 1), (0, -1), (-1, 0), (1, 0))
+"""The cell step of each move action, in action-index order (``Move.UP``, ``DOWN``, ``LEFT``,
+``RIGHT``) as (d col, d row); rows grow upwards. The planner's alphabet, not the
+4-neighbourhood (:data:`protocol.NEIGHBOURS`)."""
 
 
 @dataclass(frozen=True)
@@ -114,7 +114,7 @@ def build_world_model(scene: Scene) -> WorldModel:
     n = len(walkable)
     neighbour = np.full((n, 4), -1, dtype=np.int64)
     for i, (col, row) in enumerate(walkable):
-        for a, (dc, dr) in enumerate(NEIGHBOURS):
+        for a, (dc, dr) in enumerate(MOVE_STEPS):
             neighbour[i, a] = index.get((col + dc, row + dr), -1)
     locations = tuple(loc.id for loc in scene.locations)
     spot_at = np.full(n, -1, dtype=np.int64)

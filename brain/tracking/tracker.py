@@ -13,20 +13,16 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-import numpy as np
-import numpy.typing as npt
-
 from protocol import AgentKind, Event, EventKind, Observer, Scene, State
 
+from ..model.arrays import FloatArray
 from ..model.belief import Percept, percept, told, true_values
 from ..model.estimates import Estimate, false_beliefs
 from ..model.inference import switch_probability
 from ..model.personmodel import PersonFilter, StepRecord, person_model
 from ..model.planner import TAKE, Move, drop_action, play_action
-from ..model.world import NEIGHBOURS
+from ..model.world import MOVE_STEPS
 from ..settings import ModelSettings
-
-FloatArray = npt.NDArray[np.float64]
 
 
 @dataclass
@@ -150,8 +146,8 @@ class MindTracker:
             return None
         old, new = model.cells[track.cell], model.cells[cell]
         delta = (int(new[0] - old[0]), int(new[1] - old[1]))
-        if delta in NEIGHBOURS:
-            return Move(NEIGHBOURS.index(delta)).value
+        if delta in MOVE_STEPS:
+            return Move(MOVE_STEPS.index(delta)).value
         return None  # a jump (a reset, a lost tick): no decision to explain
 
     def _push(

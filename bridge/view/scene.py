@@ -19,7 +19,7 @@ import meshcat.geometry as g  # noqa: E402
 import meshcat.transformations as tf  # noqa: E402
 import numpy as np  # noqa: E402
 
-from protocol import AgentKind, ItemShape, Mind, Scene, State  # noqa: E402
+from protocol import NEIGHBOURS, AgentKind, ItemShape, Mind, Scene, State  # noqa: E402
 
 from ..pubsub import Received  # noqa: E402
 
@@ -101,7 +101,7 @@ class SceneView:
         wall = _material(0x555555)
         count = 0
         for col, row in walkable:
-            for dc, dr in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            for dc, dr in NEIGHBOURS:
                 if (col + dc, row + dr) in walkable:
                     continue
                 x = scene.origin.x + (col + 0.5 + dc / 2) * size

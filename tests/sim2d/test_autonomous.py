@@ -7,25 +7,25 @@ import numpy as np
 import pytest
 
 from sim2d.engine import Engine
-from sim2d.truebelief import TrueBelief
+from sim2d.personbelief import PersonBelief
 
 LOCS = ["P1", "S1", "S2", "P2"]
 
 
 def test_seen_items_are_where_they_are_seen() -> None:
-    belief = TrueBelief(["ball"], LOCS)
+    belief = PersonBelief(["ball"], LOCS)
     belief.perceive({"P1", "S1"}, {"ball": "S1"})
     assert belief.of("ball").tolist() == [0, 1, 0, 0]
 
 
 def test_an_item_not_in_view_is_not_at_a_visible_location() -> None:
-    belief = TrueBelief(["ball"], LOCS)
+    belief = PersonBelief(["ball"], LOCS)
     belief.perceive({"P1", "S1"}, {})
     assert belief.of("ball").tolist() == [0, 0, 0.5, 0.5]
 
 
 def test_unseen_moves_leave_the_belief_alone() -> None:
-    belief = TrueBelief(["ball"], LOCS)
+    belief = PersonBelief(["ball"], LOCS)
     belief.perceive({"P1", "S1"}, {"ball": "S1"})
     belief.perceive(set(), {})  # outside: the ball is moved to S2 unseen
     assert belief.of("ball").tolist() == [0, 1, 0, 0], "people assume unseen things stay put"
@@ -34,7 +34,7 @@ def test_unseen_moves_leave_the_belief_alone() -> None:
 
 
 def test_being_told_replaces_the_belief() -> None:
-    belief = TrueBelief(["ball"], LOCS)
+    belief = PersonBelief(["ball"], LOCS)
     belief.perceive({"P1", "S1"}, {"ball": "S1"})
     belief.told("ball", "P2")
     assert belief.most_likely("ball") == "P2"

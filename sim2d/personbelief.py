@@ -1,5 +1,6 @@
-"""A simulated person's true belief: exact Bayesian over each item's location, with the
-map's visibility and the assumption that unseen things stay put.
+"""A simulated person's own belief (what ``engine/truth`` reports as their true mind):
+exact Bayesian over each item's location, with the map's visibility and the assumption that
+unseen things stay put.
 
 Perception is exact: an item in view is where it is seen (a carried item counts at its
 carrier's location, as the brain reads it); an item not in view is not at any visible
@@ -17,7 +18,7 @@ import numpy.typing as npt
 FloatArray = npt.NDArray[np.float64]
 
 
-class TrueBelief:
+class PersonBelief:
     """Beliefs over ``locations`` for each of ``items``: ``(K, L)`` rows that sum to one."""
 
     def __init__(self, items: Sequence[str], locations: Sequence[str]) -> None:

@@ -1,0 +1,198 @@
+"""The robot tree's branches, one builder each, in the paper's priority order (Section IV.B):
+inform, swap, put back, then go home (:func:`build_tree` puts them together)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import py_trees
+
+from protocol import Give, GridCell, Pick, Place, Request, Say, SayTopic
+
+from ..settings import RobotSettings
+from .behaviours import Act, FindTask, GoHome, TaskBranch
+from .context import RobotContext, Skip, Step
+from .situation import Inform, Occupied, PutBack, inform_tasks, occupied_tasks, put_back_tasks
+
+
+def navigate_timeout(settings: RobotSettings) -> float:
+    """How long a walk may take (s)."""
+    return settings.navigate_timeout
+
+
+def _inform(ctx: RobotContext) -> Inform:
+    assert isinstance(ctx.task, Inform)
+    return ctx.task
+
+
+def _occupied(ctx: RobotContext) -> Occupied:
+    assert isinstance(ctx.task, Occupied)
+    return ctx.task
+
+
+def _put_back(ctx: RobotContext) -> PutBack:
+    assert isinstance(ctx.task, PutBack)
+    return ctx.task
+
+
+def go_to(
+    name: str, where: Callable[[RobotContext], GridCell | None], ns: str, *, guarded: bool = False
+) -> Act:
+    """Walk next to the cell ``where`` says (``guarded``: give up once the task is not needed)."""
+    return Act(name, lambda c: c.near(where(c)), ns, timeout=navigate_timeout, guarded=guarded)
+
+
+def with_offer(make: Callable[[RobotContext, str], Step]) -> Callable[[RobotContext], Step]:
+    """An action maker for the swap's offered item (nothing to do when there is no offer)."""
+
+    def build(ctx: RobotContext) -> Step:
+        offer = _occupied(ctx).offer
+        return Skip.SKIP if offer is None else make(ctx, offer)
+
+    return build
+
+
+def offer_spot(ctx: RobotContext, offer: str) -> Step:
+    """A walk to where the offered item is (nothing to do when the robot already holds it)."""
+    assert ctx.snapshot is not None
+    location, holder = ctx.snapshot.item(offer)
+    if ctx.holding(ctx.robot) == offer:
+        return Skip.SKIP
+    return ctx.near(ctx.location_cell(location) if location else ctx.cell_of(holder or ""))
+
+
+def inform_branch(ns: str) -> TaskBranch:
+    """A person heads for an item that is not where they believe: tell them where it is."""
+    say = Act(
+        "say where it is",
+        lambda c: Say(
+            person=_inform(c).person,
+            item=_inform(c).item,
+            topic=SayTopic.LOCATION,
+            location=_inform(c).location,
+        ),
+        ns,
+        says=lambda c: f"{_inform(c).person}, the {_inform(c).item} is at {_inform(c).location}.",
+    )
+    return TaskBranch(
+        "inform",
+        ns,
+        [
+            FindTask("false belief?", "inform", inform_tasks, ns),
+            go_to("go to the person", lambda c: c.cell_of(_inform(c).person), ns, guarded=True),
+            say,
+        ],
+    )
+
+
+def _swap_question(ctx: RobotContext) -> str:
+    task = _occupied(ctx)
+    offer = f" for the {task.offer}?" if task.offer else "?"
+    return f"{task.holder}, would you give the {task.item} to {task.person}" + offer
+
+
+def _holder_cell(ctx: RobotContext) -> GridCell | None:
+    return ctx.cell_of(_occupied(ctx).holder)
+
+
+def _person_cell(ctx: RobotContext) -> GridCell | None:
+    return ctx.cell_of(_occupied(ctx).person)
+
+
+def swap_accepted(ns: str) -> py_trees.composites.Sequence:
+    """Ask the holder for a swap; on yes, bring the item to the person and the offer back."""
+    ask = Act(
+        "ask for a swap",
+        lambda c: Request(person=_occupied(c).holder, item=_occupied(c).item, offer=_occupied(c).offer),
+        ns,
+        says=_swap_question,
+    )
+    pick = Act(
+        "pick the offer", with_offer(lambda c, o: Skip.SKIP if c.holding(c.robot) == o else Pick(item=o)), ns
+    )
+    back = Act(
+        "go to the holder", with_offer(lambda c, o: c.near(_holder_cell(c))), ns, timeout=navigate_timeout
+    )
+    children: list[py_trees.behaviour.Behaviour] = [
+        go_to("go to the holder", _holder_cell, ns),
+        ask,
+        go_to("go to the person", _person_cell, ns),
+        Act("give the item", lambda c: Give(person=_occupied(c).person), ns),
+        Act("go to the offer", with_offer(offer_spot), ns, timeout=navigate_timeout),
+        pick,
+        back,
+        Act("give the offer", with_offer(lambda c, o: Give(person=_occupied(c).holder)), ns),
+    ]
+    return py_trees.composites.Sequence("swap accepted", memory=True, children=children)
+
+
+def _say_free(ctx: RobotContext, offer: str) -> Step:
+    """Tell the person where the free, offered item is (nothing to say when it is carried)."""
+    location = ctx.snapshot.item(offer)[0] if ctx.snapshot is not None else None
+    if not location:
+        return Skip.SKIP
+    return Say(person=_occupied(ctx).person, item=offer, topic=SayTopic.LOCATION, location=location)
+
+
+def swap_declined(ns: str) -> py_trees.composites.Sequence:
+    """On no, tell the person where the other item is."""
+    say = Act(
+        "say where the other item is",
+        with_offer(_say_free),
+        ns,
+        says=lambda c: f"{_occupied(c).person}, the {_occupied(c).offer} is free.",
+    )
+    children: list[py_trees.behaviour.Behaviour] = [
+        go_to("go to the person", _person_cell, ns),
+        say,
+    ]
+    return py_trees.composites.Sequence("swap declined", memory=True, children=children)
+
+
+def swap_branch(ns: str) -> TaskBranch:
+    """A person's preferred item is held by someone else: say so, then ask for a swap."""
+    say = Act(
+        "say it is occupied",
+        lambda c: Say(
+            person=_occupied(c).person,
+            item=_occupied(c).item,
+            topic=SayTopic.OCCUPIED,
+            holder=_occupied(c).holder,
+        ),
+        ns,
+        says=lambda c: (
+            f"{_occupied(c).person}, {_occupied(c).holder} is playing with the {_occupied(c).item}."
+        ),
+    )
+    ask = py_trees.composites.Selector("ask", memory=True, children=[swap_accepted(ns), swap_declined(ns)])
+    return TaskBranch(
+        "swap",
+        ns,
+        [
+            FindTask("preferred item occupied?", "swap", occupied_tasks, ns),
+            go_to("go to the person", _person_cell, ns, guarded=True),
+            say,
+            ask,
+        ],
+    )
+
+
+def put_back_branch(ns: str) -> TaskBranch:
+    """An item was moved while the person who left it was away: bring it back."""
+    return TaskBranch(
+        "put back",
+        ns,
+        [
+            FindTask("moved while away?", "put back", put_back_tasks, ns),
+            go_to("go to the item", lambda c: c.cell_of_item(_put_back(c).item), ns, guarded=True),
+            Act("pick it", lambda c: Pick(item=_put_back(c).item), ns),
+            go_to("go to its place", lambda c: c.location_cell(_put_back(c).location), ns),
+            Act("put it there", lambda c: Place(location=_put_back(c).location), ns),
+        ],
+    )
+
+
+def build_tree(namespace: str) -> py_trees.behaviour.Behaviour:
+    """The robot's tree; its behaviours use the context at ``<namespace>/context``."""
+    branches = [inform_branch(namespace), swap_branch(namespace), put_back_branch(namespace)]
+    return py_trees.composites.Selector("robot", memory=False, children=[*branches, GoHome(namespace)])
