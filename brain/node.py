@@ -21,6 +21,7 @@ import queue
 import threading
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
 
@@ -80,6 +81,8 @@ class BrainNode:
         self.shadows = tuple(shadows)
         self.shadow_dir = shadow_dir or Path(".")
         self._open_shadows: list[ShadowMinds] = []
+        self._max_ticks: int | None = None
+        self._on_tick: Callable[[State, tuple[Event, ...]], None] | None = None
         self.robot_mode = robot
         self.robot_settings = robot_settings or RobotSettings()
         self.settings = settings or ModelSettings()
@@ -88,13 +91,6 @@ class BrainNode:
         self.handshake_timeout = handshake_timeout
         self._mind = bridge.publisher(bridge.keys.mind)
         bridge.token("brain", BRAIN_NAME)
-
-    def _shadow(self, info: EngineInfo) -> ShadowMinds | None:
-        if not self.shadows:
-            return None
-        shadow = ShadowMinds(info.scene, self.shadows, self.shadow_dir, self.settings)
-        self._open_shadows.append(shadow)
-        return shadow
 
     def _robot(self, info: EngineInfo, tracker: MindTracker) -> RobotBrain | None:
         robots = [a for a in info.scene.agents if a.kind is AgentKind.ROBOT]
@@ -105,21 +101,35 @@ class BrainNode:
         log.info("robot '%s' %s", spec.id, "acts" if acts else "only observes")
         return RobotBrain(tracker, spec.id, self.robot_settings) if acts else None
 
-    def _connect_robot(
-        self, info: EngineInfo, tracker: MindTracker
-    ) -> tuple[RobotBrain | None, queue.Queue[CommandStatus], Publisher[Message] | None]:
-        """The robot brain (when the robot acts), a queue of its statuses, and its command
-        publisher, once the engine listens to it."""
+    def _link(self, info: EngineInfo, old: _Link | None, realtime: bool) -> _Link:
+        """What following the engine of ``info`` takes: the person models (kept from ``old``
+        when the scene is the same, new otherwise), the shadow observers (which stop when the
+        scene changes: their files hold one scene), and the robot's command channel, once
+        the engine listens to it."""
+        same = old is not None and old.info.scene == info.scene
+        tracker = (
+            old.tracker if old is not None and same else MindTracker(info.scene, self.settings, self.observer)
+        )
+        shadow = old.shadow if old is not None and same else None
+        if old is None and self.shadows:
+            shadow = ShadowMinds(info.scene, self.shadows, self.shadow_dir, self.settings)
+            self._open_shadows.append(shadow)
+        elif old is not None and old.shadow is not None and not same:
+            log.warning("another scene: the shadow observers stop here")
         robot = self._robot(info, tracker)
-        inbox: queue.Queue[CommandStatus] = queue.Queue()
+        link = _Link(info, tracker, shadow, robot)
         if robot is None:
-            return None, inbox, None
+            return link
         keys = self.bridge.keys
-        self.bridge.subscribe(keys.status(robot.robot), lambda s, _: inbox.put(s), expected=CommandStatus)
-        commands = self.bridge.publisher(keys.command(robot.robot))
-        if not commands.wait_matched(self.handshake_timeout):
+        self.bridge.subscribe(
+            keys.status(robot.robot), lambda s, _: link.inbox.put(s), expected=CommandStatus
+        )
+        link.commands = self.bridge.publisher(keys.command(robot.robot))
+        if not link.commands.wait_matched(self.handshake_timeout):
             raise StepTimeout(f"the engine never subscribed to '{keys.command(robot.robot)}'")
-        return robot, inbox, commands
+        if realtime:
+            link.heartbeats = _Heartbeats(self.bridge, robot.robot)
+        return link
 
     def run(
         self,
@@ -130,109 +140,94 @@ class BrainNode:
         on_tick: Callable[[State, tuple[Event, ...]], None] | None = None,
     ) -> tuple[str, MindTracker]:
         """Reset the engine, follow the episode to its end, return (scenario, tracker)."""
+        self._max_ticks, self._on_tick = max_ticks, on_tick
         try:
-            return self._run(scenario, seed, max_ticks=max_ticks, on_tick=on_tick)
+            first = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
+            if first.clock is ClockMode.REALTIME:
+                return self._free_run(scenario, seed)
+            return self._lockstep(first, scenario, seed)
         finally:
             for shadow in self._open_shadows:
                 shadow.close()
             self._open_shadows.clear()
 
-    def _run(
-        self,
-        scenario: str | None,
-        seed: int,
-        *,
-        max_ticks: int | None,
-        on_tick: Callable[[State, tuple[Event, ...]], None] | None,
-    ) -> tuple[str, MindTracker]:
-        first = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
-        if first.clock is ClockMode.REALTIME:
-            return self._free_run(first, scenario, seed, max_ticks=max_ticks, on_tick=on_tick)
+    def _tick(self, link: _Link, state: State, events: tuple[Event, ...]) -> bool:
+        """The per-tick pipeline of both clocks: the estimates, the shadows, the robot's tree
+        and commands (in lock-step each awaited until the engine accepts or refuses it), the
+        ``brain/mind`` message. Whether the episode is over."""
+        link.tracker.observe(state, events)
+        if link.shadow is not None:
+            link.shadow.observe(state, events)
+        robot = link.robot
+        if robot is not None and link.commands is not None:
+            if link.heartbeats is not None:  # real time: tell the engine the brain is there
+                link.heartbeats.beat()
+                self._drain(robot, link.inbox)
+            robot.observe(events)
+            for command in robot.tick(state):
+                link.commands.put(command)
+                if link.heartbeats is None:
+                    self._await_receipt(robot, link.inbox, command.id)
+        self._mind.put(mind_message(link.tracker, state, robot.activity() if robot is not None else None))
+        if self._on_tick is not None:
+            self._on_tick(state, events)
+        return state.done or (self._max_ticks is not None and state.tick >= self._max_ticks)
+
+    def _lockstep(self, first: EngineInfo, scenario: str | None, seed: int) -> tuple[str, MindTracker]:
+        """Drive the engine's clock one tick at a time."""
         clock = LockstepClient(self.bridge, timeout=self.timeout)
         state = clock.reset(scenario=scenario or first.scenario or None, seed=seed)
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("engine '%s', scenario '%s', scene '%s'", info.engine, info.scenario, info.scene.name)
-        tracker = MindTracker(info.scene, self.settings, self.observer)
-        shadow = self._shadow(info)
-        robot, inbox, commands = self._connect_robot(info, tracker)
-        lost = threading.Event()
-        self.bridge.presence("engine", lambda e: lost.clear() if e.alive else lost.set())
+        link = self._link(info, None, realtime=False)
+        lost = self._watch_engine()
         events = clock.last_reply.events if clock.last_reply is not None else ()
-        while True:
-            tracker.observe(state, events)
-            if shadow is not None:
-                shadow.observe(state, events)
-            if robot is not None and commands is not None:
-                robot.observe(events)
-                for command in robot.tick(state):
-                    commands.put(command)
-                    self._await_receipt(robot, inbox, command.id)
-            self._mind.put(mind_message(tracker, state, robot.activity() if robot is not None else None))
-            if on_tick is not None:
-                on_tick(state, events)
-            if state.done or (max_ticks is not None and state.tick >= max_ticks):
-                break
+        while not self._tick(link, state, events):
             try:
                 state = clock.step(1)
             except (StepTimeout, NoReply):
                 if not lost.wait(2.0):  # the engine is there but does not answer: a real failure
                     raise
-                info, tracker, robot, inbox, commands, _ = self._engine_lost(info, tracker, robot, lost)
-                state = clock.reset(scenario=scenario or info.scenario or None, seed=seed)
+                link = self._engine_lost(link, lost, realtime=False)
+                state = clock.reset(scenario=scenario or link.info.scenario or None, seed=seed)
                 events = clock.last_reply.events if clock.last_reply is not None else ()
                 continue
             reply = clock.last_reply
             events = reply.events if reply is not None else ()
-            if robot is not None and reply is not None:
+            if link.robot is not None and reply is not None:
                 for status in reply.statuses:
-                    robot.record(status)
-                self._drain(robot, inbox)
+                    link.robot.record(status)
+                self._drain(link.robot, link.inbox)
         clock.close()
-        return info.scenario, tracker
+        return link.info.scenario, link.tracker
 
-    def _free_run(
-        self,
-        first: EngineInfo,
-        scenario: str | None,
-        seed: int,
-        *,
-        max_ticks: int | None,
-        on_tick: Callable[[State, tuple[Event, ...]], None] | None,
-    ) -> tuple[str, MindTracker]:
-        """Follow a real-time engine: the newest state each time, with the events up to it."""
-        states: queue.Queue[State] = queue.Queue()
-        events: queue.Queue[Event] = queue.Queue()
-        self.bridge.subscribe(self.bridge.keys.state, lambda m, _: states.put(m), expected=State)
-        self.bridge.subscribe(self.bridge.keys.events, lambda m, _: events.put(m), expected=Event)
-        episode: int | None = None
-        if scenario is not None:  # a fresh episode, as in lock-step
-            reply = self.bridge.query(
-                self.bridge.keys.control, Reset(scenario=scenario, seed=seed), ControlReply
-            )
-            episode = reply.episode
-        info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
-        log.info("free-running with engine '%s', scenario '%s'", info.engine, info.scenario)
-        tracker = MindTracker(info.scene, self.settings, self.observer)
-        shadow = self._shadow(info)
-        robot, inbox, commands = self._connect_robot(info, tracker)
-        heartbeats = _Heartbeats(self.bridge, robot.robot if robot is not None else "none")
-        pending: list[Event] = []
+    def _watch_engine(self) -> threading.Event:
+        """An event set while no engine of the world is alive."""
         lost = threading.Event()
         self.bridge.presence("engine", lambda e: lost.clear() if e.alive else lost.set())
+        return lost
+
+    def _free_run(self, scenario: str | None, seed: int) -> tuple[str, MindTracker]:
+        """Follow a real-time engine: the newest state each time, with the events up to it."""
+        states: queue.Queue[State] = queue.Queue()
+        feed = _EventFeed(self.bridge)
+        self.bridge.subscribe(self.bridge.keys.state, lambda m, _: states.put(m), expected=State)
+        episode: int | None = None
+        if scenario is not None:  # a fresh episode, as in lock-step
+            reset = Reset(scenario=scenario, seed=seed)
+            episode = self.bridge.query(self.bridge.keys.control, reset, ControlReply).episode
+        info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
+        log.info("free-running with engine '%s', scenario '%s'", info.engine, info.scenario)
+        link = self._link(info, None, realtime=True)
+        lost = self._watch_engine()
         last_state = time.monotonic()
         while True:
             try:
                 state = states.get(timeout=0.2)
             except queue.Empty:
                 if lost.is_set():
-                    info, tracker, robot, inbox, commands, episode = self._engine_lost(
-                        info, tracker, robot, lost
-                    )
-                    heartbeats = _Heartbeats(self.bridge, robot.robot if robot is not None else "none")
-                    if shadow is not None and shadow.scene != info.scene:
-                        log.warning("another scene: the shadow observers stop here")
-                        shadow = None
-                    pending.clear()  # the old engine's events
+                    link, episode = self._engine_lost(link, lost, realtime=True), None
+                    feed.clear()  # the old engine's events
                     last_state = time.monotonic()
                 elif self.timeout is not None and time.monotonic() - last_state > self.timeout:
                     key = self.bridge.keys.state
@@ -243,50 +238,21 @@ class BrainNode:
             last_state = time.monotonic()
             while not states.empty():  # take the newest
                 state = states.get_nowait()
-            if episode is None:
-                episode = state.episode
+            episode = state.episode if episode is None else episode
             if state.episode < episode:
                 continue  # a state of the episode before the reset
             if state.episode != episode:
                 log.info("the engine started episode %s: stopping", state.episode)
                 break
-            while not events.empty():
-                pending.append(events.get_nowait())
-            now = tuple(e for e in pending if e.episode == state.episode and e.tick <= state.tick)
-            pending = [e for e in pending if (e.episode, e.tick) > (state.episode, state.tick)]
-            tracker.observe(state, now)
-            if shadow is not None:
-                shadow.observe(state, now)
-            if robot is not None and commands is not None:
-                heartbeats.beat()
-                self._drain(robot, inbox)
-                robot.observe(now)
-                for command in robot.tick(state):
-                    commands.put(command)
-            self._mind.put(mind_message(tracker, state, robot.activity() if robot is not None else None))
-            if on_tick is not None:
-                on_tick(state, now)
-            if state.done or (max_ticks is not None and state.tick >= max_ticks):
+            if self._tick(link, state, feed.up_to(state)):
                 break
-        return info.scenario, tracker
+        return link.info.scenario, link.tracker
 
-    def _engine_lost(
-        self,
-        info: EngineInfo,
-        tracker: MindTracker,
-        robot: RobotBrain | None,
-        lost: threading.Event,
-    ) -> tuple[
-        EngineInfo,
-        MindTracker,
-        RobotBrain | None,
-        queue.Queue[CommandStatus],
-        Publisher[Message] | None,
-        None,
-    ]:
+    def _engine_lost(self, link: _Link, lost: threading.Event, realtime: bool) -> _Link:
         """The engine went away: say so, give up its commands, keep the estimates, and wait
         for an engine of the same world; then shake hands again (a new model if the scene
         changed)."""
+        info, robot = link.info, link.robot
         log.warning("engine '%s' lost: keeping the estimates, waiting for it to come back", info.engine)
         if robot is not None:
             for command in robot.tree.context.book.in_flight():
@@ -304,11 +270,9 @@ class BrainNode:
         again = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         if again.scene != info.scene:
             log.warning("engine '%s' is back with another scene: a new model", again.engine)
-            tracker = MindTracker(again.scene, self.settings, self.observer)
         else:
             log.warning("engine '%s' is back: carrying on", again.engine)
-        robot, inbox, commands = self._connect_robot(again, tracker)
-        return again, tracker, robot, inbox, commands, None
+        return self._link(again, link, realtime)
 
     @staticmethod
     def _drain(robot: RobotBrain, inbox: queue.Queue[CommandStatus]) -> None:
@@ -331,6 +295,41 @@ class BrainNode:
                 robot.record(inbox.get(timeout=remaining))
             except queue.Empty:
                 continue
+
+
+@dataclass
+class _Link:
+    """What the brain holds for the engine it follows."""
+
+    info: EngineInfo
+    tracker: MindTracker
+    shadow: ShadowMinds | None
+    robot: RobotBrain | None
+    inbox: queue.Queue[CommandStatus] = field(default_factory=queue.Queue)
+    """The robot's command statuses, as they arrive."""
+    commands: Publisher[Message] | None = None
+    heartbeats: _Heartbeats | None = None
+    """Real-time engines only."""
+
+
+class _EventFeed:
+    """A real-time engine's events, handed out with the state they lead up to."""
+
+    def __init__(self, bridge: Bridge) -> None:
+        self.queue: queue.Queue[Event] = queue.Queue()
+        self.pending: list[Event] = []
+        bridge.subscribe(bridge.keys.events, lambda m, _: self.queue.put(m), expected=Event)
+
+    def up_to(self, state: State) -> tuple[Event, ...]:
+        """The events of ``state``'s episode up to its tick, not handed out before."""
+        while not self.queue.empty():
+            self.pending.append(self.queue.get_nowait())
+        now = tuple(e for e in self.pending if e.episode == state.episode and e.tick <= state.tick)
+        self.pending = [e for e in self.pending if (e.episode, e.tick) > (state.episode, state.tick)]
+        return now
+
+    def clear(self) -> None:
+        self.pending.clear()
 
 
 class _Heartbeats:

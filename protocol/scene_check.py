@@ -12,7 +12,7 @@ from collections import Counter, deque
 from collections.abc import Iterable
 
 from .errors import ProtocolError
-from .geometry import NEIGHBOURS
+from .geometry import NEIGHBOURS, GridCell
 from .scene import Scene
 
 
@@ -37,28 +37,28 @@ def _duplicates(ids: Iterable[str]) -> list[str]:
     return sorted(i for i, n in Counter(ids).items() if n > 1)
 
 
-def scene_problems(scene: Scene) -> list[str]:
-    """Every inconsistency in ``scene``, as readable lines; empty when the scene is sound."""
-    problems: list[str] = []
+Cells = dict[GridCell, str]
 
-    def in_grid(col: int, row: int) -> bool:
-        return 0 <= col < scene.columns and 0 <= row < scene.rows
 
-    if not scene.regions:
-        problems.append("regions: the scene has no region")
+def _id_problems(scene: Scene) -> list[str]:
+    problems = ["regions: the scene has no region"] if not scene.regions else []
     for what, ids in (
         ("region/door", [r.id for r in scene.regions] + [d.id for d in scene.doors]),
         ("location", [loc.id for loc in scene.locations]),
         ("agent/item", [a.id for a in scene.agents] + [i.id for i in scene.items]),
     ):
-        for dup in _duplicates(ids):
-            problems.append(f"duplicate {what} id '{dup}'")
+        problems += [f"duplicate {what} id '{dup}'" for dup in _duplicates(ids)]
+    return problems
 
-    region_of: dict[tuple[int, int], str] = {}
+
+def _region_cells(scene: Scene, problems: list[str]) -> Cells:
+    """The region of every region cell (the first region to claim it), noting cells outside
+    the grid or claimed twice in ``problems``."""
+    region_of: Cells = {}
     for i, region in enumerate(scene.regions):
         for cell in region.cells:
             key = (cell.col, cell.row)
-            if not in_grid(*key):
+            if not (0 <= cell.col < scene.columns and 0 <= cell.row < scene.rows):
                 problems.append(
                     f"regions[{i}] '{region.id}': cell ({cell.col},{cell.row}) is outside the "
                     f"{scene.columns}x{scene.rows} grid"
@@ -69,33 +69,35 @@ def scene_problems(scene: Scene) -> list[str]:
                     f"to region '{region_of[key]}'"
                 )
             region_of.setdefault(key, region.id)
-    region_ids = {r.id for r in scene.regions}
+    return region_of
 
-    door_cells: set[tuple[int, int]] = set()
+
+def _door_problems(scene: Scene, region_of: Cells) -> list[str]:
+    problems: list[str] = []
+    region_ids = {r.id for r in scene.regions}
     for i, door in enumerate(scene.doors):
         key = (door.cell.col, door.cell.row)
         name = f"doors[{i}] '{door.id}'"
-        door_cells.add(key)
-        if not in_grid(*key):
+        if not (0 <= key[0] < scene.columns and 0 <= key[1] < scene.rows):
             problems.append(f"{name}: cell ({key[0]},{key[1]}) is outside the grid")
         if key in region_of:
             problems.append(
                 f"{name}: cell ({key[0]},{key[1]}) lies inside region '{region_of[key]}'"
                 " (a door cell belongs to no region)"
             )
-        a, b = door.joins
-        if a == b:
-            problems.append(f"{name}: joins region '{a}' to itself")
+        if door.joins[0] == door.joins[1]:
+            problems.append(f"{name}: joins region '{door.joins[0]}' to itself")
         for joined in door.joins:
             if joined not in region_ids:
                 problems.append(f"{name}: joins unknown region '{joined}'")
-                continue
-            touching = any(region_of.get((key[0] + dc, key[1] + dr)) == joined for dc, dr in NEIGHBOURS)
-            if not touching:
+            elif not any(region_of.get((key[0] + dc, key[1] + dr)) == joined for dc, dr in NEIGHBOURS):
                 problems.append(f"{name}: cell ({key[0]},{key[1]}) does not touch region '{joined}' it joins")
+    return problems
 
-    walkable = set(region_of) | door_cells
-    location_ids = {loc.id for loc in scene.locations}
+
+def _location_problems(scene: Scene, region_of: Cells) -> list[str]:
+    problems: list[str] = []
+    region_ids = {r.id for r in scene.regions}
     for i, loc in enumerate(scene.locations):
         key = (loc.cell.col, loc.cell.row)
         name = f"locations[{i}] '{loc.id}'"
@@ -106,8 +108,13 @@ def scene_problems(scene: Scene) -> list[str]:
             problems.append(
                 f"{name}: cell ({key[0]},{key[1]}) is in {where}, not in its region '{loc.region}'"
             )
+    return problems
 
-    seen_cells: set[tuple[int, int]] = set()
+
+def _visibility_problems(scene: Scene, walkable: set[GridCell]) -> list[str]:
+    problems: list[str] = []
+    location_ids = {loc.id for loc in scene.locations}
+    seen_cells: set[GridCell] = set()
     for i, vis in enumerate(scene.visibility):
         key = (vis.cell.col, vis.cell.row)
         name = f"visibility[{i}]"
@@ -124,31 +131,45 @@ def scene_problems(scene: Scene) -> list[str]:
         shown = ", ".join(f"({c},{r})" for c, r in missing[:5])
         more = f" and {len(missing) - 5} more" if len(missing) > 5 else ""
         problems.append(f"visibility: no entry for walkable cell(s) {shown}{more}")
+    return problems
 
+
+def _reach_problems(walkable: set[GridCell], region_of: Cells) -> list[str]:
+    """Every walkable cell must be reachable from every other (through the doors)."""
+    if not walkable:
+        return []
+    start = min(walkable)
+    reached = {start}
+    frontier = deque([start])
+    while frontier:
+        col, row = frontier.popleft()
+        for dc, dr in NEIGHBOURS:
+            nxt = (col + dc, row + dr)
+            if nxt in walkable and nxt not in reached:
+                reached.add(nxt)
+                frontier.append(nxt)
+    cut_off = sorted({region_of.get(c, "door") for c in walkable - reached})
+    if not cut_off:
+        return []
+    first = region_of.get(start, "door")
+    return [
+        f"unreachable: no path from region '{first}' to region(s) " + ", ".join(f"'{r}'" for r in cut_off)
+    ]
+
+
+def scene_problems(scene: Scene) -> list[str]:
+    """Every inconsistency in ``scene``, as readable lines; empty when the scene is sound."""
+    problems = _id_problems(scene)
+    region_of = _region_cells(scene, problems)
+    problems += _door_problems(scene, region_of)
+    walkable = set(region_of) | {(d.cell.col, d.cell.row) for d in scene.doors}
+    problems += _location_problems(scene, region_of)
+    problems += _visibility_problems(scene, walkable)
     for i, agent in enumerate(scene.agents):
         key = (agent.home.col, agent.home.row)
         if key not in walkable:
             problems.append(f"agents[{i}] '{agent.id}': home cell ({key[0]},{key[1]}) is not walkable")
-
-    if walkable:
-        start = min(walkable)
-        reached = {start}
-        frontier = deque([start])
-        while frontier:
-            col, row = frontier.popleft()
-            for dc, dr in NEIGHBOURS:
-                nxt = (col + dc, row + dr)
-                if nxt in walkable and nxt not in reached:
-                    reached.add(nxt)
-                    frontier.append(nxt)
-        cut_off = sorted({region_of.get(c, "door") for c in walkable - reached})
-        if cut_off:
-            first = region_of.get(start, "door")
-            problems.append(
-                f"unreachable: no path from region '{first}' to region(s) "
-                + ", ".join(f"'{r}'" for r in cut_off)
-            )
-    return problems
+    return problems + _reach_problems(walkable, region_of)
 
 
 def validate_scene(scene: Scene) -> Scene:

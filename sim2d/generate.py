@@ -32,17 +32,21 @@ ITEM_SHAPES = (
 """Item ids and shapes, in the order episodes use them (at most this many items)."""
 
 
-def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
-    """The TOML text of a random house."""
-    rng = np.random.default_rng(seed)
-    per_row = (rooms + 1) // 2
-    grid: dict[tuple[int, int], int] = {}
-    for index in range(rooms):
-        grid[(index % per_row, index // per_row)] = index
-    col0 = lambda gx: 4 * gx  # noqa: E731  (3 cells of room, 1 of wall)
-    row0 = lambda gy: 4 + 4 * gy  # noqa: E731  (the outside below)
-    columns, rows = 4 * per_row - 1, 4 + 4 * 2 - 1
-    edges = []
+Edge = tuple[int, int, int, int, int, int]
+"""A door between rooms: (room a, room b, a's grid column, a's grid row, dx, dy)."""
+
+
+def _col0(gx: int) -> int:
+    return 4 * gx  # 3 cells of room, 1 of wall
+
+
+def _row0(gy: int) -> int:
+    return 4 + 4 * gy  # the outside below
+
+
+def _doors(rng: np.random.Generator, grid: dict[tuple[int, int], int], rooms: int) -> list[Edge]:
+    """A random spanning tree of the rooms' neighbour graph, plus one extra door."""
+    edges: list[Edge] = []
     for (gx, gy), index in grid.items():
         for dx, dy in ((1, 0), (0, 1)):
             other = grid.get((gx + dx, gy + dy))
@@ -59,36 +63,33 @@ def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
 
     doors, spare = [], []
     for e in order:
-        a, b, gx, gy, dx, dy = edges[e]
+        a, b = edges[e][0], edges[e][1]
         if find(a) != find(b):
             parent[find(a)] = find(b)
             doors.append(edges[e])
         else:
             spare.append(edges[e])
-    if spare:
-        doors.append(spare[0])
-    with_spot = sorted(rng.choice(rooms, size=min(spots, rooms), replace=False).tolist())
-    play = set(with_spot[: max(1, len(with_spot) // 2)])
-    lines = [
-        f"# A generated house (seed {seed}): {rooms} rooms, {len(with_spot)} item spots.",
-        f'name = "{name}"',
-        "cell_size = 1.0",
-        f"columns = {columns}",
-        f"rows = {rows}",
-        "",
-    ]
+    return doors + spare[:1]
+
+
+def _room_lines(grid: dict[tuple[int, int], int], with_spot: list[int], play: set[int]) -> list[str]:
+    lines: list[str] = []
     for (gx, gy), index in sorted(grid.items(), key=lambda kv: kv[1]):
         kind = "playground" if index in play else "storage" if index in with_spot else "room"
         lines += [
             "[[regions]]",
             f'id = "R{index}"',
             f'kind = "{kind}"',
-            f"rects = [[{col0(gx)}, {row0(gy)}, 3, 3]]",
+            f"rects = [[{_col0(gx)}, {_row0(gy)}, 3, 3]]",
             "",
         ]
-    lines += ["[[regions]]", 'id = "O"', 'kind = "outside"', "rects = [[0, 0, 3, 3]]", ""]
+    return lines + ["[[regions]]", 'id = "O"', 'kind = "outside"', "rects = [[0, 0, 3, 3]]", ""]
+
+
+def _door_lines(doors: list[Edge]) -> list[str]:
+    lines: list[str] = []
     for a, b, gx, gy, dx, _dy in doors:
-        cell = (col0(gx) + 3, row0(gy) + 1) if dx else (col0(gx) + 1, row0(gy) + 3)
+        cell = (_col0(gx) + 3, _row0(gy) + 1) if dx else (_col0(gx) + 1, _row0(gy) + 3)
         lines += [
             "[[doors]]",
             f'id = "R{a}-R{b}"',
@@ -96,21 +97,31 @@ def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
             f'joins = ["R{a}", "R{b}"]',
             "",
         ]
-    lines += ["[[doors]]", 'id = "R0-O"', "cell = [1, 3]", 'joins = ["R0", "O"]', ""]
+    return lines + ["[[doors]]", 'id = "R0-O"', "cell = [1, 3]", 'joins = ["R0", "O"]', ""]
+
+
+def _spot_lines(grid: dict[tuple[int, int], int], with_spot: list[int], play: set[int]) -> list[str]:
+    lines: list[str] = []
     for index in with_spot:
         gx, gy = next(k for k, v in grid.items() if v == index)
         lines += [
             "[[locations]]",
             f'id = "L{index}"',
             f'region = "R{index}"',
-            f"cell = [{col0(gx) + 1}, {row0(gy) + 1}]",
+            f"cell = [{_col0(gx) + 1}, {_row0(gy) + 1}]",
             f"play = {'true' if index in play else 'false'}",
             "",
         ]
+    return lines
+
+
+def _visibility_lines(rng: np.random.Generator, rooms: int, doors: list[Edge]) -> list[str]:
+    """Each room sees its own spot and, at random, that of one room it has a door to."""
     neighbours: dict[int, list[int]] = {i: [] for i in range(rooms)}
     for a, b, *_ in doors:
         neighbours[a].append(b)
         neighbours[b].append(a)
+    lines: list[str] = []
     for index in range(rooms):
         sees = {index}
         if neighbours[index] and rng.random() < 0.5:
@@ -121,8 +132,27 @@ def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
             "sees = [" + ", ".join(f'"R{i}"' for i in sorted(sees)) + "]",
             "",
         ]
-    lines += ["[[visibility]]", 'from = ["O"]', 'sees = ["O"]', ""]
-    return "\n".join(lines)
+    return lines + ["[[visibility]]", 'from = ["O"]', 'sees = ["O"]', ""]
+
+
+def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
+    """The TOML text of a random house."""
+    rng = np.random.default_rng(seed)
+    per_row = (rooms + 1) // 2
+    grid = {(index % per_row, index // per_row): index for index in range(rooms)}
+    doors = _doors(rng, grid, rooms)
+    with_spot = sorted(rng.choice(rooms, size=min(spots, rooms), replace=False).tolist())
+    play = set(with_spot[: max(1, len(with_spot) // 2)])
+    lines = [
+        f"# A generated house (seed {seed}): {rooms} rooms, {len(with_spot)} item spots.",
+        f'name = "{name}"',
+        "cell_size = 1.0",
+        f"columns = {4 * per_row - 1}",
+        f"rows = {4 + 4 * 2 - 1}",
+        "",
+    ]
+    lines += _room_lines(grid, with_spot, play) + _door_lines(doors) + _spot_lines(grid, with_spot, play)
+    return "\n".join(lines + _visibility_lines(rng, rooms, doors))
 
 
 def episode(name: str, map_ref: str, map_path: Path, items: int, seed: int, *, max_ticks: int = 1500) -> str:

@@ -10,6 +10,7 @@ never in the tick it arrives somewhere, so each is a separate decision an observ
 
 from __future__ import annotations
 
+import enum
 import logging
 from dataclasses import dataclass
 from typing import Protocol
@@ -18,7 +19,7 @@ from protocol import EventKind
 
 from .scenario import AgentSetup
 from .script import Drop, Enter, Goto, Play, Step, Take, Wait
-from .world import World
+from .world import Agent, World
 
 log = logging.getLogger("toyroom.sim2d")
 
@@ -31,6 +32,13 @@ class GotoPlaySpot:
 
 
 PlanStep = Step | GotoPlaySpot
+
+
+class After(enum.Enum):
+    """What a step's handler says: go on to the next step this tick, or wait for the next tick."""
+
+    STEP = "step"
+    TICK = "tick"
 
 
 class Person(Protocol):
@@ -63,6 +71,8 @@ class ScriptedPerson:
         self.started = False
         self.ticks_left = 0
         self.goal: object = None
+        self.acted = False
+        """Whether the person already took a discrete action (take, drop, play) this tick."""
 
     @property
     def finished(self) -> bool:
@@ -83,86 +93,99 @@ class ScriptedPerson:
         self.started = False
 
     def update(self, world: World) -> None:
-        """Carry the route forward by one tick."""
+        """Carry the route forward by one tick: finish steps until one has to wait."""
         agent = world.agents[self.id]
-        acted = False
+        self.acted = False
         while self.index < len(self.plan):
             step = self.plan[self.index]
             if isinstance(step, (Enter, Goto, GotoPlaySpot)):
-                if not self.started:
-                    self.started = True
-                    if isinstance(step, Enter):
-                        ok = (
-                            agent.region == step.region
-                            and agent.cell in world.region_of
-                            or (world.plan_to_region(self.id, step.region))
-                        )
-                    elif isinstance(step, Goto):
-                        ok = world.plan_to(self.id, step.cell)
-                    else:
-                        ok = world.plan_to_region_cells(self.id, world.play_spots())
-                    if not ok:
-                        log.warning("%s cannot reach the target of %s; skipping it", self.id, step)
-                        self._advance(world, None)
-                        continue
-                if not world.arrived(self.id):
-                    return
-                if isinstance(step, Enter) and world.region_of.get(agent.cell) != step.region:
-                    return
-                self._advance(world, step.label)
-                continue
-            if isinstance(step, (Take, Drop)):
-                if acted or not world.arrived(self.id):
-                    return
-                acted = True
-                location = world.location_at.get(agent.cell)
-                if isinstance(step, Take):
-                    reason = world.take(self.id, step.item)
-                elif location is None:
-                    reason = f"no item spot at {agent.cell}"
-                else:
-                    reason = world.drop(self.id, location.id)
-                if reason is not None:
-                    log.info("%s: %s failed: %s", self.id, type(step).__name__.lower(), reason)
-                self._advance(world, step.label if reason is None else None)
-                continue
-            if isinstance(step, Play):
-                if not self.started:
-                    if acted:
-                        return
-                    self.started = True
-                    self.ticks_left = step.ticks or 0
-                    if agent.holding is None:
-                        log.info("%s has nothing to play with; skipping the play step", self.id)
-                        self._advance(world, None)
-                        continue
-                    acted = True
-                    agent.playing = True
-                    spot = world.location_at.get(agent.cell)
-                    world.emit(
-                        EventKind.PLAY, self.id, item=agent.holding, location=spot.id if spot else None
-                    )
-                    if step.label is not None:
-                        world.complete(self.id, step.label)
-                    return
-                if not agent.playing:  # the item was handed over meanwhile
-                    self._advance(world, None)
-                    continue
-                if self._still_going(step, world):
-                    return
-                agent.playing = False
-                world.emit(EventKind.STOP, self.id, item=agent.holding)
-                self._advance(world, None)
-                continue
-            assert isinstance(step, Wait)
-            if not self.started:
-                self.started = True
-                self.ticks_left = step.ticks or 0
-                if step.label is not None:
-                    world.complete(self.id, step.label)
-            if self._still_going(step, world):
+                after = self._move(world, agent, step)
+            elif isinstance(step, (Take, Drop)):
+                after = self._hand(world, agent, step)
+            elif isinstance(step, Play):
+                after = self._play(world, agent, step)
+            else:
+                after = self._wait(world, step)
+            if after is After.TICK:
                 return
+
+    def _move(self, world: World, agent: Agent, step: Enter | Goto | GotoPlaySpot) -> After:
+        if not self.started:
+            self.started = True
+            if isinstance(step, Enter):
+                ok = (
+                    agent.region == step.region
+                    and agent.cell in world.region_of
+                    or (world.plan_to_region(self.id, step.region))
+                )
+            elif isinstance(step, Goto):
+                ok = world.plan_to(self.id, step.cell)
+            else:
+                ok = world.plan_to_region_cells(self.id, world.play_spots())
+            if not ok:
+                log.warning("%s cannot reach the target of %s; skipping it", self.id, step)
+                self._advance(world, None)
+                return After.STEP
+        if not world.arrived(self.id):
+            return After.TICK
+        if isinstance(step, Enter) and world.region_of.get(agent.cell) != step.region:
+            return After.TICK
+        self._advance(world, step.label)
+        return After.STEP
+
+    def _hand(self, world: World, agent: Agent, step: Take | Drop) -> After:
+        if self.acted or not world.arrived(self.id):
+            return After.TICK
+        self.acted = True
+        location = world.location_at.get(agent.cell)
+        if isinstance(step, Take):
+            reason = world.take(self.id, step.item)
+        elif location is None:
+            reason = f"no item spot at {agent.cell}"
+        else:
+            reason = world.drop(self.id, location.id)
+        if reason is not None:
+            log.info("%s: %s failed: %s", self.id, type(step).__name__.lower(), reason)
+        self._advance(world, step.label if reason is None else None)
+        return After.STEP
+
+    def _play(self, world: World, agent: Agent, step: Play) -> After:
+        if not self.started:
+            if self.acted:
+                return After.TICK
+            self.started = True
+            self.ticks_left = step.ticks or 0
+            if agent.holding is None:
+                log.info("%s has nothing to play with; skipping the play step", self.id)
+                self._advance(world, None)
+                return After.STEP
+            self.acted = True
+            agent.playing = True
+            spot = world.location_at.get(agent.cell)
+            world.emit(EventKind.PLAY, self.id, item=agent.holding, location=spot.id if spot else None)
+            if step.label is not None:
+                world.complete(self.id, step.label)
+            return After.TICK
+        if not agent.playing:  # the item was handed over meanwhile
             self._advance(world, None)
+            return After.STEP
+        if self._still_going(step, world):
+            return After.TICK
+        agent.playing = False
+        world.emit(EventKind.STOP, self.id, item=agent.holding)
+        self._advance(world, None)
+        return After.STEP
+
+    def _wait(self, world: World, step: Wait) -> After:
+        if not self.started:
+            self.started = True
+            self.ticks_left = step.ticks or 0
+            if step.label is not None:
+                world.complete(self.id, step.label)
+        if self._still_going(step, world):
+            return After.TICK
+        self._advance(world, None)
+        return After.STEP
 
     def _still_going(self, step: Play | Wait, world: World) -> bool:
         if step.ticks is not None:

@@ -1,18 +1,13 @@
-"""The ``toyroom`` command line.
-
-Each subcommand is a small typed function; ``main()`` parses the arguments and dispatches.
-Nodes (engine, brain, viewer) are started as their own processes by the commands that
-need them; this module never imports ``sim2d`` or ``brain``.
-"""
+"""The ``toyroom`` command line: its parser (one builder per command) and ``main()``, which
+dispatches to :mod:`bridge.app.commands`. Global flags may come before or after the command
+name; node commands (``toyroom sim``...) are handed to the node with their options."""
 
 from __future__ import annotations
 
 import argparse
 import logging
-import os
 import sys
-import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from protocol import Error as ProtocolErrorBase
@@ -20,109 +15,15 @@ from protocol import Observer
 
 from ..errors import BridgeError
 from ..flags import (
-    PROG_ENV,
     HelpFormatter,
     configure_logging,
     log_level,
 )
-from ..session import SessionSettings, add_network_args, settings_from_args
-from ..stopping import stop_on_signals, wait_for_stop
+from ..session import add_network_args
+from .commands import COMMANDS, NODES, exec_node
 
 log = logging.getLogger("toyroom")
 
-
-def schema_main(check: bool, directory: Path | None = None) -> int:
-    """Write the JSON Schemas, or with ``check`` report stale ones and return 1."""
-    from protocol.schema import SCHEMA_DIR, stale_schemas, write_schemas
-
-    target = directory or SCHEMA_DIR
-    if check:
-        problems = stale_schemas(target)
-        for line in problems:
-            print(f"stale schema {target / line}", file=sys.stderr)
-        if problems:
-            print("run `toyroom schema` to regenerate them", file=sys.stderr)
-            return 1
-        print(f"schemas in {target} are up to date")
-        return 0
-    for path in write_schemas(target):
-        print(f"wrote {path}")
-    return 0
-
-
-def router_main(listen: Sequence[str], config_file: Path | None) -> int:
-    """Run a Zenoh router until interrupted."""
-    from ..router import run_router
-
-    stop = threading.Event()
-    stop_on_signals(stop)
-    run_router(listen, config_file=config_file, stop=stop)
-    return 0
-
-
-def eval_main(episodes: int, seed: int, workers: int, backend: str, out: Path) -> int:
-    """Run the evaluation with a progress bar and print the metrics."""
-    from rich.console import Console
-    from rich.markdown import Markdown
-    from rich.progress import Progress
-
-    from ..evaluation.episodes import evaluate
-    from ..evaluation.report import report
-
-    with Progress() as bar:
-        task = bar.add_task(f"{episodes} episodes", total=episodes)
-        metrics = evaluate(
-            episodes, seed, out, workers=workers, backend=backend, progress=lambda n: bar.advance(task, n)
-        )
-    Console().print(Markdown(report(metrics)))
-    print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
-    return 0
-
-
-def record_main(world: str, settings: SessionSettings, path: Path) -> int:
-    """Record every message of ``world`` to ``path`` until SIGINT or SIGTERM."""
-    from ..bridge import Bridge
-    from ..recording.mcap import McapRecorder
-
-    stop = threading.Event()
-    stop_on_signals(stop)
-    with Bridge(world, settings) as bridge, McapRecorder(bridge, path) as recorder:
-        print(f"toyroom record: world '{world}' to {path}", flush=True)
-        wait_for_stop(stop)
-        count = recorder.count
-    print(f"toyroom record: {count} messages in {path}")
-    return 0
-
-
-def conform_main(world: str, settings: SessionSettings, timeout: float) -> int:
-    """Run the conformance kit against the engine of ``world``; 1 when a check fails."""
-    from ..bridge import Bridge
-    from ..conformance.checks import check_engine
-
-    with Bridge(world, settings) as bridge:
-        results = check_engine(bridge, timeout)
-    for result in results:
-        print(result.line())
-    failed = [r for r in results if not r.passed]
-    print(f"{len(results) - len(failed)} passed, {len(failed)} failed")
-    return 1 if failed else 0
-
-
-def doctor_main(world: str, settings: SessionSettings) -> int:
-    """Check the installation end to end; see :mod:`bridge.app.doctor`."""
-    from .doctor import run_doctor
-
-    return run_doctor(world, settings)
-
-
-NODES = {
-    "sim": ("sim2d", ()),
-    "brain": ("brain", ()),
-    "view": ("bridge.view", ()),
-    "generate": ("sim2d", ("generate",)),
-}
-"""Commands that run a node package as its own process (``toyroom sim`` -> ``python -m
-sim2d``, ``toyroom generate`` -> ``python -m sim2d generate``), with their options."""
 
 NODE_HELP = {
     "sim": "run the sim2d engine node (pymunk) until interrupted",
@@ -130,15 +31,6 @@ NODE_HELP = {
     "view": "the meshcat live view of a world (prints its URL; --screenshot FILE.png)",
     "generate": "write a random episode (and its map): --map M --seed S --out DIR, or --rooms R --items K",
 }
-
-
-def exec_node(command: str, argv: Sequence[str], prog: str | None = None) -> int:
-    """Replace this process with the node of ``command`` (signals go straight to it); its
-    help and errors name ``prog`` (default: ``toyroom COMMAND``)."""
-    package, leading = NODES[command]
-    os.environ[PROG_ENV] = prog or f"toyroom {command}"
-    os.execv(sys.executable, [sys.executable, "-m", package, *leading, *argv])
-    return 0  # pragma: no cover - execv does not return
 
 
 def global_parser() -> argparse.ArgumentParser:
@@ -157,36 +49,28 @@ def _observer_arg(parser: argparse.ArgumentParser, help: str) -> None:
     parser.add_argument("--observer", choices=Observer.names(), default=Observer.BTOM.value, help=help)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of ``toyroom`` (node commands are listed, their options are the node's)."""
-    parser = argparse.ArgumentParser(
-        prog="toyroom",
-        description="Theory-of-Mind robot brain, 2D engine and their Zenoh wire.",
-        parents=[global_parser()],
-        formatter_class=HelpFormatter,
-    )
-    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    shared = argparse.ArgumentParser(add_help=False)
-    shared.add_argument("--log-level", type=log_level, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+Command = Callable[[str, str], argparse.ArgumentParser]
+"""Adds a command (name, help) to ``toyroom``'s parser and returns its parser."""
 
-    def command(name: str, help: str) -> argparse.ArgumentParser:
-        return commands.add_parser(
-            name, help=help, description=help, parents=[shared], formatter_class=HelpFormatter
-        )
 
+def _schema_command(command: Command) -> None:
+    """``toyroom schema``'s options."""
     schema = command("schema", "write the JSON Schemas into protocol/schema/")
     schema.add_argument("--check", action="store_true", help="exit 1 when the checked-in schemas are stale")
     schema.add_argument("--dir", type=Path, help="schema directory (default: the package's)")
 
+
+def _router_command(command: Command) -> None:
+    """``toyroom router``'s options."""
     router = command("router", "run a Zenoh router for multi-machine setups")
     router.add_argument(
         "--listen", action="append", metavar="ENDPOINT", help="endpoint (default: tcp/127.0.0.1:7447)"
     )
     router.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
 
-    for name, text in NODE_HELP.items():
-        commands.add_parser(name, help=f"{text} (`toyroom {name} --help`)", add_help=False)
 
+def _run_command(command: Command) -> None:
+    """``toyroom run``'s options."""
     run = command("run", "run an engine and the brain together, in lock-step, and keep the results")
     run.add_argument("--scenario", default="paper-robot", help="bundled scenario name or .toml path")
     run.add_argument("--out", type=Path, default=Path("out"), help="results directory")
@@ -215,6 +99,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_network_args(run)
     run.set_defaults(world=None)
 
+
+def _replay_command(command: Command) -> None:
+    """``toyroom replay``'s options."""
     replaying = command("replay", "republish an MCAP recording so brains and viewers run on it")
     replaying.add_argument("file", type=Path, metavar="FILE.mcap", help="the recording")
     replaying.add_argument("--speed", type=float, default=1.0, help="times real time; 0: as fast as possible")
@@ -231,21 +118,33 @@ def build_parser() -> argparse.ArgumentParser:
     )
     add_network_args(replaying)
 
+
+def _record_command(command: Command) -> None:
+    """``toyroom record``'s options."""
     record = command("record", "record every message of a world to MCAP until interrupted")
     record.add_argument("file", type=Path, metavar="FILE.mcap", help="the recording to write")
     add_network_args(record)
 
+
+def _infer_command(command: Command) -> None:
+    """``toyroom infer``'s options."""
     infer = command("infer", "infer minds from a recording (trace.jsonl or .mcap), no engine needed")
     infer.add_argument("trace", type=Path, help="a trace.jsonl or .mcap written by toyroom run")
     infer.add_argument("--out", type=Path, required=True, help="directory for mind.csv, figures, report.md")
     _observer_arg(infer, "the person model to infer with")
 
+
+def _bench_command(command: Command) -> None:
+    """``toyroom bench``'s options."""
     bench = command("bench", "measure the transport, lock-step and brain speeds in one run (source checkout)")
     bench.add_argument("--quick", action="store_true", help="fewer repeats and houses (under 3 minutes)")
     bench.add_argument(
         "--out", type=Path, default=Path("out/bench"), help="directory for bench.json and plots"
     )
 
+
+def _eval_command(command: Command) -> None:
+    """``toyroom eval``'s options."""
     evaluation = command("eval", "measure the brain on random episodes with simulated people")
     evaluation.add_argument("--episodes", type=int, default=40, help="how many episodes")
     evaluation.add_argument("--seed", type=int, default=1, help="sweep seed (episode i gets 1000 x seed + i)")
@@ -257,121 +156,50 @@ def build_parser() -> argparse.ArgumentParser:
         "--out", type=Path, default=Path("out/eval"), help="directory for metrics and report"
     )
 
+
+def _conform_command(command: Command) -> None:
+    """``toyroom conform``'s options."""
     conform = command("conform", "check that the engine serving a world speaks the protocol")
     conform.add_argument("--timeout", type=float, default=5.0, help="seconds per request")
     add_network_args(conform)
 
+
+def _doctor_command(command: Command) -> None:
+    """``toyroom doctor``'s options."""
     doctor = command("doctor", "check the install: schemas, and every message over loopback Zenoh")
     add_network_args(doctor)
-    return parser
 
 
-def _schema(args: argparse.Namespace) -> int:
-    return schema_main(args.check, args.dir)
-
-
-def _router(args: argparse.Namespace) -> int:
-    from ..router import DEFAULT_ROUTER_ENDPOINT
-
-    default = [] if args.zenoh_config else [DEFAULT_ROUTER_ENDPOINT]  # a config file says where
-    return router_main(args.listen or default, args.zenoh_config)
-
-
-def _doctor(args: argparse.Namespace) -> int:
-    return doctor_main(args.world, settings_from_args(args))
-
-
-def _run(args: argparse.Namespace) -> int:
-    from .run import RunConfig, run
-
-    config = RunConfig(
-        scenario=args.scenario,
-        out=args.out,
-        seed=args.seed,
-        observer=args.observer,
-        world=args.world if args.world != "default" else None,
-        timeout=args.timeout,
-        log_level=args.log_level or "WARNING",
-        robot=args.robot,
-        engine=args.engine,
-        live=False if args.no_live else None,
-        record=args.record,
-        view=args.view,
-        shadows=tuple(args.shadow),
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``toyroom`` (node commands are listed, their options are the node's)."""
+    parser = argparse.ArgumentParser(
+        prog="toyroom",
+        description="Theory-of-Mind robot brain, 2D engine and their Zenoh wire.",
+        parents=[global_parser()],
+        formatter_class=HelpFormatter,
     )
-    return run(config, settings_from_args(args))
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    shared = argparse.ArgumentParser(add_help=False)
+    shared.add_argument("--log-level", type=log_level, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
 
-
-def _bench(args: argparse.Namespace) -> int:
-    from .processes import source_file
-
-    suite = source_file("bench/suite.py")
-    quick = ["--quick"] if args.quick else []
-    os.execv(sys.executable, [sys.executable, str(suite), *quick, "--out", str(args.out)])
-    return 0  # pragma: no cover - execv does not return
-
-
-def _eval(args: argparse.Namespace) -> int:
-    return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out)
-
-
-def _conform(args: argparse.Namespace) -> int:
-    return conform_main(args.world, settings_from_args(args), args.timeout)
-
-
-def _infer(args: argparse.Namespace) -> int:
-    trace = args.trace
-    if trace.suffix == ".mcap":
-        from ..recording.mcap import mcap_to_trace
-
-        args.out.mkdir(parents=True, exist_ok=True)
-        converted = args.out / "trace.jsonl"
-        mcap_to_trace(trace, converted)
-        trace = converted
-    levels = ["--log-level", args.log_level] if args.log_level else []
-    return exec_node(
-        "brain", ["infer", str(trace), "--out", str(args.out), "--observer", args.observer, *levels]
-    )
-
-
-def _replay(args: argparse.Namespace) -> int:
-    from ..bridge import Bridge
-    from ..recording.replay import replay
-
-    stop = threading.Event()
-    stop_on_signals(stop)
-    with Bridge(args.world, settings_from_args(args)) as bridge:
-        sent = replay(
-            bridge,
-            args.file,
-            speed=args.speed,
-            stop=stop,
-            until_tick=args.until_tick,
-            wait_subscribers=args.wait_subscribers,
+    def command(name: str, help: str) -> argparse.ArgumentParser:
+        return commands.add_parser(
+            name, help=help, description=help, parents=[shared], formatter_class=HelpFormatter
         )
-        print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'", flush=True)
-        if args.hold:
-            wait_for_stop(stop)
-    return 0
 
-
-def _record(args: argparse.Namespace) -> int:
-    return record_main(args.world, settings_from_args(args), args.file)
-
-
-COMMANDS = {
-    "schema": _schema,
-    "router": _router,
-    "doctor": _doctor,
-    "run": _run,
-    "bench": _bench,
-    "eval": _eval,
-    "conform": _conform,
-    "infer": _infer,
-    "replay": _replay,
-    "record": _record,
-}
-"""What each command (other than the node commands) does with its parsed arguments."""
+    _schema_command(command)
+    _router_command(command)
+    for name, text in NODE_HELP.items():
+        commands.add_parser(name, help=f"{text} (`toyroom {name} --help`)", add_help=False)
+    _run_command(command)
+    _replay_command(command)
+    _record_command(command)
+    _infer_command(command)
+    _bench_command(command)
+    _eval_command(command)
+    _conform_command(command)
+    _doctor_command(command)
+    return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:

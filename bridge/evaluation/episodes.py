@@ -19,28 +19,15 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import threading
-import time
-import uuid
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor, as_completed
-from dataclasses import dataclass, field
 from pathlib import Path
 
-from protocol import Event, EventKind, Mind, Observer, RegionKind, Truth, decode
+from protocol import Observer
 
-from ..app.processes import (
-    engine_command,
-    node_command,
-    report_failure,
-    start_node,
-    stop_node,
-    wait_for_engine,
-)
-from ..bridge import Bridge
-from ..session import SessionSettings
-from .metrics import Counts, Outcome, score_tick
+from .metrics import Counts, Outcome
 from .report import report
+from .runs import RunResult, RunSpec, run_once
 
 log = logging.getLogger("toyroom.eval")
 
@@ -49,174 +36,6 @@ BTOM = Observer.BTOM.value
 RUN_ATTEMPTS = 3
 """How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
 MAPS = ("paper", "house-a", "house-b")
-
-
-@dataclass(frozen=True)
-class RunSpec:
-    """One run of one episode."""
-
-    scenario: Path
-    observer: str
-    robot: str
-    timeout: float = 30.0
-    shadows: tuple[str, ...] = ()
-    """Observers the same brain runs alongside on the same ticks (``python -m brain --shadow``)."""
-
-
-@dataclass
-class RunResult:
-    counts: Counts = field(default_factory=Counts)
-    outcome: Outcome = field(default_factory=Outcome)
-    ticks: int = 0
-
-
-def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
-    """Run an engine and a brain on ``spec`` and score the brain's minds against the truth:
-    the live observer's from ``brain/mind``, each shadow's from its file."""
-    world = f"eval-{uuid.uuid4().hex[:10]}"
-    settings = SessionSettings()
-    tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
-    engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
-    shadow_dir = logs / f"{tag}.shadows"
-    shadow_args = [a for o in spec.shadows for a in ("--shadow", o)]
-    if spec.shadows:
-        shadow_args += ["--shadow-out", str(shadow_dir)]
-    engine = start_node(
-        engine_command("sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep"), engine_log
-    )
-    brain = None
-    minds: dict[int, Mind] = {}
-    truths: dict[int, Truth] = {}
-    took: dict[int, set[str]] = {}
-    lock = threading.Lock()
-
-    def keep(store: dict[int, object]) -> Callable[[object, object], None]:
-        def put(message: object, _: object) -> None:
-            with lock:
-                store[message.tick] = message  # type: ignore[attr-defined]
-
-        return put
-
-    playing: dict[str, str | None] = {}
-    regions: dict[str, str] = {}
-    reached: list[tuple[int, str, str]] = []
-    """(tick, person, item played with or region entered), in order: when goals were met."""
-
-    def on_event(event: Event, _: object) -> None:
-        """Events are never dropped: who took what, who plays with what, who is where."""
-        with lock:
-            if event.kind is EventKind.TAKE:
-                took.setdefault(event.tick, set()).add(event.actor)
-            elif event.kind is EventKind.PLAY:
-                playing[event.actor] = event.item
-                reached.append((event.tick, event.actor, event.item or ""))
-            elif event.kind in (EventKind.STOP, EventKind.DROP):
-                playing[event.actor] = None
-            elif event.kind is EventKind.GIVE:
-                playing[event.actor] = None
-                if event.target is not None:
-                    playing[event.target] = None
-            elif event.kind is EventKind.ENTER and event.location is not None:
-                regions[event.actor] = event.location
-                reached.append((event.tick, event.actor, event.location))
-
-    try:
-        with Bridge(world, settings) as bridge:
-            info = wait_for_engine(bridge, engine)
-            if info is None:
-                report_failure("engine", engine.returncode, engine_log)
-                raise RuntimeError(f"{tag}: the engine failed")
-            bridge.subscribe(bridge.keys.mind, keep(minds), expected=Mind)  # type: ignore[arg-type]
-            bridge.subscribe(bridge.keys.truth, keep(truths), expected=Truth)  # type: ignore[arg-type]
-            bridge.subscribe(bridge.keys.events, on_event, expected=Event)
-            brain = start_node(
-                node_command(
-                    "brain",
-                    world,
-                    settings,
-                    "--scenario",
-                    str(spec.scenario),
-                    "--observer",
-                    spec.observer,
-                    "--robot",
-                    spec.robot,
-                    "--timeout",
-                    str(spec.timeout),
-                    "--log-level",
-                    "WARNING",
-                    *shadow_args,
-                ),
-                brain_log,
-            )
-            if brain.wait(timeout=1800) != 0:
-                report_failure("brain", brain.returncode, brain_log)
-                raise RuntimeError(f"{tag}: the brain failed")
-            _settle(
-                lambda: (len(minds), len(truths)),
-                done=lambda: bool(minds) and max(minds) >= max(truths, default=0),
-            )
-    finally:
-        for process in (brain, engine):
-            if process is not None:
-                stop_node(process)
-    outside = {r.id for r in info.scene.regions if r.kind is RegionKind.OUTSIDE}
-    outcome = Outcome()
-    if truths:
-        truth = truths[max(truths)]
-        homes = {a.id: (a.home.col, a.home.row) for a in info.scene.agents}
-        home_region = {(c.col, c.row): r.id for r in info.scene.regions for c in r.cells}
-        for person in truth.agents:
-            region = regions.get(person.agent, home_region.get(homes.get(person.agent, (-1, -1)), ""))
-            ok = (
-                region in outside
-                if person.preference == "out"
-                else playing.get(person.agent) == person.preference
-            )
-            outcome.per_person[person.agent] = ok
-            outcome.people += 1
-            outcome.successes += ok
-            goal = outside if person.preference == "out" else {person.preference}
-            outcome.ticks_to_goal[person.agent] = next(
-                (t for t, who, what in sorted(reached) if who == person.agent and what in goal), None
-            )
-        outcome.ticks = max(truths)
-    results = {spec.observer: _score(minds, truths, took, outcome)}
-    for observer in spec.shadows:
-        lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
-        shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
-        results[observer] = _score(shadow, truths, took, outcome)
-    return results
-
-
-def _score(
-    minds: dict[int, Mind], truths: dict[int, Truth], took: dict[int, set[str]], outcome: Outcome
-) -> RunResult:
-    """Score every tick that has both a mind and the truth (channels that are never dropped)."""
-    result = RunResult(outcome=outcome)
-    seen: set[str] = set()
-    for tick in sorted(truths):
-        seen |= {p for t, people in took.items() if t <= tick for p in people}
-        if tick not in minds:
-            continue
-        where = {place.item: place.location for place in truths[tick].items}
-        result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
-        result.ticks += 1
-    return result
-
-
-def _settle(
-    count: Callable[[], tuple[int, int]], done: Callable[[], bool], quiet: float = 0.3, limit: float = 15.0
-) -> None:
-    """Wait until the last messages have arrived: ``done()`` and nothing new for ``quiet`` s."""
-    deadline = time.monotonic() + limit
-    seen, since = count(), time.monotonic()
-    while time.monotonic() < deadline:
-        time.sleep(0.05)
-        now = count()
-        if now != seen:
-            seen, since = now, time.monotonic()
-        elif done() and time.monotonic() - since >= quiet:
-            return
 
 
 def map_of(index: int) -> str:

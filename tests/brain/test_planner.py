@@ -8,7 +8,7 @@ import numpy as np
 from scenes import tiny_scene
 
 from brain.model.planner import Move, plan
-from brain.model.world import NEIGHBOURS, build_world_model
+from brain.model.world import MOVE_STEPS, build_world_model
 from brain.settings import ModelSettings
 
 
@@ -30,7 +30,7 @@ def brute_force_q(settings: ModelSettings) -> tuple[list[tuple[int, int, int]], 
         c, h, w = state
         cell = cells[c]
         if a < 4:
-            nxt = (cell[0] + NEIGHBOURS[a][0], cell[1] + NEIGHBOURS[a][1])
+            nxt = (cell[0] + MOVE_STEPS[a][0], cell[1] + MOVE_STEPS[a][1])
             if nxt not in cells:
                 return "infeasible", None
             w2 = 2 * nearest[nxt] + 1 if h else w

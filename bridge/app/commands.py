@@ -1,0 +1,227 @@
+"""What each ``toyroom`` command does with its parsed arguments (:data:`COMMANDS`), and the
+commands that run a node package as its own process (:data:`NODES`, :func:`exec_node`).
+Nodes are started as processes; this module never imports ``sim2d`` or ``brain``."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import threading
+from collections.abc import Sequence
+from pathlib import Path
+
+from ..flags import PROG_ENV
+from ..session import SessionSettings, settings_from_args
+from ..stopping import stop_on_signals, wait_for_stop
+
+
+def schema_main(check: bool, directory: Path | None = None) -> int:
+    """Write the JSON Schemas, or with ``check`` report stale ones and return 1."""
+    from protocol.schema import SCHEMA_DIR, stale_schemas, write_schemas
+
+    target = directory or SCHEMA_DIR
+    if check:
+        problems = stale_schemas(target)
+        for line in problems:
+            print(f"stale schema {target / line}", file=sys.stderr)
+        if problems:
+            print("run `toyroom schema` to regenerate them", file=sys.stderr)
+            return 1
+        print(f"schemas in {target} are up to date")
+        return 0
+    for path in write_schemas(target):
+        print(f"wrote {path}")
+    return 0
+
+
+def router_main(listen: Sequence[str], config_file: Path | None) -> int:
+    """Run a Zenoh router until interrupted."""
+    from ..router import run_router
+
+    stop = threading.Event()
+    stop_on_signals(stop)
+    run_router(listen, config_file=config_file, stop=stop)
+    return 0
+
+
+def eval_main(episodes: int, seed: int, workers: int, backend: str, out: Path) -> int:
+    """Run the evaluation with a progress bar and print the metrics."""
+    from rich.console import Console
+    from rich.markdown import Markdown
+    from rich.progress import Progress
+
+    from ..evaluation.episodes import evaluate
+    from ..evaluation.report import report
+
+    with Progress() as bar:
+        task = bar.add_task(f"{episodes} episodes", total=episodes)
+        metrics = evaluate(
+            episodes, seed, out, workers=workers, backend=backend, progress=lambda n: bar.advance(task, n)
+        )
+    Console().print(Markdown(report(metrics)))
+    print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
+    return 0
+
+
+def record_main(world: str, settings: SessionSettings, path: Path) -> int:
+    """Record every message of ``world`` to ``path`` until SIGINT or SIGTERM."""
+    from ..bridge import Bridge
+    from ..recording.mcap import McapRecorder
+
+    stop = threading.Event()
+    stop_on_signals(stop)
+    with Bridge(world, settings) as bridge, McapRecorder(bridge, path) as recorder:
+        print(f"toyroom record: world '{world}' to {path}", flush=True)
+        wait_for_stop(stop)
+        count = recorder.count
+    print(f"toyroom record: {count} messages in {path}")
+    return 0
+
+
+def conform_main(world: str, settings: SessionSettings, timeout: float) -> int:
+    """Run the conformance kit against the engine of ``world``; 1 when a check fails."""
+    from ..bridge import Bridge
+    from ..conformance.checks import check_engine
+
+    with Bridge(world, settings) as bridge:
+        results = check_engine(bridge, timeout)
+    for result in results:
+        print(result.line())
+    failed = [r for r in results if not r.passed]
+    print(f"{len(results) - len(failed)} passed, {len(failed)} failed")
+    return 1 if failed else 0
+
+
+def doctor_main(world: str, settings: SessionSettings) -> int:
+    """Check the installation end to end; see :mod:`bridge.app.doctor`."""
+    from .doctor import run_doctor
+
+    return run_doctor(world, settings)
+
+
+NODES = {
+    "sim": ("sim2d", ()),
+    "brain": ("brain", ()),
+    "view": ("bridge.view", ()),
+    "generate": ("sim2d", ("generate",)),
+}
+"""Commands that run a node package as its own process (``toyroom sim`` -> ``python -m
+sim2d``, ``toyroom generate`` -> ``python -m sim2d generate``), with their options."""
+
+
+def exec_node(command: str, argv: Sequence[str], prog: str | None = None) -> int:
+    """Replace this process with the node of ``command`` (signals go straight to it); its
+    help and errors name ``prog`` (default: ``toyroom COMMAND``)."""
+    package, leading = NODES[command]
+    os.environ[PROG_ENV] = prog or f"toyroom {command}"
+    os.execv(sys.executable, [sys.executable, "-m", package, *leading, *argv])
+    return 0  # pragma: no cover - execv does not return
+
+
+def _schema(args: argparse.Namespace) -> int:
+    return schema_main(args.check, args.dir)
+
+
+def _router(args: argparse.Namespace) -> int:
+    from ..router import DEFAULT_ROUTER_ENDPOINT
+
+    default = [] if args.zenoh_config else [DEFAULT_ROUTER_ENDPOINT]  # a config file says where
+    return router_main(args.listen or default, args.zenoh_config)
+
+
+def _doctor(args: argparse.Namespace) -> int:
+    return doctor_main(args.world, settings_from_args(args))
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .run import RunConfig, run
+
+    config = RunConfig(
+        scenario=args.scenario,
+        out=args.out,
+        seed=args.seed,
+        observer=args.observer,
+        world=args.world if args.world != "default" else None,
+        timeout=args.timeout,
+        log_level=args.log_level or "WARNING",
+        robot=args.robot,
+        engine=args.engine,
+        live=False if args.no_live else None,
+        record=args.record,
+        view=args.view,
+        shadows=tuple(args.shadow),
+    )
+    return run(config, settings_from_args(args))
+
+
+def _bench(args: argparse.Namespace) -> int:
+    from .processes import source_file
+
+    suite = source_file("bench/suite.py")
+    quick = ["--quick"] if args.quick else []
+    os.execv(sys.executable, [sys.executable, str(suite), *quick, "--out", str(args.out)])
+    return 0  # pragma: no cover - execv does not return
+
+
+def _eval(args: argparse.Namespace) -> int:
+    return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out)
+
+
+def _conform(args: argparse.Namespace) -> int:
+    return conform_main(args.world, settings_from_args(args), args.timeout)
+
+
+def _infer(args: argparse.Namespace) -> int:
+    trace = args.trace
+    if trace.suffix == ".mcap":
+        from ..recording.mcap import mcap_to_trace
+
+        args.out.mkdir(parents=True, exist_ok=True)
+        converted = args.out / "trace.jsonl"
+        mcap_to_trace(trace, converted)
+        trace = converted
+    levels = ["--log-level", args.log_level] if args.log_level else []
+    return exec_node(
+        "brain", ["infer", str(trace), "--out", str(args.out), "--observer", args.observer, *levels]
+    )
+
+
+def _replay(args: argparse.Namespace) -> int:
+    from ..bridge import Bridge
+    from ..recording.replay import replay
+
+    stop = threading.Event()
+    stop_on_signals(stop)
+    with Bridge(args.world, settings_from_args(args)) as bridge:
+        sent = replay(
+            bridge,
+            args.file,
+            speed=args.speed,
+            stop=stop,
+            until_tick=args.until_tick,
+            wait_subscribers=args.wait_subscribers,
+        )
+        print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'", flush=True)
+        if args.hold:
+            wait_for_stop(stop)
+    return 0
+
+
+def _record(args: argparse.Namespace) -> int:
+    return record_main(args.world, settings_from_args(args), args.file)
+
+
+COMMANDS = {
+    "schema": _schema,
+    "router": _router,
+    "doctor": _doctor,
+    "run": _run,
+    "bench": _bench,
+    "eval": _eval,
+    "conform": _conform,
+    "infer": _infer,
+    "replay": _replay,
+    "record": _record,
+}
+"""What each command (other than the node commands) does with its parsed arguments."""

@@ -1,0 +1,185 @@
+"""One evaluation run: an engine and a brain process on a private loopback world, in
+lock-step, with the evaluator listening to ``brain/mind``, ``engine/truth`` and
+``engine/events``; then the brain's minds (the live observer's, and each shadow's from its
+file) scored against the truth, tick by tick."""
+
+from __future__ import annotations
+
+import threading
+import time
+import uuid
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from protocol import Event, EventKind, Mind, Truth, decode
+
+from ..app.processes import (
+    engine_command,
+    node_command,
+    report_failure,
+    start_node,
+    stop_node,
+    wait_for_engine,
+)
+from ..bridge import Bridge
+from ..pubsub import Received
+from ..session import SessionSettings
+from .metrics import Counts, Outcome, score_tick
+from .outcome import judge
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of one episode."""
+
+    scenario: Path
+    observer: str
+    robot: str
+    timeout: float = 30.0
+    shadows: tuple[str, ...] = ()
+    """Observers the same brain runs alongside on the same ticks (``python -m brain --shadow``)."""
+
+
+@dataclass
+class RunResult:
+    counts: Counts = field(default_factory=Counts)
+    outcome: Outcome = field(default_factory=Outcome)
+    ticks: int = 0
+
+
+@dataclass
+class RunRecord:
+    """What the evaluator hears during a run, on channels that are never dropped."""
+
+    minds: dict[int, Mind] = field(default_factory=dict)
+    truths: dict[int, Truth] = field(default_factory=dict)
+    took: dict[int, set[str]] = field(default_factory=dict)
+    """Tick -> the people who took an item then."""
+    playing: dict[str, str | None] = field(default_factory=dict)
+    regions: dict[str, str] = field(default_factory=dict)
+    reached: list[tuple[int, str, str]] = field(default_factory=list)
+    """(tick, person, item played with or region entered), in order: when goals were met."""
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+    def on_mind(self, mind: Mind, _: Received) -> None:
+        with self.lock:
+            self.minds[mind.tick] = mind
+
+    def on_truth(self, truth: Truth, _: Received) -> None:
+        with self.lock:
+            self.truths[truth.tick] = truth
+
+    def on_event(self, event: Event, _: Received) -> None:
+        """Who took what, who plays with what, who is where."""
+        with self.lock:
+            if event.kind is EventKind.TAKE:
+                self.took.setdefault(event.tick, set()).add(event.actor)
+            elif event.kind is EventKind.PLAY:
+                self.playing[event.actor] = event.item
+                self.reached.append((event.tick, event.actor, event.item or ""))
+            elif event.kind in (EventKind.STOP, EventKind.DROP):
+                self.playing[event.actor] = None
+            elif event.kind is EventKind.GIVE:
+                self.playing[event.actor] = None
+                if event.target is not None:
+                    self.playing[event.target] = None
+            elif event.kind is EventKind.ENTER and event.location is not None:
+                self.regions[event.actor] = event.location
+                self.reached.append((event.tick, event.actor, event.location))
+
+
+def brain_command(spec: RunSpec, world: str, settings: SessionSettings, shadow_dir: Path) -> list[str]:
+    """The brain process of a run (with its shadow observers writing into ``shadow_dir``)."""
+    shadows = [a for o in spec.shadows for a in ("--shadow", o)]
+    if spec.shadows:
+        shadows += ["--shadow-out", str(shadow_dir)]
+    return node_command(
+        "brain",
+        world,
+        settings,
+        *("--scenario", str(spec.scenario), "--observer", spec.observer, "--robot", spec.robot),
+        *("--timeout", str(spec.timeout), "--log-level", "WARNING"),
+        *shadows,
+    )
+
+
+def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
+    """Run an engine and a brain on ``spec`` and score the brain's minds against the truth:
+    the live observer's from ``brain/mind``, each shadow's from its file.
+
+    Raises:
+        RuntimeError: when a node process fails (its log, in ``logs``, says why).
+    """
+    world = f"eval-{uuid.uuid4().hex[:10]}"
+    settings = SessionSettings()
+    tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
+    engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
+    shadow_dir = logs / f"{tag}.shadows"
+    engine = start_node(
+        engine_command("sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep"), engine_log
+    )
+    brain = None
+    record = RunRecord()
+    try:
+        with Bridge(world, settings) as bridge:
+            info = wait_for_engine(bridge, engine)
+            if info is None:
+                report_failure("engine", engine.returncode, engine_log)
+                raise RuntimeError(f"{tag}: the engine failed")
+            bridge.subscribe(bridge.keys.mind, record.on_mind, expected=Mind)
+            bridge.subscribe(bridge.keys.truth, record.on_truth, expected=Truth)
+            bridge.subscribe(bridge.keys.events, record.on_event, expected=Event)
+            brain = start_node(brain_command(spec, world, settings, shadow_dir), brain_log)
+            if brain.wait(timeout=1800) != 0:
+                report_failure("brain", brain.returncode, brain_log)
+                raise RuntimeError(f"{tag}: the brain failed")
+            _settle(
+                lambda: (len(record.minds), len(record.truths)),
+                done=lambda: bool(record.minds) and max(record.minds) >= max(record.truths, default=0),
+            )
+    finally:
+        for process in (brain, engine):
+            if process is not None:
+                stop_node(process)
+    outcome = Outcome()
+    if record.truths:
+        last = record.truths[max(record.truths)]
+        outcome = judge(info.scene, last, record.playing, record.regions, record.reached)
+    results = {spec.observer: _score(record.minds, record.truths, record.took, outcome)}
+    for observer in spec.shadows:
+        lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
+        shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
+        results[observer] = _score(shadow, record.truths, record.took, outcome)
+    return results
+
+
+def _score(
+    minds: dict[int, Mind], truths: dict[int, Truth], took: dict[int, set[str]], outcome: Outcome
+) -> RunResult:
+    """Score every tick that has both a mind and the truth (channels that are never dropped)."""
+    result = RunResult(outcome=outcome)
+    seen: set[str] = set()
+    for tick in sorted(truths):
+        seen |= {p for t, people in took.items() if t <= tick for p in people}
+        if tick not in minds:
+            continue
+        where = {place.item: place.location for place in truths[tick].items}
+        result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
+        result.ticks += 1
+    return result
+
+
+def _settle(
+    count: Callable[[], tuple[int, int]], done: Callable[[], bool], quiet: float = 0.3, limit: float = 15.0
+) -> None:
+    """Wait until the last messages have arrived: ``done()`` and nothing new for ``quiet`` s."""
+    deadline = time.monotonic() + limit
+    seen, since = count(), time.monotonic()
+    while time.monotonic() < deadline:
+        time.sleep(0.05)
+        now = count()
+        if now != seen:
+            seen, since = now, time.monotonic()
+        elif done() and time.monotonic() - since >= quiet:
+            return
