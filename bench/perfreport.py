@@ -83,7 +83,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         "",
         "Scaling: generated houses (`toyroom generate --rooms R --items K`), the brain as it "
         "runs by default: the exact model up to `ModelSettings.exact_max_worlds` worlds, the "
-        "factored one above (`brain/factored.py`). `tv vs exact`: mean total-variation distance "
+        "factored one above (`brain/model/factored.py`). `tv vs exact`: mean total-variation distance "
         "between the factored and exact item beliefs per person, item and tick, where the exact "
         "model fits.",
         "",

@@ -41,9 +41,9 @@ from protocol import (
 )
 
 from .outputs.results import mind_message
+from .outputs.shadows import ShadowMinds
 from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
-from .tracking.shadows import ShadowMinds
 from .tracking.tracker import MindTracker, Observer
 
 log = logging.getLogger("toyroom.brain")
@@ -61,7 +61,7 @@ class BrainNode:
         timeout: seconds each lock-step request may take (``None``: no limit).
         handshake_timeout: seconds to wait for an engine to answer.
         shadows: other observers run on the same ticks, each writing its minds to
-            ``shadow_dir`` (:mod:`brain.tracking.shadows`).
+            ``shadow_dir`` (:mod:`brain.outputs.shadows`).
     """
 
     def __init__(

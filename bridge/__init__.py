@@ -1,4 +1,6 @@
-"""toyroom's bridge: Zenoh sessions, typed messaging, liveliness, lock-step and the CLI.
+"""toyroom's bridge: Zenoh sessions, typed messaging, liveliness, lock-step, node processes
+(the core, here), and the tools built on it: ``recording``, ``conformance``, ``view``,
+``evaluation`` and ``app`` (the ``toyroom`` CLI).
 
 ``bridge`` depends on ``protocol`` only; it starts engines and brains as processes and
 never imports them.
@@ -9,11 +11,18 @@ from .errors import BridgeError, ConfigError, NoReply, Refused, RemoteError, Ste
 from .handshake import handshake, serve_info
 from .lockstep import LockstepClient
 from .presence import Peer, PresenceEvent, PresenceWatcher, Token
+from .processes import node_command, source_file, start_node, stop_node, stop_on_signals, wait_for_stop
 from .pubsub import Congestion, Publisher, Queryable, Received, Subscriber, query
 from .router import Router, run_router
 from .session import SessionSettings, build_config, is_loopback, open_session, world_endpoint, world_port
 
 __all__ = [
+    "node_command",
+    "source_file",
+    "start_node",
+    "stop_node",
+    "stop_on_signals",
+    "wait_for_stop",
     "Bridge",
     "BridgeError",
     "ConfigError",

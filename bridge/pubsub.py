@@ -273,9 +273,6 @@ def query(
     raise NoReply(f"nobody answers on '{key}' (is the engine running, on the same world?)")
 
 
-Handler = Callable[[Q, str], Message]
-
-
 class Queryable(Generic[Q]):
     """Answers queries on a key with ``handler(request, key) -> reply message``.
 

@@ -16,8 +16,8 @@ from pathlib import Path
 import zenoh
 
 from .errors import ConfigError
+from .processes import wait_for_stop
 from .session import SessionSettings, build_config
-from .stopping import wait_for_stop
 
 log = logging.getLogger("toyroom.bridge")
 

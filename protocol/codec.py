@@ -136,7 +136,7 @@ def decode(data: bytes, expected: type[M] | None = None, encoding: Encoding = En
         )
     check_version(header.protocol, message_type=header.type)
     try:
-        return _DECODERS[(cls, encoding)].decode(data)  # type: ignore[no-any-return]
+        return _DECODERS[(cls, encoding)].decode(data)
     except msgspec.ValidationError as err:
         reason, path = _split(err)
         raise ProtocolError(reason, message_type=header.type, field=path) from None

@@ -19,7 +19,7 @@ import threading
 import time
 
 from bridge import Bridge, Congestion, Received, Refused, serve_info
-from bridge.stopping import wait_for_stop
+from bridge.processes import wait_for_stop
 from protocol import (
     ClockMode,
     CommandStatus,
@@ -212,7 +212,7 @@ class EngineNode:
     def wait(self) -> None:
         """Block until :meth:`stop` or :meth:`close` is called (from another thread or a
         signal handler: the wait wakes regularly so that handlers run, see
-        :mod:`bridge.stopping`)."""
+        :mod:`bridge.processes`)."""
         wait_for_stop(self._stop)
 
     def close(self) -> None:

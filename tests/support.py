@@ -24,19 +24,27 @@ def golden_examples() -> dict[str, Message]:
 
 
 class EngineProcess:
-    """``python -m sim2d`` as a real process on a world; a context manager that kills it."""
+    """``python -m sim2d`` as a real process on a world; a context manager that kills it.
+    Its output goes to a temporary file (a pipe nobody reads would block a chatty engine),
+    which :meth:`output` reads."""
 
     def __init__(self, world: str, *args: str) -> None:
         import subprocess
         import sys
+        import tempfile
 
         self.world = world
+        self.log = tempfile.TemporaryFile()
         self.process = subprocess.Popen(
             [sys.executable, "-m", "sim2d", "--world", world, "--log-level", "WARNING", *args],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
+            stdout=self.log,
+            stderr=subprocess.STDOUT,
         )
+
+    def output(self) -> str:
+        """Everything the engine has printed so far."""
+        self.log.seek(0)
+        return self.log.read().decode(errors="replace")
 
     def __enter__(self) -> EngineProcess:
         return self
@@ -52,6 +60,7 @@ class EngineProcess:
             except Exception:
                 self.process.kill()
                 self.process.wait(timeout=10)
+        self.log.close()
 
 
 def run_brain(world: str, *args: str, timeout: float = 240) -> subprocess.CompletedProcess[str]:

@@ -71,11 +71,149 @@ def _modules(path: Path) -> set[str]:
 
 
 def test_nodes_do_not_import_the_command_line() -> None:
-    """The nodes take their shared flags from bridge.flags, never the ``toyroom`` CLI."""
+    """The nodes take their shared flags from the bridge core (``bridge.flags``,
+    ``bridge.session``), never from the ``toyroom`` application."""
     offenders = sorted(
         str(path.relative_to(ROOT))
         for package in ("sim2d", "brain")
         for path in (ROOT / package).rglob("*.py")
-        if "bridge.app.cli" in _modules(path)
+        if any(m == "bridge.app" or m.startswith("bridge.app.") for m in _modules(path))
     )
-    assert offenders == [], f"nodes importing bridge.app.cli (use bridge.flags): {offenders}"
+    assert offenders == [], f"nodes importing bridge.app: {offenders}"
+
+
+ROOMS = {
+    "bridge": {
+        "<core>": set(),
+        "recording": {"<core>"},
+        "conformance": {"<core>"},
+        "view": {"<core>"},
+        "evaluation": {"<core>"},
+        "app": {"<core>", "recording", "conformance", "evaluation"},
+    },
+    "brain": {
+        "<base>": set(),
+        "model": {"<base>"},
+        "tracking": {"<base>", "model"},
+        "robot": {"<base>", "model", "tracking"},
+        "outputs": {"<base>", "model", "tracking"},
+        "<shell>": {"<base>", "model", "tracking", "robot", "outputs"},
+    },
+}
+"""Inside a package, the rooms each room may import: the bridge core imports none of its
+tools; the brain's model is pure (settings and errors are its base), the node its only shell."""
+
+ENTRY_POINTS = {"bridge/__main__.py"}
+"""Modules that only start a tool (``python -m bridge`` runs the CLI)."""
+BRAIN_BASE = {"settings", "errors"}
+
+
+def _room(package: str, path: Path) -> str:
+    rel = path.relative_to(ROOT / package)
+    if len(rel.parts) > 1:
+        return rel.parts[0]
+    if package == "brain":
+        return "<base>" if rel.stem in BRAIN_BASE else "<shell>"
+    return "<core>"
+
+
+def _room_of_module(package: str, module: str) -> str:
+    parts = module.split(".")[1:]
+    if parts and (ROOT / package / parts[0]).is_dir():
+        return parts[0]
+    if package == "brain":
+        return "<base>" if parts and parts[0] in BRAIN_BASE else "<shell>"
+    return "<core>"
+
+
+def _absolute_imports(path: Path) -> set[str]:
+    """Every module ``path`` imports, relative imports resolved, lazy ones included."""
+    package = list(path.relative_to(ROOT).with_suffix("").parts)
+    package = package[:-1]
+    found: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level == 0:
+                found.add(node.module or "")
+            else:
+                base = package[: len(package) - (node.level - 1)]
+                found.add(".".join(base + ([node.module] if node.module else [])))
+    return found
+
+
+@pytest.mark.parametrize("package", sorted(ROOMS))
+def test_rooms_import_only_what_they_may(package: str) -> None:
+    offenders = []
+    for path in sorted((ROOT / package).rglob("*.py")):
+        if str(path.relative_to(ROOT)) in ENTRY_POINTS:
+            continue
+        room = _room(package, path)
+        for module in _absolute_imports(path):
+            if module.split(".")[0] != package:
+                continue
+            target = _room_of_module(package, module)
+            if target != room and target not in ROOMS[package][room]:
+                offenders.append(f"{path.relative_to(ROOT)} ({room}) imports {module} ({target})")
+    assert offenders == [], f"{package}: rooms importing what they may not: {offenders}"
+
+
+def test_the_brain_model_is_pure() -> None:
+    """brain/model imports no bridge, no zenoh, nothing that does I/O on the wire."""
+    offenders = {
+        str(path.relative_to(ROOT)): sorted(
+            m for m in _absolute_imports(path) if m.split(".")[0] in {"bridge", "zenoh"}
+        )
+        for path in (ROOT / "brain" / "model").rglob("*.py")
+    }
+    assert {k: v for k, v in offenders.items() if v} == {}, offenders
+
+
+MAX_MODULE_LINES = 400
+MAX_FUNCTION_LINES = 80
+MAX_TOP_MODULES = 12
+
+
+def test_modules_and_functions_are_short() -> None:
+    long = []
+    for package in ALLOWED:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            text = path.read_text(encoding="utf-8")
+            rel = path.relative_to(ROOT)
+            if len(text.splitlines()) > MAX_MODULE_LINES:
+                long.append(f"{rel}: {len(text.splitlines())} lines (at most {MAX_MODULE_LINES})")
+            for node in ast.walk(ast.parse(text)):
+                if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                    length = (node.end_lineno or node.lineno) - node.lineno + 1
+                    if length > MAX_FUNCTION_LINES:
+                        long.append(
+                            f"{rel}:{node.lineno} {node.name}: {length} lines (at most {MAX_FUNCTION_LINES})"
+                        )
+    assert long == [], "too long:\n" + "\n".join(long)
+
+
+@pytest.mark.parametrize("package", ["bridge", "brain"])
+def test_top_level_has_few_modules(package: str) -> None:
+    modules = sorted(p.name for p in (ROOT / package).glob("*.py"))
+    assert len(modules) <= MAX_TOP_MODULES, f"{package}/ has {len(modules)} modules at its top: {modules}"
+
+
+def _exported(init: Path) -> list[str]:
+    """The names in an ``__init__``'s ``__all__`` (empty when it has none)."""
+    for node in ast.parse(init.read_text(encoding="utf-8")).body:
+        targets = node.targets if isinstance(node, ast.Assign) else []
+        if any(isinstance(t, ast.Name) and t.id == "__all__" for t in targets):
+            assert isinstance(node, ast.Assign) and isinstance(node.value, ast.List | ast.Tuple)
+            return [ast.literal_eval(e) for e in node.value.elts]
+    return []
+
+
+def test_every_package_exports_its_public_names() -> None:
+    empty = [
+        str(init.relative_to(ROOT))
+        for package in ALLOWED
+        for init in sorted((ROOT / package).rglob("__init__.py"))
+        if not _exported(init)
+    ]
+    assert empty == [], f"package __init__ files without a non-empty __all__: {empty}"

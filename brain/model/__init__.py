@@ -1,0 +1,46 @@
+"""The model's pure math (numpy arrays in, arrays out; no I/O, no bridge): the world as
+indexed arrays, each person's belief update from percepts, the Boltzmann planner, the HMM's
+forward and backward passes, the factored model of large houses, and the estimates read off
+a posterior."""
+
+from .arrays import BoolArray, FloatArray, IntArray
+from .belief import BeliefModel, Percept, percept, told, true_values
+from .estimates import OUT, Estimate, estimate, false_beliefs
+from .inference import HmmStep, forward, forward_step, smooth, switch_probability
+from .personmodel import ExactModel, FactoredModel, PersonFilter, PersonModel, StepRecord, person_model
+from .planner import TAKE, Move, Policy, cached_policy, plan
+from .world import MOVE_STEPS, WorldModel, build_world_model
+
+__all__ = [
+    "MOVE_STEPS",
+    "OUT",
+    "TAKE",
+    "build_world_model",
+    "cached_policy",
+    "estimate",
+    "false_beliefs",
+    "forward",
+    "forward_step",
+    "percept",
+    "person_model",
+    "plan",
+    "smooth",
+    "switch_probability",
+    "told",
+    "true_values",
+    "BeliefModel",
+    "BoolArray",
+    "Estimate",
+    "ExactModel",
+    "FactoredModel",
+    "FloatArray",
+    "HmmStep",
+    "IntArray",
+    "Move",
+    "Percept",
+    "PersonFilter",
+    "PersonModel",
+    "Policy",
+    "StepRecord",
+    "WorldModel",
+]

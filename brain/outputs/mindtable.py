@@ -106,9 +106,3 @@ def render_csv(rows: list[MindRow]) -> str:
 def write_csv(rows: list[MindRow], path: Path) -> None:
     """Write ``mind.csv``."""
     path.write_text(render_csv(rows), encoding="utf-8")
-
-
-def read_csv(path: Path) -> list[dict[str, str]]:
-    """Read a ``mind.csv`` back as dictionaries (for analysis and tests)."""
-    with path.open(encoding="utf-8", newline="") as handle:
-        return list(csv.DictReader(handle))

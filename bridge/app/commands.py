@@ -12,8 +12,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..flags import PROG_ENV
+from ..processes import stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
-from ..stopping import stop_on_signals, wait_for_stop
 
 
 def schema_main(check: bool, directory: Path | None = None) -> int:
@@ -156,7 +156,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from .processes import source_file
+    from ..processes import source_file
 
     suite = source_file("bench/suite.py")
     quick = ["--quick"] if args.quick else []

@@ -25,13 +25,13 @@ from rich.live import Live
 from protocol import Mind, Observer
 
 from ..bridge import Bridge
+from ..processes import engine_command, node_command, report_failure, start_node, stop_node, wait_for_engine
 from ..pubsub import Received
 from ..recording.events import write_events_csv
 from ..recording.mcap import McapRecorder
 from ..recording.trace import TraceRecorder
 from ..session import SessionSettings
 from .livetable import mind_table
-from .processes import engine_command, node_command, report_failure, start_node, stop_node, wait_for_engine
 
 log = logging.getLogger("toyroom.run")
 

@@ -19,9 +19,7 @@ clock) are checked only when the handshake declares them.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
 
 from protocol import (
     PROTOCOL_VERSION,
@@ -32,10 +30,6 @@ from protocol import (
     Cell,
     ClockMode,
     CommandState,
-    CommandStatus,
-    ControlReply,
-    EngineInfo,
-    Event,
     Give,
     Hello,
     Navigate,
@@ -43,12 +37,8 @@ from protocol import (
     Place,
     Request,
     Reset,
-    RobotCommand,
     Say,
     SayTopic,
-    State,
-    Step,
-    Truth,
     Version,
     scene_problems,
 )
@@ -57,115 +47,34 @@ from ..bridge import Bridge
 from ..errors import BridgeError
 from ..handshake import ask_engine
 from ..presence import PresenceWatcher
-from ..pubsub import Received
+from .probe import CheckFailed, CheckResult, Probe
+
+CHECK_NAMES = (
+    "handshake",
+    "scene",
+    "liveliness",
+    "realtime",
+    "reset",
+    "stepping",
+    "events",
+    "robot commands",
+    "cancel",
+    "impossible command",
+    "malformed input",
+    "truth",
+)
+"""Every check, in the order they run (later ones need earlier ones): the one list that
+``toyroom conform`` and the pytest mixin (:mod:`bridge.conformance.suite`) both use."""
+
+LOCKSTEP_ONLY = frozenset(CHECK_NAMES[CHECK_NAMES.index("reset") :])
+"""Checks that drive the clock: skipped against a real-time engine."""
+
+STOP_AFTER_FAILING = ("handshake", "reset")
+"""Checks the others depend on: a failure ends the run."""
 
 
-@dataclass(frozen=True)
-class CheckResult:
-    """One check: its name, whether it passed, and what was expected and what came."""
-
-    name: str
-    passed: bool
-    detail: str = ""
-
-    def line(self) -> str:
-        mark = "pass" if self.passed else "FAIL"
-        return f"{mark}  {self.name}" + (f": {self.detail}" if self.detail else "")
-
-
-class CheckFailed(Exception):
-    """Raised inside a check: expected this, got that."""
-
-
-@dataclass
-class _Stream:
-    """Everything the engine publishes, collected in arrival order."""
-
-    states: list[State] = field(default_factory=list)
-    events: list[Event] = field(default_factory=list)
-    statuses: list[CommandStatus] = field(default_factory=list)
-    truths: list[Truth] = field(default_factory=list)
-    cond: threading.Condition = field(default_factory=threading.Condition)
-
-    def add(self, bucket: list, item: object) -> None:  # type: ignore[type-arg]
-        with self.cond:
-            bucket.append(item)
-            self.cond.notify_all()
-
-    def wait(self, predicate: Callable[[], bool], timeout: float) -> bool:
-        with self.cond:
-            return self.cond.wait_for(predicate, timeout)
-
-
-class Checker:
-    """Runs the checks against the engine of ``bridge``'s world."""
-
-    def __init__(self, bridge: Bridge, timeout: float = 5.0) -> None:
-        self.bridge = bridge
-        self.timeout = timeout
-        self.keys = bridge.keys
-        self.stream = _Stream()
-        self.info: EngineInfo | None = None
-        self.episode = 0
-        self.tick = 0
-        self._ids = 0
-        bridge.subscribe(self.keys.state, lambda m, _: self.stream.add(self.stream.states, m), expected=State)
-        bridge.subscribe(
-            self.keys.events, lambda m, _: self.stream.add(self.stream.events, m), expected=Event
-        )
-        bridge.subscribe(self.keys.status(), self._on_status, expected=CommandStatus)
-        bridge.subscribe(self.keys.truth, lambda m, _: self.stream.add(self.stream.truths, m), expected=Truth)
-
-    def _on_status(self, status: CommandStatus, _: Received) -> None:
-        self.stream.add(self.stream.statuses, status)
-
-    # ----- helpers --------------------------------------------------------------------
-
-    def control(self, request: Reset | Step) -> ControlReply:
-        try:
-            return self.bridge.query(self.keys.control, request, ControlReply, timeout=self.timeout)
-        except BridgeError as err:
-            raise CheckFailed(f"expected a control_reply to {request!r}, got: {err}") from None
-
-    def step(self, n: int) -> ControlReply:
-        reply = self.control(Step(n=n))
-        self.tick = reply.tick
-        return reply
-
-    @property
-    def robot(self) -> str | None:
-        assert self.info is not None
-        robots = [a for a in self.info.scene.agents if a.kind is AgentKind.ROBOT]
-        return robots[0].id if robots else None
-
-    def command(self, action: Action, *, max_steps: int = 400) -> list[CommandStatus]:
-        """Send a command and step until it ends; every status it got."""
-        assert self.robot is not None
-        self._ids += 1
-        command = RobotCommand(id=f"conform{self._ids}", robot=self.robot, action=action)
-        publisher = self.bridge.publisher(self.keys.command(self.robot))
-        if not publisher.wait_matched(self.timeout):
-            raise CheckFailed(
-                f"expected the engine to subscribe to '{self.keys.command(self.robot)}', it did not"
-            )
-        publisher.put(command)
-
-        def mine() -> list[CommandStatus]:
-            return [s for s in self.stream.statuses if s.command == command.id]
-
-        self.stream.wait(lambda: bool(mine()), self.timeout)
-        for _ in range(max_steps):
-            got = mine()
-            if got and got[-1].state.final:
-                return got
-            self.step(1)
-            self.stream.wait(lambda: bool(mine()) and mine()[-1].state.final, 0.05)
-        raise CheckFailed(
-            f"{type(action).__name__.lower()}: expected a final status within {max_steps} ticks, got "
-            f"{[s.state.value for s in mine()]}"
-        )
-
-    # ----- the checks -----------------------------------------------------------------
+class Checker(Probe):
+    """The checks, one method each (``check_<name>``)."""
 
     def check_handshake(self) -> str:
         info = ask_engine(self.bridge, Hello(client="toyroom-conform", role="conform"), self.timeout)
@@ -270,7 +179,7 @@ class Checker:
                     )
         return f"{len(self.stream.events)} events, all with known ids"
 
-    def check_commands(self) -> str:
+    def check_robot_commands(self) -> str:
         assert self.info is not None
         if Capability.ROBOT not in self.info.capabilities or self.robot is None:
             return "skipped: no 'robot' capability or no robot in the scene"
@@ -375,21 +284,13 @@ class Checker:
         return "states arrive without stepping"
 
     def checks(self) -> Iterator[tuple[str, Callable[[], str]]]:
-        """The checks in the order they run (later ones need earlier ones)."""
-        yield "handshake", self.check_handshake
-        yield "scene", self.check_scene
-        yield "liveliness", self.check_liveliness
-        if self.info is not None and self.info.clock is ClockMode.REALTIME:
-            yield "realtime", self.check_realtime
-            return
-        yield "reset", self.check_reset
-        yield "stepping", self.check_stepping
-        yield "events", self.check_events
-        yield "robot commands", self.check_commands
-        yield "cancel", self.check_cancel
-        yield "impossible command", self.check_impossible_command
-        yield "malformed input", self.check_malformed_input
-        yield "truth", self.check_truth
+        """Every check of :data:`CHECK_NAMES`, in order (lock-step ones skipped against a
+        real-time engine)."""
+        for name in CHECK_NAMES:
+            if name in LOCKSTEP_ONLY and self.info is not None and self.info.clock is ClockMode.REALTIME:
+                yield name, lambda: "skipped: the clock runs in real time"
+            else:
+                yield name, getattr(self, f"check_{name.replace(' ', '_')}")
 
 
 def check_engine(bridge: Bridge, timeout: float = 5.0) -> list[CheckResult]:
@@ -403,10 +304,10 @@ def check_engine(bridge: Bridge, timeout: float = 5.0) -> list[CheckResult]:
             results.append(CheckResult(name, True, detail))
         except (CheckFailed, BridgeError) as err:
             results.append(CheckResult(name, False, str(err)))
-            if name in ("handshake", "reset"):
+            if name in STOP_AFTER_FAILING:
                 break
         except Exception as err:  # a protocol error or a bug in the engine's answers
             results.append(CheckResult(name, False, f"{type(err).__name__}: {err}"))
-            if name in ("handshake", "reset"):
+            if name in STOP_AFTER_FAILING:
                 break
     return results

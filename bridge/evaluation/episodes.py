@@ -4,7 +4,7 @@ Each episode is a random scenario (``toyroom generate``) on the paper map or one
 of two generated houses, with autonomous simulated people. It runs twice, each time an
 engine and a brain process over loopback Zenoh in lock-step: the robot observing (the BToM
 brain live, with ``truebelief`` and ``perceptonly`` as shadow observers of the same ticks,
-:mod:`brain.tracking.shadows`), and the BToM brain with the robot acting.
+:mod:`brain.outputs.shadows`), and the BToM brain with the robot acting.
 The evaluator listens to ``brain/mind`` and ``engine/truth`` and scores every
 tick (:mod:`bridge.evaluation.metrics`); robot success is whether each person ends the episode with
 what they want (playing with their preferred item, or outside if they want to leave), with

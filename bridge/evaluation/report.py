@@ -18,7 +18,7 @@ FIGURE = "metrics.png"
 
 
 def _cell(value: object) -> str:
-    return "-" if value is None else f"{value:.3f}"  # type: ignore[str-format]
+    return "-" if value is None else f"{value:.3f}"
 
 
 def _table(metrics: Mapping[str, Any]) -> list[str]:

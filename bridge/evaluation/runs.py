@@ -14,7 +14,8 @@ from pathlib import Path
 
 from protocol import Event, EventKind, Mind, Truth, decode
 
-from ..app.processes import (
+from ..bridge import Bridge
+from ..processes import (
     engine_command,
     node_command,
     report_failure,
@@ -22,7 +23,6 @@ from ..app.processes import (
     stop_node,
     wait_for_engine,
 )
-from ..bridge import Bridge
 from ..pubsub import Received
 from ..session import SessionSettings
 from .metrics import Counts, Outcome, score_tick

@@ -10,7 +10,7 @@ import threading
 import time
 from pathlib import Path
 
-from ..stopping import POLL_S, stop_process_group
+from ..processes import POLL_S, stop_process_group
 
 CHROMIUM_FLAGS = (
     "--headless",

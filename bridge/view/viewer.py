@@ -24,8 +24,8 @@ from ..errors import NoReply
 from ..flags import add_log_level, command_parser, configure_logging
 from ..handshake import handshake
 from ..presence import PresenceEvent
+from ..processes import stop_on_signals, stop_process_group, wait_for_stop
 from ..session import SessionSettings, add_network_args, settings_from_args
-from ..stopping import stop_on_signals, stop_process_group, wait_for_stop
 from .scene import REFRESH_HZ, SceneView
 from .screenshot import screenshot
 

@@ -134,7 +134,7 @@ def test_generate_is_a_toyroom_command(tmp_path: Path) -> None:
 
 def test_observer_names_are_written_once() -> None:
     """Only protocol/mind.py spells out the observer names; everything else asks it."""
-    root = Path(__file__).resolve().parents[2]
+    root = Path(__file__).resolve().parents[3]
     names = {"btom", "truebelief", "perceptonly"}
     found = []
     for package in ("protocol", "bridge", "brain", "sim2d"):

@@ -15,9 +15,9 @@ from typing import IO
 
 from protocol import Event, Scene, State, encode
 
-from ..outputs.results import mind_message
 from ..settings import ModelSettings
-from .tracker import MindTracker, Observer
+from ..tracking.tracker import MindTracker, Observer
+from .results import mind_message
 
 
 def shadow_path(directory: Path, observer: Observer) -> Path:
