@@ -28,7 +28,15 @@ class ModelSettings:
         step_cost: cost of every non-terminal action.
         vi_tolerance: value iteration stops when no value moves more than this.
         exact_max_worlds: the largest number of worlds ``W = (2 L)**K`` for which the exact
-            joint model is used; above it, the factored model (``brain/factored.py``).
+            joint model is used; above it, the factored model (``brain/model/factored.py``).
+        belief_model: ``point``: each person is certain of one world, the robot unsure which
+            (the paper's reading); ``graded``: each person holds a belief of their own and
+            plans on it by QMDP (``brain/model/graded.py``; exact model only).
+        prior_resolution: graded model: the grid over each item's initial belief has the
+            probabilities ``c / prior_resolution`` (1: the person is sure of some location).
+        belief_update: graded model: ``predict`` (a change of world is predicted with weight
+            ``r``, then the percept corrects it) or ``paper`` (the paper's single normalisation
+            after summing over the previous worlds).
     """
 
     r: float = 8.0
@@ -45,6 +53,9 @@ class ModelSettings:
     step_cost: float = 1.0
     vi_tolerance: float = 1e-9
     exact_max_worlds: int = 512
+    belief_model: str = "point"
+    prior_resolution: int = 2
+    belief_update: str = "predict"
 
     def __post_init__(self) -> None:
         checks = {
@@ -54,6 +65,9 @@ class ModelSettings:
             "epsilon": 0.0 <= self.epsilon < 1.0,
             "hazard": 0.0 <= self.hazard < 1.0,
             "discount": 0.0 < self.discount < 1.0,
+            "belief_model": self.belief_model in ("point", "graded"),
+            "prior_resolution": self.prior_resolution >= 1,
+            "belief_update": self.belief_update in ("predict", "paper"),
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

@@ -110,15 +110,26 @@ class BeliefModel:
         match = np.where(seen[None, :] >= 0, model.worlds == seen[None, :], ~visible[model.place])
         return np.prod(np.where(match, 1.0 - self.delta, self.delta), axis=1)
 
-    def transition(self, p: Percept) -> FloatArray:
-        """``(W, W)`` matrix ``T[i, j] = P(b_t = i | b_{t-1} = j, o_t)``; columns sum to 1."""
+    def in_pw(self, p: Percept) -> npt.NDArray[np.bool_]:
+        """``(W_i, W_j)`` whether ``i`` is in ``PW(j)``: it differs from ``j`` only in items the
+        person at ``p.cell`` can see now (in view, or believed by ``j`` to be at a visible spot)."""
         model = self.model
         seen = np.array(p.seen)
         affected = (seen[None, :] >= 0) | model.sees[p.cell][model.place]  # (W_j, K)
         fixed = np.bitwise_or.reduce(np.where(affected, 0, self.bit), axis=1)  # (W_j,) must stay put
-        in_pw = (self.differ & fixed[None, :]) == 0  # (W_i, W_j)
+        return (self.differ & fixed[None, :]) == 0
+
+    def change_weights(self, p: Percept) -> FloatArray:
+        """``(W_i, W_j)`` the paper's ``g(i, j)``: 1 to stay, ``r`` for a change inside ``PW(j)``,
+        0 outside."""
+        g = np.where(self.in_pw(p), self.r, 0.0)
+        np.fill_diagonal(g, 1.0)
+        return g
+
+    def transition(self, p: Percept) -> FloatArray:
+        """``(W, W)`` matrix ``T[i, j] = P(b_t = i | b_{t-1} = j, o_t)``; columns sum to 1."""
         likelihood = self.percept_likelihood(p)
-        t = in_pw * (self.r * likelihood)[:, None]
+        t = self.in_pw(p) * (self.r * likelihood)[:, None]
         np.fill_diagonal(t, likelihood)
         t /= t.sum(axis=0, keepdims=True)
         return t

@@ -1,13 +1,15 @@
-"""The two forms of one person's hidden-state model, behind one interface for the tracker.
+"""The forms of one person's hidden-state model, behind one interface for the tracker.
 
 - :class:`ExactModel`: the joint ``(W, D)`` posterior over believed worlds and preferences
-  (the paper's model; online and smoothed).
+  (the paper's point-belief model; online and smoothed).
 - :class:`FactoredModel`: per preference, one belief per item (:mod:`brain.model.factored`), for
   houses whose ``W = V**K`` worlds do not fit; online only.
+- :class:`GradedModel`: each person holds a graded belief of their own and plans with it
+  (:mod:`brain.model.graded`); ``ModelSettings.belief_model = "graded"``; online and smoothed.
 
-:func:`person_model` picks one by ``ModelSettings.exact_max_worlds``. Each step is kept as a
-small :class:`StepRecord` (the percept, not the ``(W, W)`` transition, which smoothing
-rebuilds), so a long episode does not hold a matrix per step.
+:func:`person_model` picks one by ``ModelSettings.belief_model`` and ``exact_max_worlds``.
+Each step is kept as a small :class:`StepRecord` (the percept, not the ``(W, W)``
+transition, which smoothing rebuilds), so a long episode does not hold a matrix per step.
 """
 
 from __future__ import annotations
@@ -33,7 +35,8 @@ from .factored import (
     factored_prior,
     factored_step,
 )
-from .inference import HmmStep, forward_step, smooth
+from .graded import expected_joint, prior_beliefs, qmdp_likelihood, update_beliefs
+from .inference import HmmStep, forward_step, hazard_matrix, smooth
 from .planner import Policy, cached_policy
 from .world import WorldModel, build_world_model
 
@@ -48,6 +51,9 @@ class StepRecord:
         truth: the true item values then.
         likelihood: the action likelihood (the model's shape), ``None`` for a percept alone.
         switch: probability that the preference changes at this step.
+        decision: ``(cell, held, action)`` of the decision before the percept (``None`` for a
+            percept alone): what a model whose likelihood depends on the person's own belief
+            needs.
     """
 
     tick: int
@@ -55,6 +61,7 @@ class StepRecord:
     truth: tuple[int, ...]
     likelihood: FloatArray | None
     switch: float
+    decision: tuple[int, int, int] | None = None
 
 
 class PersonFilter(Protocol):
@@ -176,10 +183,119 @@ class FactoredFilter:
         return factored_estimate(self.owner.model, self.posterior, truth)
 
 
+class GradedModel:
+    """Graded beliefs (:mod:`brain.model.graded`): the posterior is over ``G`` hypotheses of
+    the person's initial belief and ``D`` preferences; each hypothesis's belief follows the
+    person's percepts. ``true_world``: the observer assumes people know the true world."""
+
+    exact = True
+
+    def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
+        self.policy: Policy = cached_policy(scene, settings)
+        self.model = self.policy.model
+        self.settings = settings
+        self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
+        self.true_world = true_world
+        self.initial = prior_beliefs(self.model.worlds, self.model.n_locations, settings.prior_resolution)
+
+    def prior(self) -> FloatArray:
+        """``(G, D)`` uniform over hypotheses and preferences."""
+        G, D = len(self.initial), self.model.n_items + 1
+        return np.full((G, D), 1.0 / (G * D))
+
+    def new_filter(self) -> GradedFilter:
+        return GradedFilter(self, self.initial.copy(), self.prior())
+
+    def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
+        """The point model's ``(W, D)`` likelihood (kept in the record; the graded filter
+        computes its own from ``StepRecord.decision``)."""
+        return self.policy.action_likelihood(cell, held, action)
+
+    def decision_likelihood(self, beliefs: FloatArray, record: StepRecord) -> FloatArray | None:
+        """``(G, D)`` QMDP likelihood of the record's decision (``None`` for a percept alone)."""
+        if record.decision is None:
+            return None
+        cell, held, action = record.decision
+        q = self.policy.q[:, self.policy.state_slice(cell, held), :]
+        return qmdp_likelihood(beliefs, q, action, self.settings.beta, self.settings.epsilon)
+
+    def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
+        """Every hypothesis's belief after the record's percept."""
+        if self.true_world:
+            return beliefs @ self.beliefs.true_world(record.truth, record.percept).T
+        return update_beliefs(beliefs, self.beliefs, record.percept, self.settings.belief_update)
+
+    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
+        """Forward-backward over ``(g, d)`` (``g`` never changes; ``d`` may switch), then the
+        beliefs replayed to read each step's estimate."""
+        beliefs, alpha = self.initial.copy(), self.prior()
+        alphas, steps = [], []
+        for record in records:
+            likelihood = self.decision_likelihood(beliefs, record)
+            alpha = _filter_step(alpha, likelihood, record.switch)
+            beliefs = self.revise(beliefs, record)
+            alphas.append(alpha)
+            steps.append((likelihood, record.switch))
+        back = np.ones_like(alpha)
+        posteriors = [alphas[-1]] if alphas else []
+        for t in range(len(records) - 1, 0, -1):
+            likelihood, switch = steps[t]
+            mixed = back @ hazard_matrix(back.shape[1], switch).T if switch > 0 else back
+            back = mixed * likelihood if likelihood is not None else mixed
+            back /= back.sum()
+            joint = alphas[t - 1] * back
+            posteriors.append(joint / joint.sum())
+        posteriors.reverse()
+        beliefs, out = self.initial.copy(), []
+        for record, posterior in zip(records, posteriors, strict=True):
+            beliefs = self.revise(beliefs, record)
+            out.append(estimate(self.model, expected_joint(beliefs, posterior), record.truth))
+        return out
+
+
+def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
+    """``(G, D)`` posterior after a step: the decision's likelihood, then the preference switch."""
+    if likelihood is not None:
+        alpha = alpha * likelihood
+    if switch > 0:
+        alpha = alpha @ hazard_matrix(alpha.shape[1], switch)
+    return alpha / alpha.sum()
+
+
+@dataclass
+class GradedFilter:
+    """The graded forward pass of one person: each hypothesis's belief and the posterior."""
+
+    owner: GradedModel
+    beliefs: FloatArray
+    """``(G, W)``."""
+    posterior: FloatArray
+    """``(G, D)``."""
+
+    def step(self, record: StepRecord) -> None:
+        likelihood = self.owner.decision_likelihood(self.beliefs, record)
+        self.posterior = _filter_step(self.posterior, likelihood, record.switch)
+        self.beliefs = self.owner.revise(self.beliefs, record)
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        return estimate(self.owner.model, expected_joint(self.beliefs, self.posterior), truth)
+
+
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
-    """The exact model when its ``W`` worlds are at most ``settings.exact_max_worlds``, else
-    the factored one."""
+    """The graded model when ``settings.belief_model`` says so; else the exact point model
+    when its ``W`` worlds are at most ``settings.exact_max_worlds``, the factored one above.
+
+    Raises:
+        ValueError: graded beliefs asked for on a house too large for the exact model.
+    """
     worlds = build_world_model(scene).n_worlds
+    if settings.belief_model == "graded":
+        if worlds > settings.exact_max_worlds:
+            raise ValueError(
+                f"belief_model 'graded' needs the exact model, but scene '{scene.name}' has {worlds} "
+                f"worlds (exact_max_worlds = {settings.exact_max_worlds}); use belief_model 'point'"
+            )
+        return GradedModel(scene, settings, true_world)
     if worlds <= settings.exact_max_worlds:
         return ExactModel(scene, settings, true_world)
     return FactoredModel(scene, settings, true_world)

@@ -118,7 +118,8 @@ class MindTracker:
                 likelihood = self.person_model.likelihood(track.cell, track.held, action)
                 elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
                 switch = switch_probability(self.settings.hazard, elapsed)
-                self._push(track, tick, seen, likelihood, truth, switch=switch)
+                decision = (track.cell, track.held, action)
+                self._push(track, tick, seen, likelihood, truth, switch=switch, decision=decision)
                 track.last_decision = state.time
             elif seen != track.percept or (
                 self.observer is Observer.TRUEBELIEF and truth != track.steps[-1].truth
@@ -158,10 +159,13 @@ class MindTracker:
         likelihood: FloatArray | None,
         truth: tuple[int, ...],
         switch: float,
+        decision: tuple[int, int, int] | None = None,
     ) -> None:
         if self.observer is Observer.PERCEPTONLY:
-            likelihood = None
-        record = StepRecord(tick=tick, percept=seen, truth=truth, likelihood=likelihood, switch=switch)
+            likelihood, decision = None, None
+        record = StepRecord(
+            tick=tick, percept=seen, truth=truth, likelihood=likelihood, switch=switch, decision=decision
+        )
         if track.filter is None:
             track.filter = self.person_model.new_filter()
         track.filter.step(record)

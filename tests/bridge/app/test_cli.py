@@ -153,3 +153,16 @@ def test_run_writes_the_shadow_observers_minds(tmp_path: Path) -> None:
     assert [m.tick for m in minds] == list(range(ticks[0], ticks[-1] + 1)), (
         f"expected one perceptonly mind per tick {ticks[0]}..{ticks[-1]}, got ticks {[m.tick for m in minds]}"
     )
+
+
+def test_console_script_points_at_the_cli() -> None:
+    """``toyroom`` (pyproject's [project.scripts]) names a function that exists."""
+    import importlib
+    import tomllib
+
+    root = Path(__file__).resolve().parents[3]
+    scripts = tomllib.loads((root / "pyproject.toml").read_text())["project"]["scripts"]
+    module, _, function = scripts["toyroom"].partition(":")
+    assert callable(getattr(importlib.import_module(module), function, None)), (
+        f"pyproject's toyroom = {scripts['toyroom']!r} names no function"
+    )

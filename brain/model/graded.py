@@ -1,0 +1,110 @@
+"""Graded beliefs: each person holds their own distribution over worlds (Baker, Saxe and
+Tenenbaum 2011; Baker, Jara-Ettinger, Saxe and Tenenbaum 2017), updated by Bayes from their
+own percepts, and acts on it by QMDP.
+
+The robot cannot see a person's initial belief, so it keeps ``G`` hypotheses: for each item,
+every point of a grid over the simplex of its resting locations (resolution ``n``: the
+probabilities ``c / n``), and the product over items. Each hypothesis ``g`` holds a belief
+``b_g`` over the ``W`` worlds that evolves deterministically with the person's percepts:
+
+    predict   b(i) ∝ P(o | x, w^i) sum_j [g(i, j) / sum_i' g(i', j)] b(j)   (the default)
+    paper     b(i) ∝ P(o | x, w^i) sum_j  g(i, j) b(j)                        (one normalisation)
+
+with the paper's ``g`` (1 to stay, ``r`` for a change inside ``PW(j)``, 0 outside), so ``r`` is
+the prior weight a person gives to "it was moved" against "it was there all along". A
+decision's likelihood is QMDP: the Boltzmann choice over the expected Q-values under the
+person's belief, an action that is impossible in a world doing what Stay does there:
+
+    P(a | x, h, b, d) = (1 - epsilon) softmax_a(beta sum_w b(w) Q_d(x, h, w, a)) + epsilon / A
+
+The robot's posterior is over ``(g, d)``; what it reports as the person's belief is the
+expectation ``sum_{g,d} P(g, d) b_g`` (a ``(W, D)`` joint, read like the point model's).
+Everything here is pure: numpy arrays in, arrays out.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from .arrays import FloatArray
+from .belief import BeliefModel, Percept
+from .planner import Move
+
+UPDATES = ("predict", "paper")
+"""The person's own belief update: predict-then-correct (default), or the paper's literal
+single normalisation."""
+
+
+def simplex_grid(size: int, resolution: int) -> FloatArray:
+    """``(P, size)`` every distribution over ``size`` outcomes whose probabilities are
+    multiples of ``1 / resolution`` (``resolution = 1``: the certain ones)."""
+    points = [
+        np.bincount(np.array(combo, dtype=np.int64), minlength=size) / resolution
+        for combo in itertools.combinations_with_replacement(range(size), resolution)
+    ]
+    return np.array(points, dtype=np.float64)
+
+
+def prior_beliefs(worlds: np.ndarray, n_locations: int, resolution: int) -> FloatArray:
+    """``(G, W)`` the hypotheses of a person's initial belief: per item a grid point over its
+    resting locations (never held by someone else), independent across items.
+
+    Args:
+        worlds: ``(W, K)`` every world's item values ``2 l + held``.
+        n_locations: ``L``, the number of item locations.
+        resolution: the grid's resolution ``n``.
+    """
+    points = simplex_grid(n_locations, resolution)  # (P, L)
+    per_value = np.zeros((len(points), 2 * n_locations))
+    per_value[:, 0::2] = points  # resting at l has value 2 l
+    n_items = worlds.shape[1]
+    combos = np.array(list(itertools.product(range(len(points)), repeat=n_items)), dtype=np.int64)
+    beliefs = np.ones((len(combos), len(worlds)))
+    for k in range(n_items):
+        beliefs *= per_value[combos[:, k]][:, worlds[:, k]]
+    return beliefs
+
+
+def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: str = "predict") -> FloatArray:
+    """``(G, W)`` every hypothesis's belief after percept ``p`` (rows sum to one)."""
+    change = model.change_weights(p)  # (W_i, W_j)
+    if rule == "predict":
+        change = change / change.sum(axis=0, keepdims=True)
+    elif rule != "paper":
+        raise ValueError(f"unknown belief update {rule!r}; known: {', '.join(UPDATES)}")
+    new = (beliefs @ change.T) * model.percept_likelihood(p)[None, :]
+    total = new.sum(axis=1, keepdims=True)
+    return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
+
+
+def qmdp_likelihood(
+    beliefs: FloatArray, q: FloatArray, action: int, beta: float, epsilon: float
+) -> FloatArray:
+    """``(G, D)`` the probability of ``action`` for each hypothesis and preference.
+
+    Args:
+        beliefs: ``(G, W)`` the person's belief under each hypothesis.
+        q: ``(D, W, A)`` the planner's Q-values at the person's cell and held item, per
+            preference and world (``-inf``: impossible in that world).
+        action: the action taken.
+    """
+    feasible = np.isfinite(q)
+    stay = q[:, :, Move.STAY]
+    substitute = np.where(np.isfinite(stay), stay, 0.0)[:, :, None]
+    values = np.where(feasible, q, substitute)
+    expected = np.einsum("gw,dwa->gda", beliefs, values)
+    possible = np.einsum("gw,dwa->gda", beliefs, feasible.astype(np.float64)) > 1e-12
+    scaled = np.where(possible, beta * expected, -np.inf)
+    top = scaled.max(axis=2, keepdims=True)
+    weights = np.where(possible, np.exp(scaled - np.where(np.isfinite(top), top, 0.0)), 0.0)
+    total = weights.sum(axis=2)
+    soft = np.where(total > 0, weights[:, :, action] / np.where(total > 0, total, 1.0), 0.0)
+    return (1.0 - epsilon) * soft + epsilon / q.shape[2]
+
+
+def expected_joint(beliefs: FloatArray, posterior: FloatArray) -> FloatArray:
+    """``(W, D)`` the person's belief and preference as the robot expects them:
+    ``sum_g P(g, d) b_g(w)``, from ``(G, W)`` beliefs and the ``(G, D)`` posterior."""
+    return beliefs.T @ posterior

@@ -1,0 +1,177 @@
+"""Graded beliefs on hand-built cases: a person's own belief revises by Bayes from what they
+see, the paper's r sets how readily they think something moved, and the decisions of a
+person who is unsure are read by QMDP."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from brain.model.belief import NOT_IN_VIEW, BeliefModel, Percept
+from brain.model.graded import prior_beliefs, qmdp_likelihood, simplex_grid, update_beliefs
+from brain.model.planner import Move, cached_policy
+from brain.model.world import build_world_model
+from brain.settings import ModelSettings
+from brain.tracking.tracker import MindTracker
+from protocol import Observer
+from sim2d.engine import Engine
+
+SETTINGS = ModelSettings()
+
+
+@pytest.fixture(scope="module")
+def paper():  # the paper map's world model, with a cell that sees S2 and not P2
+    engine = Engine("paper-1")
+    model = build_world_model(engine.scene())
+    s2, p2 = model.locations.index("S2"), model.locations.index("P2")
+    cell = next(c for c in range(model.n_cells) if model.sees[c, s2] and not model.sees[c, p2])
+    return engine.scene(), model, s2, p2, cell
+
+
+def ball_belief(model, beliefs: np.ndarray, item: int) -> np.ndarray:
+    """``(L,)`` P(item at each location) under a ``(W,)`` belief."""
+    return np.bincount(model.place[:, item], weights=beliefs, minlength=model.n_locations)
+
+
+def split_prior(model, item: int, a: int, b: int) -> np.ndarray:
+    """``(1, W)``: item ``item`` at ``a`` or ``b`` (half each); every other item at ``a`` for sure."""
+    values = model.worlds
+    at = lambda k, loc: values[:, k] == 2 * loc  # noqa: E731
+    others = np.all([at(k, a) for k in range(model.n_items) if k != item], axis=0)
+    mass = (at(item, a) | at(item, b)) & others
+    return (mass / mass.sum())[None, :]
+
+
+def test_the_grid_covers_the_simplex() -> None:
+    grid = simplex_grid(4, 2)
+    assert grid.shape == (10, 4) and np.allclose(grid.sum(axis=1), 1.0)
+    assert {tuple(p) for p in simplex_grid(3, 1)} == {(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)}
+
+
+def test_prior_beliefs_are_distributions_over_resting_worlds(paper) -> None:
+    _, model, *_ = paper
+    beliefs = prior_beliefs(model.worlds, model.n_locations, 2)
+    assert beliefs.shape == (10**model.n_items, model.n_worlds)
+    assert np.allclose(beliefs.sum(axis=1), 1.0)
+    held = np.any(model.worlds % 2 == 1, axis=1)
+    assert np.all(beliefs[:, held] == 0), "a prior should never have an item held by someone else"
+
+
+def test_looked_in_one_of_two_places_and_found_nothing_believes_the_other(paper) -> None:
+    _, model, s2, p2, cell = paper
+    ball = model.items.index("ball")
+    before = split_prior(model, ball, s2, p2)
+    skate = model.items.index("skate")
+    seen = [NOT_IN_VIEW] * model.n_items
+    seen[skate] = 2 * s2 if model.sees[cell, s2] else NOT_IN_VIEW  # the skate is at S2, in view
+    after = update_beliefs(before, BeliefModel(model, SETTINGS.r, SETTINGS.delta), Percept(cell, tuple(seen)))
+    belief = ball_belief(model, after[0], ball)
+    assert belief[s2] < 0.01, f"the ball was not seen in S2, yet P(S2) = {belief[s2]:.3f}"
+    assert belief[p2] > 0.5 and belief.argmax() == p2, f"expected the ball believed in P2, got {belief}"
+
+
+def test_r_changes_how_a_person_revises(paper) -> None:
+    """Not finding the ball in S2: with r large the person thinks it was moved (anywhere out
+    of view), with r small that it was in P2 all along."""
+    _, model, s2, p2, cell = paper
+    ball, skate = model.items.index("ball"), model.items.index("skate")
+    seen = [NOT_IN_VIEW] * model.n_items
+    seen[skate] = 2 * s2
+    percept = Percept(cell, tuple(seen))
+    p2_by_r = {}
+    for r in (1.0, 8.0, 64.0):
+        after = update_beliefs(
+            split_prior(model, ball, s2, p2), BeliefModel(model, r, SETTINGS.delta), percept
+        )
+        p2_by_r[r] = ball_belief(model, after[0], ball)[p2]
+    assert p2_by_r[1.0] > p2_by_r[8.0] + 0.05 > p2_by_r[64.0] + 0.1, f"P(ball in P2) by r: {p2_by_r}"
+
+
+def test_the_paper_literal_update_differs(paper) -> None:
+    _, model, s2, p2, cell = paper
+    ball, skate = model.items.index("ball"), model.items.index("skate")
+    seen = [NOT_IN_VIEW] * model.n_items
+    seen[skate] = 2 * s2
+    beliefs = BeliefModel(model, SETTINGS.r, SETTINGS.delta)
+    rules = {
+        rule: ball_belief(
+            model,
+            update_beliefs(split_prior(model, ball, s2, p2), beliefs, Percept(cell, tuple(seen)), rule)[0],
+            ball,
+        )
+        for rule in ("predict", "paper")
+    }
+    assert not np.allclose(rules["predict"], rules["paper"]), rules
+    with pytest.raises(ValueError, match="unknown belief update 'bayes'"):
+        update_beliefs(split_prior(model, ball, s2, p2), beliefs, Percept(cell, tuple(seen)), "bayes")
+
+
+def test_qmdp_reads_a_step_towards_where_the_person_believes(paper) -> None:
+    """A person sure the ball is in S2 and one sure it is in P2 are told apart by a step that
+    brings them nearer one of the two."""
+    scene, model, s2, p2, _ = paper
+    policy = cached_policy(scene, SETTINGS)
+    ball = model.items.index("ball")
+    toward_s2 = split_prior(model, ball, s2, s2)
+    toward_p2 = split_prior(model, ball, p2, p2)
+    beliefs = np.vstack([toward_s2, toward_p2])
+    ball_lover = ball  # preference index of the ball
+    spreads = {}
+    for cell in range(model.n_cells):
+        if model.sees[cell, s2] or model.sees[cell, p2]:
+            continue
+        q = policy.q[:, policy.state_slice(cell, 0), :]
+        odds = [
+            qmdp_likelihood(beliefs, q, move, SETTINGS.beta, SETTINGS.epsilon)[:, ball_lover]
+            for move in (Move.UP, Move.DOWN, Move.LEFT, Move.RIGHT)
+        ]
+        ratios = [float(o[0] / o[1]) for o in odds]
+        spreads[cell] = (max(ratios), min(ratios))
+    best = max(spreads.values(), key=lambda m: m[0] / m[1])
+    assert best[0] / best[1] > 10, f"no step tells S2 from P2 believers anywhere: {best}"
+
+
+def test_graded_tracker_sees_sallys_false_belief_and_annes_true_one() -> None:
+    """Anne moves the marble while Sally is out: right after, Sally (graded model, end to end
+    on the engine's stream) still believes the basket, a false belief; Anne knows the box."""
+    engine = Engine("sally-anne")
+    tracker = MindTracker(engine.scene(), ModelSettings(belief_model="graded"), Observer.BTOM)
+    tracker.observe(engine.state(), ())
+    after_move = None
+    while not engine.done and after_move is None:
+        result = engine.step()
+        tracker.observe(result.state, result.events)
+        if any(e.kind.value == "drop" and e.actor == "anne" for e in result.events):
+            after_move = (tracker.online("sally"), tracker.online("anne"))
+    assert after_move is not None, "Anne never dropped the marble"
+    sally, anne = after_move
+    assert sally is not None and anne is not None
+    model = tracker.model
+    marble = model.items.index("marble")
+    basket, box = model.locations.index("basket"), model.locations.index("box")
+    assert sally.beliefs[marble, basket] > 0.8, f"Sally after the move: {sally.beliefs[marble]}"
+    assert marble in sally.false_beliefs, "Sally's false belief is not flagged"
+    assert anne.beliefs[marble, box] > 0.8, f"Anne after the move: {anne.beliefs[marble]}"
+    assert marble not in anne.false_beliefs, "Anne, who moved the marble, is flagged"
+
+
+def test_graded_needs_the_exact_model() -> None:
+    import tempfile
+    from pathlib import Path
+
+    from brain.model.personmodel import person_model
+    from sim2d.generate import write_house_episode
+    from sim2d.scenario import load_scenario
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = write_house_episode(Path(tmp), rooms=8, items=4, seed=1)
+        scene = Engine(load_scenario(str(path))).scene()
+    with pytest.raises(ValueError, match="belief_model 'graded' needs the exact model"):
+        person_model(scene, ModelSettings(belief_model="graded"))
+
+
+def test_bad_belief_settings_are_named() -> None:
+    with pytest.raises(ValueError, match="belief_model='certain'"):
+        ModelSettings(belief_model="certain")
+    with pytest.raises(ValueError, match="prior_resolution=0"):
+        ModelSettings(prior_resolution=0)
