@@ -29,17 +29,17 @@ class EngineProcess:
     which :meth:`output` reads."""
 
     def __init__(self, world: str, *args: str) -> None:
-        import subprocess
         import sys
-        import tempfile
 
         self.world = world
+        self._start([sys.executable, "-m", "sim2d", "--world", world, "--log-level", "WARNING", *args])
+
+    def _start(self, command: list[str]) -> None:
+        import subprocess
+        import tempfile
+
         self.log = tempfile.TemporaryFile()
-        self.process = subprocess.Popen(
-            [sys.executable, "-m", "sim2d", "--world", world, "--log-level", "WARNING", *args],
-            stdout=self.log,
-            stderr=subprocess.STDOUT,
-        )
+        self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT)
 
     def output(self) -> str:
         """Everything the engine has printed so far."""
@@ -154,14 +154,8 @@ class GridEngineProcess(EngineProcess):
     """The example grid engine (``examples/grid_engine/main.py``) as a real process."""
 
     def __init__(self, world: str, *args: str) -> None:
-        import subprocess
         import sys
 
         script = Path(__file__).resolve().parents[1] / "examples" / "grid_engine" / "main.py"
         self.world = world
-        self.process = subprocess.Popen(
-            [sys.executable, str(script), "--world", world, *args],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
+        self._start([sys.executable, str(script), "--world", world, *args])
