@@ -30,9 +30,28 @@ from .errors import BrainError
 from .node import BrainNode
 from .outputs.results import write_outputs
 from .robot.tree import RobotTree
+from .settings import Settings, load_settings, settings_toml
 from .tracking.tracker import MindTracker
 
 OBSERVERS = Observer.names()
+
+
+def add_settings_args(parser: argparse.ArgumentParser) -> None:
+    """``--settings FILE.toml`` and repeatable ``--set NAME=VALUE`` (model and robot settings)."""
+    parser.add_argument(
+        "--settings",
+        type=Path,
+        metavar="FILE.toml",
+        help="model and robot settings ([model], [robot] tables)",
+    )
+    parser.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="one setting, e.g. beta=3 or belief_model=graded (repeatable; after --settings)",
+    )
 
 
 def run_parser() -> argparse.ArgumentParser:
@@ -75,6 +94,7 @@ def run_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
     )
+    add_settings_args(parser)
     add_log_level(parser)
     add_network_args(parser)
     return parser
@@ -85,19 +105,27 @@ def infer_parser() -> argparse.ArgumentParser:
     parser.add_argument("trace", type=Path, help="a trace.jsonl written by `toyroom run`")
     parser.add_argument("--out", type=Path, required=True, help="directory for mind.csv, figures, report.md")
     parser.add_argument("--observer", choices=OBSERVERS, default=OBSERVERS[0], help="person model")
+    add_settings_args(parser)
     add_log_level(parser, "WARNING")
     return parser
 
 
-def infer_main(trace_path: Path, out: Path, observer: Observer) -> int:
+def infer_main(trace_path: Path, out: Path, observer: Observer, settings: Settings) -> int:
     """Replay a trace through the inference and write the outputs."""
     trace = read_trace(trace_path)
-    tracker = MindTracker(trace.info.scene, observer=observer)
+    tracker = MindTracker(trace.info.scene, settings.model, observer=observer)
     for state, events in trace:
         tracker.observe(state, events)
-    path = write_outputs(tracker, trace.info.scenario, out)
+    path = write_results(tracker, trace.info.scenario, out, settings)
     print(f"brain: wrote {path} and the report in {out}")
     return 0
+
+
+def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Settings) -> Path:
+    """The outputs, and ``settings.toml``: the settings they were made with."""
+    path = write_outputs(tracker, scenario, out)
+    (out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
+    return path
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -106,8 +134,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = (infer_parser() if infer else run_parser()).parse_args(argv[1:] if infer else argv)
     configure_logging(args.log_level)
     try:
+        settings = load_settings(args.settings, args.overrides)
         if infer:
-            return infer_main(args.trace, args.out, Observer(args.observer))
+            return infer_main(args.trace, args.out, Observer(args.observer), settings)
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())
             return 0
@@ -121,6 +150,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         ):
             node = BrainNode(
                 bridge,
+                settings=settings.model,
+                robot_settings=settings.robot,
                 observer=Observer(args.observer),
                 timeout=args.timeout or None,
                 handshake_timeout=args.handshake_timeout or None,
@@ -130,7 +161,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             )
             scenario, tracker = node.run(args.scenario, args.seed, max_ticks=args.max_ticks)
             if args.out is not None:
-                path = write_outputs(tracker, scenario, args.out)
+                path = write_results(tracker, scenario, args.out, settings)
                 print(f"brain: wrote {path} and the report in {args.out}", flush=True)
         return 0
     except (BrainError, BridgeError, ProtocolError) as err:

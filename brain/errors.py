@@ -5,3 +5,7 @@ from __future__ import annotations
 
 class BrainError(Exception):
     """Root of every error raised by ``brain``."""
+
+
+class SettingsError(BrainError, ValueError):
+    """A settings file or override that names an unknown setting or a bad value."""

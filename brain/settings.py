@@ -1,8 +1,16 @@
-"""The model's parameters, with the defaults of ``docs/model.md``."""
+"""The model's and the robot's parameters, with the defaults of ``docs/model.md``, and
+settings files (``--settings FILE.toml``, ``--set NAME=VALUE``)."""
 
 from __future__ import annotations
 
+import dataclasses
+import json
+import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import SettingsError
 
 
 @dataclass(frozen=True)
@@ -95,3 +103,104 @@ class RobotSettings:
     attempts: int = 2
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The model's and the robot's settings together, as a run uses them."""
+
+    model: ModelSettings = ModelSettings()
+    robot: RobotSettings = RobotSettings()
+
+
+SECTIONS = {"model": ModelSettings, "robot": RobotSettings}
+"""The tables of a settings file and the settings each holds (field names are unique across
+them, so ``--set beta=3`` needs no table name; ``--set model.beta=3`` works too)."""
+
+
+def _field_types(cls: type) -> dict[str, type]:
+    return {f.name: type(f.default) for f in dataclasses.fields(cls)}
+
+
+def _value(section: str, name: str, value: object) -> object:
+    """``value`` checked against the type of ``section.name`` (an int is a fine float)."""
+    expected = _field_types(SECTIONS[section])[name]
+    if expected is float and isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    if not isinstance(value, expected) or (expected is not bool and isinstance(value, bool)):
+        raise SettingsError(f"{section}.{name}: expected {expected.__name__}, got {value!r}")
+    return value
+
+
+def _section_of(name: str) -> tuple[str, str]:
+    """``(table, field)`` for ``name`` or ``table.name``."""
+    if "." in name:
+        section, _, field = name.partition(".")
+        if section in SECTIONS and field in _field_types(SECTIONS[section]):
+            return section, field
+    else:
+        for section, cls in SECTIONS.items():
+            if name in _field_types(cls):
+                return section, name
+    known = ", ".join(f"{s}.{n}" for s, cls in SECTIONS.items() for n in _field_types(cls))
+    raise SettingsError(f"unknown setting {name!r}; known: {known}")
+
+
+def parse_override(text: str) -> tuple[str, str, object]:
+    """``NAME=VALUE`` (VALUE in TOML syntax, or a bare word for a string) as
+    ``(table, field, value)``."""
+    name, sep, raw = text.partition("=")
+    if not sep or not name.strip():
+        raise SettingsError(f"expected NAME=VALUE, got {text!r}")
+    section, field = _section_of(name.strip())
+    try:
+        value: object = tomllib.loads(f"v = {raw.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw.strip()
+    return section, field, _value(section, field, value)
+
+
+def load_settings(path: Path | None = None, overrides: Sequence[str] = ()) -> Settings:
+    """The defaults, then a settings file's ``[model]`` and ``[robot]`` tables, then each
+    ``NAME=VALUE`` override.
+
+    Raises:
+        SettingsError: naming the file, the setting and what is wrong.
+    """
+    values: dict[str, dict[str, object]] = {section: {} for section in SECTIONS}
+    if path is not None:
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except (OSError, tomllib.TOMLDecodeError) as err:
+            raise SettingsError(f"{path}: {err}") from None
+        for section, table in data.items():
+            if section not in SECTIONS or not isinstance(table, dict):
+                raise SettingsError(f"{path}: unknown table [{section}]; known: {', '.join(SECTIONS)}")
+            for name, value in table.items():
+                try:
+                    section_, field = _section_of(f"{section}.{name}")
+                    values[section_][field] = _value(section_, field, value)
+                except SettingsError as err:
+                    raise SettingsError(f"{path}: {err}") from None
+    for text in overrides:
+        section, field, value = parse_override(text)
+        values[section][field] = value
+    try:
+        return Settings(
+            model=ModelSettings(**values["model"]),  # type: ignore[arg-type]
+            robot=RobotSettings(**values["robot"]),  # type: ignore[arg-type]
+        )
+    except ValueError as err:
+        raise SettingsError(str(err)) from None
+
+
+def settings_toml(settings: Settings) -> str:
+    """The settings as a TOML file that :func:`load_settings` reads back to the same."""
+    lines = ["# The settings of this run (toyroom --settings reads it back)."]
+    for section, values in (("model", settings.model), ("robot", settings.robot)):
+        lines.append(f"\n[{section}]")
+        for f in dataclasses.fields(values):
+            value = getattr(values, f.name)
+            text = ("true" if value else "false") if isinstance(value, bool) else repr(value)
+            lines.append(f"{f.name} = {json.dumps(value) if isinstance(value, str) else text}")
+    return "\n".join(lines) + "\n"

@@ -151,6 +151,8 @@ def _run(args: argparse.Namespace) -> int:
         record=args.record,
         view=args.view,
         shadows=tuple(args.shadow),
+        settings=args.settings,
+        overrides=tuple(args.overrides),
     )
     return run(config, settings_from_args(args))
 
@@ -181,10 +183,11 @@ def _infer(args: argparse.Namespace) -> int:
         converted = args.out / "trace.jsonl"
         mcap_to_trace(trace, converted)
         trace = converted
-    levels = ["--log-level", args.log_level] if args.log_level else []
-    return exec_node(
-        "brain", ["infer", str(trace), "--out", str(args.out), "--observer", args.observer, *levels]
-    )
+    argv = ["infer", str(trace), "--out", str(args.out), "--observer", args.observer]
+    argv += ["--log-level", args.log_level] if args.log_level else []
+    argv += ["--settings", str(args.settings)] if args.settings else []
+    argv += [arg for text in args.overrides for arg in ("--set", text)]
+    return exec_node("brain", argv, prog="toyroom infer")
 
 
 def _replay(args: argparse.Namespace) -> int:

@@ -59,6 +59,10 @@ class RunConfig:
     """Also start the meshcat viewer (its URL is printed; it closes with the run)."""
     shadows: tuple[str, ...] = ()
     """Observers the brain also runs on the same ticks, their minds in ``out/minds-<name>.jsonl``."""
+    settings: Path | None = None
+    """A settings file for the brain (``[model]``, ``[robot]``)."""
+    overrides: tuple[str, ...] = ()
+    """``NAME=VALUE`` settings for the brain, after the file's."""
 
 
 class MindView:
@@ -136,6 +140,8 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                     *robot,
                     *(arg for name in config.shadows for arg in ("--shadow", name)),
                     *(("--shadow-out", str(config.out)) if config.shadows else ()),
+                    *(("--settings", str(config.settings)) if config.settings else ()),
+                    *(arg for text in config.overrides for arg in ("--set", text)),
                 ]
                 brain = start_node(node_command("brain", world, settings, *brain_args), brain_log)
                 while brain.poll() is None:

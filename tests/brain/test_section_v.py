@@ -12,19 +12,25 @@ from support import MindCsv, toyroom_run
 PAPER = ("paper-1", "paper-2", "paper-3")
 
 
-@pytest.fixture(scope="module", params=["sim2d", "grid"])
+@pytest.fixture(
+    scope="module", params=[("sim2d", "point"), ("grid", "point"), ("sim2d", "graded")], ids="-".join
+)
 def runs(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> dict[str, MindCsv]:
-    """Runs on both engines: the brain, unchanged, must reproduce Section V on either."""
+    """Runs on both engines (the brain, unchanged, must reproduce Section V on either), and
+    with the graded belief model (``--set belief_model=graded``)."""
+    engine, belief_model = request.param
     out = {}
     for scenario in (*PAPER, "sally-anne"):
         # the robot only watches: the statements are about what an observer infers
         directory = toyroom_run(
-            tmp_path_factory.mktemp(f"{request.param}-{scenario}"),
+            tmp_path_factory.mktemp(f"{engine}-{belief_model}-{scenario}"),
             scenario,
-            *("--robot", "observe", "--engine", request.param),
+            *("--robot", "observe", "--engine", engine, "--set", f"belief_model={belief_model}"),
         )
         for name in ("mind.csv", "beliefs.png", "preferences.png", "report.md", "trace.jsonl"):
             assert (directory / name).stat().st_size > 0, f"{scenario}: {name} is missing or empty"
+        used = (directory / "settings.toml").read_text()
+        assert f'belief_model = "{belief_model}"' in used, f"{scenario}: settings.toml says\n{used}"
         out[scenario] = MindCsv(directory / "mind.csv")
     return out
 
