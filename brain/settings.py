@@ -45,6 +45,8 @@ class ModelSettings:
         belief_update: graded model: ``predict`` (a change of world is predicted with weight
             ``r``, then the percept corrects it) or ``paper`` (the paper's single normalisation
             after summing over the previous worlds).
+        false_belief_mass: a person has a false belief about an item when their belief gives
+            its true location less than this (``false_belief`` rows of ``mind.csv``).
     """
 
     r: float = 8.0
@@ -64,6 +66,7 @@ class ModelSettings:
     belief_model: str = "point"
     prior_resolution: int = 2
     belief_update: str = "predict"
+    false_belief_mass: float = 0.1
 
     def __post_init__(self) -> None:
         checks = {
@@ -76,6 +79,7 @@ class ModelSettings:
             "belief_model": self.belief_model in ("point", "graded"),
             "prior_resolution": self.prior_resolution >= 1,
             "belief_update": self.belief_update in ("predict", "paper"),
+            "false_belief_mass": 0.0 < self.false_belief_mass <= 1.0,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

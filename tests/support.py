@@ -118,6 +118,10 @@ class MindCsv:
     def preference(self, agent: str, tick: int, item: str, column: str = "p_smoothed") -> float:
         return float(self.index[(tick, agent, "preference", item, "")][column])
 
+    def false_belief(self, agent: str, tick: int, item: str, column: str = "p_online") -> float:
+        """P(the agent's belief gives ``item``'s true location too little mass) at ``tick``."""
+        return float(self.index[(tick, agent, "false_belief", item, "")][column])
+
 
 class EventsCsv:
     """``events.csv`` of a run, for assertions."""

@@ -23,12 +23,16 @@ class Estimate:
         preference: ``(D,)`` over the items, then ``out``.
         intention: ``(item index or None for out, location index or None, probability)``.
         false_beliefs: item indices whose most probable believed location is not the true one.
+        hypotheses: for a model whose people hold graded beliefs, the robot's weight of each
+            hypothesis ``(G,)`` and the person's belief under it ``(G, K, L)``; ``None`` when
+            each person is certain of one world (the hypotheses are then the worlds).
     """
 
     beliefs: FloatArray
     preference: FloatArray
     intention: tuple[int | None, int | None, float]
     false_beliefs: tuple[int, ...]
+    hypotheses: tuple[FloatArray, FloatArray] | None = None
 
 
 def estimate(model: WorldModel, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
@@ -54,3 +58,16 @@ def false_beliefs(beliefs: FloatArray, truth: tuple[int, ...]) -> tuple[int, ...
     """Items whose most probable believed location (``beliefs`` is ``(K, L)``) differs from
     their true location (``truth`` holds item values ``2 * location + held``)."""
     return tuple(k for k in range(len(truth)) if int(np.argmax(beliefs[k])) != truth[k] // 2)
+
+
+def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float) -> FloatArray:
+    """``(K,)`` the robot's probability that the person's belief gives each item's true
+    location less than ``mass``: a false belief, not mere ignorance (a spread belief that
+    includes the truth is not one). With point beliefs this is ``1 - P(believed at the true
+    location)``."""
+    true = np.array([value // 2 for value in truth])
+    if est.hypotheses is None:
+        return 1.0 - est.beliefs[np.arange(len(true)), true]
+    weights, beliefs = est.hypotheses
+    at_true = beliefs[:, np.arange(len(true)), true]  # (G, K)
+    return weights @ (at_true < mass)

@@ -14,6 +14,7 @@ transition, which smoothing rebuilds), so a long episode does not hold a matrix 
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
@@ -197,6 +198,10 @@ class GradedModel:
         self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
         self.true_world = true_world
         self.initial = prior_beliefs(self.model.worlds, self.model.n_locations, settings.prior_resolution)
+        self.place_of = (
+            self.model.place[:, :, None] == np.arange(self.model.n_locations)[None, None, :]
+        ).astype(np.float64)
+        """``(W, K, L)`` one where world ``w`` puts item ``k`` at location ``l``."""
 
     def prior(self) -> FloatArray:
         """``(G, D)`` uniform over hypotheses and preferences."""
@@ -249,8 +254,16 @@ class GradedModel:
         beliefs, out = self.initial.copy(), []
         for record, posterior in zip(records, posteriors, strict=True):
             beliefs = self.revise(beliefs, record)
-            out.append(estimate(self.model, expected_joint(beliefs, posterior), record.truth))
+            out.append(self.read(beliefs, posterior, record.truth))
         return out
+
+    def read(self, beliefs: FloatArray, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
+        """The estimate of ``(G, W)`` beliefs under a ``(G, D)`` posterior, with the
+        hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
+        model = self.model
+        marginals = np.einsum("gw,wkl->gkl", beliefs, self.place_of)  # (G, K, L)
+        base = estimate(model, expected_joint(beliefs, posterior), truth)
+        return dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
 
 
 def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
@@ -278,7 +291,7 @@ class GradedFilter:
         self.beliefs = self.owner.revise(self.beliefs, record)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        return estimate(self.owner.model, expected_joint(self.beliefs, self.posterior), truth)
+        return self.owner.read(self.beliefs, self.posterior, truth)
 
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:

@@ -2,9 +2,11 @@
 
 Header ``tick,label,agent,quantity,item,value,p_online,p_smoothed``. Per tick and person:
 one ``belief`` row per item and location (``value`` = the location id), then one
-``preference`` row per item and one for ``out`` (``value`` empty). ``label`` is the scenario
-step the person completed at that tick, else empty. Between a person's steps the last
-estimate is carried forward.
+``preference`` row per item and one for ``out`` (``value`` empty), then one ``false_belief``
+row per item (``value`` empty): the probability that the person's belief gives the item's
+true location at that tick less than ``ModelSettings.false_belief_mass``. ``label`` is the
+scenario step the person completed at that tick, else empty. Between a person's steps the
+last estimate is carried forward (false beliefs are read against each tick's truth).
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import io
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..model.estimates import OUT, Estimate
+from ..model.estimates import OUT, Estimate, false_belief_probability
 from ..tracking.tracker import MindTracker
 
 HEADER = ("tick", "label", "agent", "quantity", "item", "value", "p_online", "p_smoothed")
@@ -91,7 +93,21 @@ def mind_rows(tracker: MindTracker) -> list[MindRow]:
                         float(smooth.preference[d]),
                     )
                 )
+            rows += _false_belief_rows(tracker, tick, label, person, online, smooth)
     return rows
+
+
+def _false_belief_rows(
+    tracker: MindTracker, tick: int, label: str, person: str, online: Estimate, smooth: Estimate
+) -> list[MindRow]:
+    """One ``false_belief`` row per item, read against the truth at ``tick``."""
+    truth, mass = tracker.truths[tick], tracker.settings.false_belief_mass
+    p_online = false_belief_probability(online, truth, mass)
+    p_smooth = false_belief_probability(smooth, truth, mass)
+    return [
+        MindRow(tick, label, person, "false_belief", item, "", float(p_online[k]), float(p_smooth[k]))
+        for k, item in enumerate(tracker.model.items)
+    ]
 
 
 def render_csv(rows: list[MindRow]) -> str:

@@ -66,6 +66,8 @@ class MindTracker:
         self.ticks: list[int] = []
         self.truth: tuple[int, ...] = ()
         """The true item values at the last tick observed."""
+        self.truths: dict[int, tuple[int, ...]] = {}
+        """The true item values at every tick observed (for reading false beliefs then)."""
         self.labels: dict[tuple[int, str], str] = {}
 
     # ----- feeding --------------------------------------------------------------------
@@ -78,6 +80,7 @@ class MindTracker:
         resting = {i.id: i.location for i in state.items}
         truth = true_values(model, resting, holders)
         self.truth = truth
+        self.truths[state.tick] = truth
         holding = {a.id: a.holding for a in state.agents}
         self.ticks.append(state.tick)
         for event in events:

@@ -123,6 +123,40 @@ def test_sally_anne(runs: dict[str, MindCsv]) -> None:
     assert sally_checks(runs["sally-anne"], runs["sally-anne"].path.parent / "trace.jsonl") == []
 
 
+def test_sallys_false_belief_has_a_probability(runs: dict[str, MindCsv]) -> None:
+    """``false_belief`` rows: near 0 while Sally sees the marble in the basket, near 1 once Anne
+    has moved it unseen, near 0 again once Sally sees it in the box."""
+    mind = runs["sally-anne"]
+    dropped, moved, back = (
+        mind.tick("sally", "basket"),
+        mind.tick("anne", "moved"),
+        mind.tick("sally", "back"),
+    )
+    for tick, low, what in (
+        (dropped, True, "put in the basket"),
+        (moved, False, "moved"),
+        (back, True, "seen"),
+    ):
+        p = mind.false_belief("sally", tick, "marble")
+        assert (p < 0.1) if low else (p > 0.9), f"marble {what} (tick {tick}): P(false belief) = {p:.3f}"
+
+
+def test_ignorance_is_not_a_false_belief(runs: dict[str, MindCsv], request: pytest.FixtureRequest) -> None:
+    """Scenario 1: at steps 0-2 A1 does not know whether the ball is in S2 or P2 (it is in one
+    of them): ignorance, not a false belief (P < 0.2). By step 5 the ball has been taken to S1
+    while she was out: a false belief (P > 0.8). The point model, where each person is certain
+    of one world, cannot tell the two apart (0.5-0.8 at steps 0-2)."""
+    _, belief_model = request.node.callspec.params["runs"]
+    mind = runs["paper-1"]
+    early = [mind.false_belief("A1", mind.tick("A1", step), "ball") for step in ("0", "1", "2")]
+    late = mind.false_belief("A1", mind.tick("A1", "5"), "ball")
+    assert late > 0.8, f"step 5: P(false belief about the ball) = {late:.3f}, expected > 0.8"
+    if belief_model == "graded":
+        assert max(early) < 0.2, f"steps 0-2: P(false belief) = {early}, expected < 0.2 (ignorance)"
+    else:
+        assert min(early) >= 0.4, f"steps 0-2 on the point model: {early} (expected it to confuse the two)"
+
+
 def test_true_belief_baseline_fails_sally_anne(tmp_path: Path) -> None:
     out = toyroom_run(tmp_path, "sally-anne", "--observer", "truebelief", "--robot", "observe")
     problems = sally_checks(MindCsv(out / "mind.csv"), out / "trace.jsonl")

@@ -175,3 +175,17 @@ def test_bad_belief_settings_are_named() -> None:
         ModelSettings(belief_model="certain")
     with pytest.raises(ValueError, match="prior_resolution=0"):
         ModelSettings(prior_resolution=0)
+
+
+def test_a_spread_belief_that_includes_the_truth_is_not_a_false_belief() -> None:
+    from brain.model.estimates import Estimate, false_belief_probability
+
+    beliefs = np.array([[0.0, 0.0, 0.5, 0.5]])  # one item, half S2 (index 2), half P2 (index 3)
+    point = Estimate(beliefs, np.array([0.5, 0.5]), (0, 2, 0.5), ())
+    graded = Estimate(beliefs, np.array([0.5, 0.5]), (0, 2, 0.5), (), (np.array([1.0]), beliefs[None, :, :]))
+    in_s2, in_s1 = (2 * 2,), (2 * 1,)  # item values: resting at S2, at S1
+    assert false_belief_probability(graded, in_s2, 0.1)[0] == 0.0, "the person's own spread includes S2"
+    assert false_belief_probability(graded, in_s1, 0.1)[0] == 1.0, "nothing of the person's belief is on S1"
+    assert false_belief_probability(point, in_s2, 0.1)[0] == pytest.approx(0.5), (
+        "read as point beliefs, half the worlds put the item elsewhere"
+    )
