@@ -18,6 +18,7 @@ def test_brain_bench_runs() -> None:
     )
     assert result.returncode == 0, result.stderr
     assert "planner, cold (s)" in result.stdout and "online step per person" in result.stdout
+    assert "graded" in result.stdout, "the graded belief model should be measured beside the point one"
 
 
 def test_view_bench_runs() -> None:
@@ -50,6 +51,7 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     ):
         assert field in numbers, field
     assert numbers["zenoh_rtt_us"] > 0 and numbers["lockstep_ticks_per_s"] > 0
+    assert numbers["graded"]["brain_step_us"]["median"] > 0 and numbers["graded"]["planner_cold_s"] > 0
     rows = numbers["scaling"]
     for row in rows:
         for field in ("rooms", "items", "worlds", "step_us", "planner_s", "exact", "tv_vs_exact"):
