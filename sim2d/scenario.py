@@ -127,12 +127,17 @@ def _home(table: dict[str, Any], aid: str, game_map: GameMap, path: Path, entry:
     raise ScenarioError(path, entry, f"no home cell: give 'home' or add it to map '{game_map.name}' homes")
 
 
+def _entry_id(table: dict[str, Any], section: str, i: int, path: Path) -> tuple[str, str]:
+    """The ``id`` of ``section[i]`` (a non-empty string) and the entry name errors give it."""
+    value = table.get("id")
+    if not isinstance(value, str) or not value:
+        raise ScenarioError(path, f"{section}[{i}]", "expected a non-empty string 'id'")
+    return value, f"{section}[{i}] '{value}'"
+
+
 def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> AgentSetup:
     """``agents[i]``: a person (scripted or autonomous) or the robot."""
-    aid = table.get("id")
-    if not isinstance(aid, str) or not aid:
-        raise ScenarioError(path, f"agents[{i}]", "expected a non-empty string 'id'")
-    entry = f"agents[{i}] '{aid}'"
+    aid, entry = _entry_id(table, "agents", i, path)
     try:
         kind = AgentKind(table.get("kind", "person"))
     except ValueError:
@@ -185,10 +190,7 @@ def _item(
     holders: dict[str, str],
 ) -> ItemSetup:
     """``items[i]``: at a location, or held by an agent (one item per agent, noted in ``holders``)."""
-    iid = table.get("id")
-    if not isinstance(iid, str) or not iid:
-        raise ScenarioError(path, f"items[{i}]", "expected a non-empty string 'id'")
-    entry = f"items[{i}] '{iid}'"
+    iid, entry = _entry_id(table, "items", i, path)
     try:
         shape = ItemShape(table.get("shape", "block"))
     except ValueError:
