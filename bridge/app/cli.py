@@ -172,6 +172,7 @@ def _eval_command(command: Command) -> None:
     evaluation.add_argument(
         "--out", type=Path, default=Path("out/eval"), help="directory for metrics and report"
     )
+    _settings_args(evaluation)
 
 
 def _conform_command(command: Command) -> None:

@@ -45,7 +45,9 @@ def router_main(listen: Sequence[str], config_file: Path | None) -> int:
     return 0
 
 
-def eval_main(episodes: int, seed: int, workers: int, backend: str, out: Path) -> int:
+def eval_main(
+    episodes: int, seed: int, workers: int, backend: str, out: Path, brain_args: Sequence[str] = ()
+) -> int:
     """Run the evaluation with a progress bar and print the metrics."""
     from rich.console import Console
     from rich.markdown import Markdown
@@ -57,7 +59,13 @@ def eval_main(episodes: int, seed: int, workers: int, backend: str, out: Path) -
     with Progress() as bar:
         task = bar.add_task(f"{episodes} episodes", total=episodes)
         metrics = evaluate(
-            episodes, seed, out, workers=workers, backend=backend, progress=lambda n: bar.advance(task, n)
+            episodes,
+            seed,
+            out,
+            workers=workers,
+            backend=backend,
+            progress=lambda n: bar.advance(task, n),
+            brain_args=tuple(brain_args),
         )
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
@@ -167,7 +175,9 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _eval(args: argparse.Namespace) -> int:
-    return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out)
+    brain = ["--settings", str(args.settings.resolve())] if args.settings else []
+    brain += [arg for text in args.overrides for arg in ("--set", text)]
+    return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out, brain)
 
 
 def _conform(args: argparse.Namespace) -> int:

@@ -71,20 +71,20 @@ def generate(directory: Path, index: int, seed: int) -> Path:
     return Path(result.stdout.strip())
 
 
-def episode_runs(scenario: Path) -> list[RunSpec]:
+def episode_runs(scenario: Path, brain_args: tuple[str, ...] = ()) -> list[RunSpec]:
     """Two runs: the robot observing (BToM live, the baselines as shadows of the same ticks:
     an observing robot changes nothing, so one run serves every observer), then acting."""
     return [
-        RunSpec(scenario, OBSERVERS[0], "observe", shadows=OBSERVERS[1:]),
-        RunSpec(scenario, BTOM, "act"),
+        RunSpec(scenario, OBSERVERS[0], "observe", shadows=OBSERVERS[1:], brain_args=brain_args),
+        RunSpec(scenario, BTOM, "act", brain_args=brain_args),
     ]
 
 
-def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
+def run_episode(index: int, seed: int, workdir: str, brain_args: tuple[str, ...] = ()) -> dict[str, object]:
     """Everything about one episode, as plain data (so a Ray task can return it); an
     episode whose runs kept failing comes back with its ``error`` and no scores."""
     try:
-        return _episode(index, seed, workdir)
+        return _episode(index, seed, workdir, brain_args)
     except Exception as err:
         log.error("episode %d failed: %s", index, err)
         return {
@@ -95,14 +95,14 @@ def run_episode(index: int, seed: int, workdir: str) -> dict[str, object]:
         }
 
 
-def _episode(index: int, seed: int, workdir: str) -> dict[str, object]:
+def _episode(index: int, seed: int, workdir: str, brain_args: tuple[str, ...]) -> dict[str, object]:
     directory = Path(workdir)
     scenario = generate(directory / "scenarios", index, seed)
     logs = directory / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     out: dict[str, object] = {"index": index, "map": map_of(index), "scenario": scenario.stem}
     failures: list[str] = []
-    for spec in episode_runs(scenario):
+    for spec in episode_runs(scenario, brain_args):
         for observer, result in _run_with_retries(spec, logs, failures).items():
             key = observer if spec.robot == "observe" else "robot"
             out[key] = {
@@ -180,18 +180,20 @@ def evaluate(
     workers: int = 2,
     backend: str = "local",
     progress: Callable[[int], None] | None = None,
+    brain_args: tuple[str, ...] = (),
 ) -> dict[str, object]:
-    """Run every episode and write ``metrics.json`` and ``report.md`` into ``out``."""
+    """Run every episode and write ``metrics.json`` and ``report.md`` into ``out``
+    (``brain_args``: more options for every brain, e.g. ``--set belief_model=graded``)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
     results: list[dict[str, object]]
     if backend == "ray":
         from .raybackend import run_with_ray
 
-        results = run_with_ray(run_episode, episodes, seed, workdir, workers, progress)
+        results = run_with_ray(run_episode, episodes, seed, workdir, workers, progress, brain_args)
     else:
         with ThreadPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(run_episode, i, seed, workdir) for i in range(episodes)]
+            futures = [pool.submit(run_episode, i, seed, workdir, brain_args) for i in range(episodes)]
             results = []
             with (out / "episodes.jsonl").open("w") as partial:  # kept as they finish
                 for future in as_completed(futures):
@@ -202,6 +204,7 @@ def evaluate(
                         progress(1)
     results.sort(key=lambda r: int(r["index"]))  # type: ignore[call-overload]
     metrics = aggregate(results, seed)
+    metrics["brain_args"] = list(brain_args)
     by_map = {name: aggregate([r for r in results if r["map"] == name], seed) for name in MAPS}
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
     (out / "episodes.json").write_text(json.dumps(results, indent=1) + "\n")

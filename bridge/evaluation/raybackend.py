@@ -10,14 +10,15 @@ from typing import Any
 
 
 def run_with_ray(
-    fn: Callable[[int, int, str], dict[str, Any]],
+    fn: Callable[[int, int, str, tuple[str, ...]], dict[str, Any]],
     episodes: int,
     seed: int,
     workdir: str,
     workers: int,
     progress: Callable[[int], None] | None = None,
+    brain_args: tuple[str, ...] = (),
 ) -> list[dict[str, Any]]:
-    """``fn(index, seed, workdir)`` for every episode index, as Ray tasks."""
+    """``fn(index, seed, workdir, brain_args)`` for every episode index, as Ray tasks."""
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
     import ray
 
@@ -34,7 +35,7 @@ def run_with_ray(
             )
     try:
         task = ray.remote(num_cpus=1)(fn)
-        pending = [task.remote(index, seed, workdir) for index in range(episodes)]
+        pending = [task.remote(index, seed, workdir, brain_args) for index in range(episodes)]
         results: list[dict[str, Any]] = []
         while pending:
             done, pending = ray.wait(pending, num_returns=1)

@@ -39,6 +39,8 @@ class RunSpec:
     timeout: float = 30.0
     shadows: tuple[str, ...] = ()
     """Observers the same brain runs alongside on the same ticks (``python -m brain --shadow``)."""
+    brain_args: tuple[str, ...] = ()
+    """More options for the brain, e.g. ``("--set", "belief_model=graded")``."""
 
 
 @dataclass
@@ -101,6 +103,7 @@ def brain_command(spec: RunSpec, world: str, settings: SessionSettings, shadow_d
         *("--scenario", str(spec.scenario), "--observer", spec.observer, "--robot", spec.robot),
         *("--timeout", str(spec.timeout), "--log-level", "WARNING"),
         *shadows,
+        *spec.brain_args,
     )
 
 
