@@ -1,4 +1,5 @@
-"""Print which installed packages differ from the lock (``make test-latest`` runs this before
+"""Print which installed packages differ from the lock (pip and the setuptools a venv is seeded
+with are not dependencies) (``make test-latest`` runs this before
 the suite, so a failure there can be traced to the release that caused it).
 
 Usage: python .ci/lockdiff.py constraints.txt
@@ -32,7 +33,7 @@ def main(lock: Path) -> int:
     locked = pins(lock)
     rows = [
         (name, locked.get(name, "-"), installed.get(name, "-"))
-        for name in sorted(set(locked) | set(installed) - {"toyroom", "pip"})
+        for name in sorted(set(locked) | set(installed) - {"toyroom", "pip", "setuptools"})
         if locked.get(name) != installed.get(name)
     ]
     if not rows:
