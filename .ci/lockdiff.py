@@ -1,6 +1,6 @@
-"""Print which installed packages differ from the lock (pip and the setuptools a venv is seeded
-with are not dependencies) (``make test-latest`` runs this before
-the suite, so a failure there can be traced to the release that caused it).
+"""Print which installed packages differ from the lock (``make test-latest`` runs this before
+the suite, so a failure there can be traced to the release that caused it). pip, and the
+setuptools a venv is seeded with, are not dependencies and are left out.
 
 Usage: python .ci/lockdiff.py constraints.txt
 """
