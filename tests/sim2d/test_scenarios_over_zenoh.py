@@ -49,6 +49,22 @@ class Recorder:
     def _event(self, event: Event, _: Received) -> None:
         with self.lock:
             self.events.append(event)
+            self.lock.notify_all()
+
+    def labels(self, episode: int, expected: int, timeout: float = 10.0) -> list[str]:
+        """The waypoint labels of ``episode``, once ``expected`` of them have arrived (events
+        come on their own subscription, so they may trail the last state)."""
+
+        def found() -> list[str]:
+            return [
+                e.label
+                for e in self.events
+                if e.kind is EventKind.WAYPOINT and e.episode == episode and e.label
+            ]
+
+        with self.lock:
+            self.lock.wait_for(lambda: len(found()) >= expected, timeout)
+            return found()
 
 
 def run_to_end(client: LockstepClient, scenario: str, seed: int = 0, chunk: int = 25) -> State:
@@ -73,9 +89,7 @@ def test_scenario_runs_to_its_end(world: str, scenario: str) -> None:
         ticks = [s.tick for s in deadline_states]
         assert ticks[-1] == end.tick and end.done
         assert ticks == sorted(ticks), "states arrived out of order"
-        labels = [
-            e.label for e in recorder.events if e.kind is EventKind.WAYPOINT and e.episode == end.episode
-        ]
+        labels = recorder.labels(end.episode, len(EXPECTED_LABELS[scenario]))
         assert labels == EXPECTED_LABELS[scenario], f"{scenario}: waypoints {labels}"
 
 
