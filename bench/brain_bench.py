@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import tempfile
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 from rich.console import Console
 from rich.table import Table
@@ -21,6 +23,8 @@ from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from protocol import Event, Scene, State
 from sim2d.engine import Engine
+from sim2d.generate import write_episode
+from sim2d.scenario import load_scenario
 
 
 def timed_observe(tracker: MindTracker, state: State, events: Sequence[Event]) -> float | None:
@@ -59,6 +63,27 @@ def measure(
     }
 
 
+def houses(ticks: int = 300) -> dict[str, float]:
+    """The tracker's time per tick (ms, all people, engine excluded) of each model on the
+    evaluation's two generated houses (``W = 512``), ``ticks`` ticks of one episode each."""
+    out: dict[str, float] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for map_name, seed in (("house-a", 5), ("house-b", 7)):
+            scenario = load_scenario(str(write_episode(Path(tmp), map_name, seed)))
+            engine = Engine(scenario, robot="observe")
+            stream: list[tuple[State, tuple[Event, ...]]] = [(engine.state(), ())]
+            while not engine.done and len(stream) <= ticks:
+                result = engine.step()
+                stream.append((result.state, result.events))
+            for model in ("point", "graded"):
+                tracker = MindTracker(engine.scene(), ModelSettings(belief_model=model))
+                start = time.perf_counter()
+                for state, events in stream:
+                    tracker.observe(state, events)
+                out[f"{map_name}_{model}_tick_ms"] = (time.perf_counter() - start) / len(stream) * 1e3
+    return out
+
+
 def main(repeats: int = 5) -> dict[str, float]:
     engine = Engine("paper-2")
     ticks: list[tuple[State, tuple[Event, ...]]] = [(engine.state(), ())]
@@ -85,6 +110,19 @@ def main(repeats: int = 5) -> dict[str, float]:
         ("brain_step_us_p99", "online step per person, p99 (us)", ""),
     ):
         table.add_row(label, f"{numbers[name]:.0f}", f"{graded[name]:.0f}", target)
+    Console().print(table)
+    house = houses()
+    numbers |= house
+    table = Table(title="the tracker per tick on the evaluation houses (W = 512; 300 ticks, all people)")
+    table.add_column("house")
+    table.add_column("point (ms)", justify="right")
+    table.add_column("graded (ms)", justify="right")
+    for map_name in ("house-a", "house-b"):
+        table.add_row(
+            map_name,
+            f"{house[f'{map_name}_point_tick_ms']:.2f}",
+            f"{house[f'{map_name}_graded_tick_ms']:.2f}",
+        )
     Console().print(table)
     return numbers
 

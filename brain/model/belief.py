@@ -113,11 +113,37 @@ class BeliefModel:
     def in_pw(self, p: Percept) -> npt.NDArray[np.bool_]:
         """``(W_i, W_j)`` whether ``i`` is in ``PW(j)``: it differs from ``j`` only in items the
         person at ``p.cell`` can see now (in view, or believed by ``j`` to be at a visible spot)."""
-        model = self.model
-        seen = np.array(p.seen)
-        affected = (seen[None, :] >= 0) | model.sees[p.cell][model.place]  # (W_j, K)
+        affected = self.affected(p)  # (W_j, K)
         fixed = np.bitwise_or.reduce(np.where(affected, 0, self.bit), axis=1)  # (W_j,) must stay put
         return (self.differ & fixed[None, :]) == 0
+
+    def affected(self, p: Percept) -> npt.NDArray[np.bool_]:
+        """``(W_j, K)`` the items a person at ``p.cell`` may find changed in world ``j``: in
+        view, or believed by ``j`` to be at a visible spot."""
+        seen = np.array(p.seen)
+        return (seen[None, :] >= 0) | self.model.sees[p.cell][self.model.place]
+
+    def apply_change(self, beliefs: FloatArray, p: Percept, *, predict: bool) -> FloatArray:
+        """``beliefs @ g.T`` for ``(N, W)`` beliefs, ``g`` the paper's change weights
+        (:meth:`change_weights`), each column first normalised when ``predict``; without
+        building ``g``. Whether item ``k`` of world ``j`` may change depends on its value
+        alone (it is in view, or ``j`` puts it at a visible spot), so "``i`` is in ``PW(j)``"
+        is a product over items of ``(V, V)`` matrices ``M_k[i_k, j_k]`` and the sum over
+        ``j`` is one small matrix product per item axis of the ``(N, V, ..., V)`` tensor:
+        ``O(N W V K)`` instead of ``O(N W^2)``."""
+        model = self.model
+        K, V = model.n_items, model.n_values
+        values = np.arange(V)
+        may_change = (np.array(p.seen)[:, None] >= 0) | model.sees[p.cell][values // 2][None, :]  # (K, V)
+        x = beliefs
+        if predict:  # column j of g sums to 1 + r (|PW(j)| - 1)
+            reach = np.where(may_change[np.arange(K)[None, :], model.worlds], float(V), 1.0).prod(axis=1)
+            x = x / (1.0 + self.r * (reach - 1.0))[None, :]
+        tensor = x.reshape(len(x), *([V] * K))
+        for k in range(K):
+            step = (may_change[k][None, :] | np.eye(V, dtype=bool)).astype(np.float64)  # [i_k, j_k]
+            tensor = np.moveaxis(np.tensordot(tensor, step, axes=([1 + k], [1])), -1, 1 + k)
+        return (1.0 - self.r) * x + self.r * tensor.reshape(len(x), -1)
 
     def change_weights(self, p: Percept) -> FloatArray:
         """``(W_i, W_j)`` the paper's ``g(i, j)``: 1 to stay, ``r`` for a change inside ``PW(j)``,

@@ -69,12 +69,9 @@ def prior_beliefs(worlds: np.ndarray, n_locations: int, resolution: int) -> Floa
 
 def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: str = "predict") -> FloatArray:
     """``(G, W)`` every hypothesis's belief after percept ``p`` (rows sum to one)."""
-    change = model.change_weights(p)  # (W_i, W_j)
-    if rule == "predict":
-        change = change / change.sum(axis=0, keepdims=True)
-    elif rule != "paper":
+    if rule not in UPDATES:
         raise ValueError(f"unknown belief update {rule!r}; known: {', '.join(UPDATES)}")
-    new = (beliefs @ change.T) * model.percept_likelihood(p)[None, :]
+    new = model.apply_change(beliefs, p, predict=rule == "predict") * model.percept_likelihood(p)[None, :]
     total = new.sum(axis=1, keepdims=True)
     return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
 
@@ -90,12 +87,15 @@ def qmdp_likelihood(
             preference and world (``-inf``: impossible in that world).
         action: the action taken.
     """
+    D, W, A = q.shape
     feasible = np.isfinite(q)
     stay = q[:, :, Move.STAY]
     substitute = np.where(np.isfinite(stay), stay, 0.0)[:, :, None]
     values = np.where(feasible, q, substitute)
-    expected = np.einsum("gw,dwa->gda", beliefs, values)
-    possible = np.einsum("gw,dwa->gda", beliefs, feasible.astype(np.float64)) > 1e-12
+    # (G, W) @ (W, D A): one matrix product each (BLAS), not an einsum over four indices
+    expected = (beliefs @ values.transpose(1, 0, 2).reshape(W, D * A)).reshape(-1, D, A)
+    mass = beliefs @ feasible.transpose(1, 0, 2).reshape(W, D * A).astype(np.float64)
+    possible = mass.reshape(-1, D, A) > 1e-12
     scaled = np.where(possible, beta * expected, -np.inf)
     top = scaled.max(axis=2, keepdims=True)
     weights = np.where(possible, np.exp(scaled - np.where(np.isfinite(top), top, 0.0)), 0.0)

@@ -261,7 +261,9 @@ class GradedModel:
         """The estimate of ``(G, W)`` beliefs under a ``(G, D)`` posterior, with the
         hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
         model = self.model
-        marginals = np.einsum("gw,wkl->gkl", beliefs, self.place_of)  # (G, K, L)
+        marginals = (beliefs @ self.place_of.reshape(model.n_worlds, -1)).reshape(
+            len(beliefs), model.n_items, model.n_locations
+        )  # (G, K, L)
         base = estimate(model, expected_joint(beliefs, posterior), truth)
         return dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
 

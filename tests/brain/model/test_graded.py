@@ -189,3 +189,24 @@ def test_a_spread_belief_that_includes_the_truth_is_not_a_false_belief() -> None
     assert false_belief_probability(point, in_s2, 0.1)[0] == pytest.approx(0.5), (
         "read as point beliefs, half the worlds put the item elsewhere"
     )
+
+
+@pytest.mark.parametrize("predict", [True, False], ids=["predict", "paper"])
+def test_the_fast_change_sum_equals_the_dense_matrix(paper, predict: bool) -> None:
+    """``apply_change`` (a sum per set of affected items) is ``beliefs @ g.T`` with the dense
+    ``(W, W)`` change weights, on every cell of the paper map and with items in and out of view."""
+    _, model, *_ = paper
+    beliefs_model = BeliefModel(model, SETTINGS.r, SETTINGS.delta)
+    rng = np.random.default_rng(3)
+    beliefs = rng.dirichlet(np.ones(model.n_worlds), size=5)
+    for cell in range(0, model.n_cells, 7):
+        for seen in (
+            (NOT_IN_VIEW,) * model.n_items,
+            tuple(2 * (cell % model.n_locations) for _ in range(model.n_items)),
+        ):
+            p = Percept(cell, seen)
+            g = beliefs_model.change_weights(p)
+            if predict:
+                g = g / g.sum(axis=0, keepdims=True)
+            fast = beliefs_model.apply_change(beliefs, p, predict=predict)
+            assert np.allclose(fast, beliefs @ g.T, atol=1e-12), f"cell {cell}, seen {seen}"
