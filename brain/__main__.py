@@ -17,6 +17,7 @@ from pathlib import Path
 from bridge import Bridge, BridgeError
 from bridge.flags import (
     add_log_level,
+    add_settings_args,
     command_parser,
     configure_logging,
 )
@@ -34,24 +35,6 @@ from .settings import Settings, load_settings, settings_toml
 from .tracking.tracker import MindTracker
 
 OBSERVERS = Observer.names()
-
-
-def add_settings_args(parser: argparse.ArgumentParser) -> None:
-    """``--settings FILE.toml`` and repeatable ``--set NAME=VALUE`` (model and robot settings)."""
-    parser.add_argument(
-        "--settings",
-        type=Path,
-        metavar="FILE.toml",
-        help="model and robot settings ([model], [robot] tables)",
-    )
-    parser.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="one setting, e.g. beta=3 or belief_model=graded (repeatable; after --settings)",
-    )
 
 
 def run_parser() -> argparse.ArgumentParser:

@@ -12,6 +12,8 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+from collections.abc import Sequence
+from pathlib import Path
 
 PROG_ENV = "TOYROOM_PROG"
 """Set by ``toyroom`` when it runs a node (``toyroom sim``), so the node's help names that command."""
@@ -58,3 +60,29 @@ def add_log_level(parser: argparse.ArgumentParser, default: str = "INFO") -> Non
 def configure_logging(level: str) -> None:
     """Log to stderr at ``level``, with time, level and logger name."""
     logging.basicConfig(level=level, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+
+
+def add_settings_args(parser: argparse.ArgumentParser) -> None:
+    """The brain's ``--settings FILE.toml`` and repeatable ``--set NAME=VALUE`` (the brain
+    checks them; ``toyroom`` commands hand them on with :func:`settings_argv`)."""
+    parser.add_argument(
+        "--settings",
+        type=Path,
+        metavar="FILE.toml",
+        help="the brain's model and robot settings ([model], [robot])",
+    )
+    parser.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="one brain setting, e.g. beta=3 or belief_model=graded (repeatable; after --settings)",
+    )
+
+
+def settings_argv(settings: Path | None, overrides: Sequence[str]) -> list[str]:
+    """The brain's command-line options for a settings file and ``NAME=VALUE`` overrides
+    (the file's path made absolute: the brain may run elsewhere)."""
+    argv = ["--settings", str(settings.resolve())] if settings is not None else []
+    return argv + [arg for text in overrides for arg in ("--set", text)]

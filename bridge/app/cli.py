@@ -16,6 +16,7 @@ from protocol import Observer
 from ..errors import BridgeError
 from ..flags import (
     HelpFormatter,
+    add_settings_args,
     configure_logging,
     log_level,
 )
@@ -43,21 +44,6 @@ def global_parser() -> argparse.ArgumentParser:
         help="DEBUG, INFO, WARNING or ERROR (default: INFO here, WARNING in the nodes a command starts)",
     )
     return parser
-
-
-def _settings_args(parser: argparse.ArgumentParser) -> None:
-    """The brain's ``--settings FILE.toml`` and ``--set NAME=VALUE`` (checked by the brain)."""
-    parser.add_argument(
-        "--settings", type=Path, metavar="FILE.toml", help="the brain's model and robot settings"
-    )
-    parser.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="one brain setting, e.g. beta=3 or belief_model=graded (repeatable)",
-    )
 
 
 def _observer_arg(parser: argparse.ArgumentParser, help: str) -> None:
@@ -91,7 +77,7 @@ def _run_command(command: Command) -> None:
     run.add_argument("--out", type=Path, default=Path("out"), help="results directory")
     run.add_argument("--seed", type=int, default=0, help="episode seed (the engine's random draws)")
     _observer_arg(run, "the brain's person model")
-    _settings_args(run)
+    add_settings_args(run)
     run.add_argument(
         "--shadow",
         choices=Observer.names(),
@@ -148,7 +134,7 @@ def _infer_command(command: Command) -> None:
     infer.add_argument("trace", type=Path, help="a trace.jsonl or .mcap written by toyroom run")
     infer.add_argument("--out", type=Path, required=True, help="directory for mind.csv, figures, report.md")
     _observer_arg(infer, "the person model to infer with")
-    _settings_args(infer)
+    add_settings_args(infer)
 
 
 def _bench_command(command: Command) -> None:
@@ -172,7 +158,7 @@ def _eval_command(command: Command) -> None:
     evaluation.add_argument(
         "--out", type=Path, default=Path("out/eval"), help="directory for metrics and report"
     )
-    _settings_args(evaluation)
+    add_settings_args(evaluation)
 
 
 def _conform_command(command: Command) -> None:

@@ -11,7 +11,7 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..flags import PROG_ENV
+from ..flags import PROG_ENV, settings_argv
 from ..processes import stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
 
@@ -175,8 +175,7 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _eval(args: argparse.Namespace) -> int:
-    brain = ["--settings", str(args.settings.resolve())] if args.settings else []
-    brain += [arg for text in args.overrides for arg in ("--set", text)]
+    brain = settings_argv(args.settings, args.overrides)
     return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out, brain)
 
 
@@ -195,8 +194,7 @@ def _infer(args: argparse.Namespace) -> int:
         trace = converted
     argv = ["infer", str(trace), "--out", str(args.out), "--observer", args.observer]
     argv += ["--log-level", args.log_level] if args.log_level else []
-    argv += ["--settings", str(args.settings)] if args.settings else []
-    argv += [arg for text in args.overrides for arg in ("--set", text)]
+    argv += settings_argv(args.settings, args.overrides)
     return exec_node("brain", argv, prog="toyroom infer")
 
 

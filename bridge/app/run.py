@@ -25,6 +25,7 @@ from rich.live import Live
 from protocol import Mind, Observer
 
 from ..bridge import Bridge
+from ..flags import settings_argv
 from ..processes import engine_command, node_command, report_failure, start_node, stop_node, wait_for_engine
 from ..pubsub import Received
 from ..recording.events import write_events_csv
@@ -140,8 +141,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                     *robot,
                     *(arg for name in config.shadows for arg in ("--shadow", name)),
                     *(("--shadow-out", str(config.out)) if config.shadows else ()),
-                    *(("--settings", str(config.settings)) if config.settings else ()),
-                    *(arg for text in config.overrides for arg in ("--set", text)),
+                    *settings_argv(config.settings, config.overrides),
                 ]
                 brain = start_node(node_command("brain", world, settings, *brain_args), brain_log)
                 while brain.poll() is None:
