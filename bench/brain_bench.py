@@ -1,6 +1,6 @@
 """Brain speed on the paper map: the planner's cold time and the online update per person
 per tick, on a recorded paper-2 episode (the engine core runs first, untimed), for the
-point-belief model (the default) and the graded one side by side.
+graded model (the default) and the paper's point beliefs side by side.
 
     python bench/brain_bench.py [--repeats N]
 """
@@ -91,13 +91,13 @@ def main(repeats: int = 5) -> dict[str, float]:
         result = engine.step()
         ticks.append((result.state, result.events))
     scene = engine.scene()
-    numbers = measure(scene, ticks, ModelSettings(), repeats)
+    numbers = measure(scene, ticks, ModelSettings(belief_model="point"), repeats)
     graded = measure(scene, ticks, ModelSettings(belief_model="graded"), repeats)
     numbers |= {f"graded_{name}": value for name, value in graded.items()}
     table = Table(title=f"brain on the paper map ({repeats} repeats, {len(ticks)} ticks of paper-2)")
     table.add_column("measure")
-    table.add_column("point (default)", justify="right")
-    table.add_column("graded", justify="right")
+    table.add_column("point", justify="right")
+    table.add_column("graded (default)", justify="right")
     table.add_column("target", justify="right")
     table.add_row(
         "planner, cold (s)",

@@ -2,8 +2,9 @@
 
 For each house of the family (``toyroom generate --rooms R --items K``, one item
 spot per room), an episode of autonomous people is recorded with the engine core, then fed
-to the brain as it would run by default (exact below ``ModelSettings.exact_max_worlds``,
-factored above): ``planner_s`` (cold), ``step_us`` (median online update per person per
+to the brain with point beliefs (``belief_model = "point"``: exact below
+``ModelSettings.exact_max_worlds``, factored above; the graded default uses the factored
+model above it too): ``planner_s`` (cold), ``step_us`` (median online update per person per
 step; ``step_p99_us``). Wherever the exact model still fits (``W <= EXACT_FITS``), both
 models also run on the same ticks and ``tv_vs_exact`` is the mean total-variation distance
 between their item beliefs per person, item and tick (``preference_tv_vs_exact`` the same
@@ -73,9 +74,9 @@ def divergence(engine: Engine, ticks: Ticks) -> dict[str, float]:
     time and median step time on these ticks."""
     cached_policy.cache_clear()
     start = time.perf_counter()
-    exact = MindTracker(engine.scene(), ModelSettings(exact_max_worlds=1 << 62))
+    exact = MindTracker(engine.scene(), ModelSettings(belief_model="point", exact_max_worlds=1 << 62))
     planner = time.perf_counter() - start
-    factored = MindTracker(engine.scene(), ModelSettings(exact_max_worlds=0))
+    factored = MindTracker(engine.scene(), ModelSettings(belief_model="point", exact_max_worlds=0))
     beliefs, preferences, per_step = [], [], []
     for state, events in ticks:
         elapsed = timed_observe(exact, state, events)
@@ -106,7 +107,7 @@ def house(rooms: int, items: int, ticks: int, directory: Path, seed: int = 7) ->
     path = write_house_episode(directory, rooms, items, seed, max_ticks=ticks)
     engine = Engine(load_scenario(str(path)), robot="observe")
     recorded = record(engine, ticks)
-    tracker, planner, per_step = follow(engine, recorded, ModelSettings())
+    tracker, planner, per_step = follow(engine, recorded, ModelSettings(belief_model="point"))
     model = tracker.model
     row: dict[str, Any] = {
         "rooms": rooms,

@@ -28,6 +28,9 @@ class ModelSettings:
         hazard: probability that the preference switches between two decisions.
         decision_seconds: the typical time of one decision (a move to the next cell): a
             longer gap between two decisions (a wait) compounds the hazard over it.
+        wait_decisions: a person who stands still this many ``decision_seconds`` while a
+            decision is due (not after playing, not outside) has decided to wait: one Stay
+            action per pause, with its likelihood (a long wait is evidence); 0 ignores waits.
         discount: the planner's discount per action.
         preferred_utility: reward of playing with the preferred item.
         other_utility: reward of playing with any other item.
@@ -37,9 +40,10 @@ class ModelSettings:
         vi_tolerance: value iteration stops when no value moves more than this.
         exact_max_worlds: the largest number of worlds ``W = (2 L)**K`` for which the exact
             joint model is used; above it, the factored model (``brain/model/factored.py``).
-        belief_model: ``point``: each person is certain of one world, the robot unsure which
-            (the paper's reading); ``graded``: each person holds a belief of their own and
-            plans on it by QMDP (``brain/model/graded.py``; exact model only).
+        belief_model: ``graded`` (the default): each person holds a belief of their own and
+            plans on it by QMDP (``brain/model/graded.py``; exact model only: above
+            ``exact_max_worlds`` the factored model's point beliefs are used); ``point``: each
+            person is certain of one world, the robot unsure which (the paper's reading).
         prior_resolution: graded model: the grid over each item's initial belief has the
             probabilities ``c / prior_resolution`` (1: the person is sure of some location).
         belief_update: graded model: ``predict`` (a change of world is predicted with weight
@@ -55,6 +59,7 @@ class ModelSettings:
     epsilon: float = 1e-3
     hazard: float = 0.05
     decision_seconds: float = 0.7
+    wait_decisions: float = 3.0
     discount: float = 0.95
     preferred_utility: float = 30.0
     other_utility: float = 1.0
@@ -63,7 +68,7 @@ class ModelSettings:
     step_cost: float = 1.0
     vi_tolerance: float = 1e-9
     exact_max_worlds: int = 512
-    belief_model: str = "point"
+    belief_model: str = "graded"
     prior_resolution: int = 2
     belief_update: str = "predict"
     false_belief_mass: float = 0.1
@@ -75,6 +80,8 @@ class ModelSettings:
             "beta": self.beta >= 0,
             "epsilon": 0.0 <= self.epsilon < 1.0,
             "hazard": 0.0 <= self.hazard < 1.0,
+            "decision_seconds": self.decision_seconds > 0,
+            "wait_decisions": self.wait_decisions >= 0,
             "discount": 0.0 < self.discount < 1.0,
             "belief_model": self.belief_model in ("point", "graded"),
             "prior_resolution": self.prior_resolution >= 1,
@@ -94,8 +101,9 @@ class RobotSettings:
         preference_threshold: a person's preference must be at least this probable for
             the robot to act on it.
         intention_threshold: the same for the intention (item and believed location).
-        belief_threshold: a wrong believed location must be at least this probable to count
-            as a false belief the robot acts on.
+        belief_threshold: a false belief (``Estimate.false_belief``: the person's belief gives
+            the item's true location less than ``false_belief_mass``) must be at least this
+            probable for the robot to act on it.
         attempts: how often the robot tries one task before giving up on it.
         navigate_timeout: engine seconds a navigation may take.
         action_timeout: engine seconds a pick, place, give, say or request may take.

@@ -34,7 +34,8 @@ class Observer(enum.Enum):
 
 
 class Prob(msgspec.Struct, frozen=True):
-    """One entry of a distribution: ``id`` (a location, an item, or ``out``) and its probability."""
+    """A probability ``p`` attached to ``id`` (a location, an item, or ``out``): one entry of a
+    distribution, or of a per-item probability such as ``AgentMind.false_belief``."""
 
     id: Id
     p: Probability
@@ -61,8 +62,11 @@ class Intention(msgspec.Struct, frozen=True):
 class AgentMind(msgspec.Struct, frozen=True):
     """The brain's estimate of one person's mind.
 
-    ``preference`` is a distribution over item ids plus ``out``; ``false_beliefs`` lists the
-    items whose most probable believed location differs from their true location.
+    ``preference`` is a distribution over item ids plus ``out``. ``false_belief`` gives, per
+    item id, the brain's probability that the person has a false belief about it: that their
+    belief gives the item's true location less than the brain's ``false_belief_mass`` (0.1
+    by default), which ignorance (a belief spread over places that include the true one) is
+    not. ``false_beliefs`` lists the items whose false belief is more probable than not.
     """
 
     agent: Id
@@ -70,6 +74,7 @@ class AgentMind(msgspec.Struct, frozen=True):
     preference: tuple[Prob, ...]
     intention: Intention | None = None
     false_beliefs: tuple[Id, ...] = ()
+    false_belief: tuple[Prob, ...] = ()
 
 
 class RobotActivity(msgspec.Struct, frozen=True):

@@ -5,7 +5,7 @@ a posterior."""
 
 from .arrays import BoolArray, FloatArray, IntArray
 from .belief import BeliefModel, Percept, percept, told, true_values
-from .estimates import OUT, Estimate, estimate, false_beliefs
+from .estimates import OUT, Estimate, estimate, false_belief_probability, reread
 from .inference import HmmStep, forward, forward_step, smooth, switch_probability
 from .personmodel import ExactModel, FactoredModel, PersonFilter, PersonModel, StepRecord, person_model
 from .planner import TAKE, Move, Policy, cached_policy, plan
@@ -18,7 +18,8 @@ __all__ = [
     "build_world_model",
     "cached_policy",
     "estimate",
-    "false_beliefs",
+    "false_belief_probability",
+    "reread",
     "forward",
     "forward_step",
     "percept",

@@ -1,8 +1,9 @@
 """Reading estimates off a ``(W, D)`` posterior: each item's believed location, the
-preference, the intention and false-belief flags."""
+preference, the intention and the probability of a false belief about each item."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,7 +23,9 @@ class Estimate:
         beliefs: ``(K, L)`` probability that the person believes item ``k`` is at location ``l``.
         preference: ``(D,)`` over the items, then ``out``.
         intention: ``(item index or None for out, location index or None, probability)``.
-        false_beliefs: item indices whose most probable believed location is not the true one.
+        false_belief: ``(K,)`` the robot's probability that the person's belief gives each
+            item's true location (at the time the estimate was read) less than
+            ``ModelSettings.false_belief_mass`` (:func:`false_belief_probability`).
         hypotheses: for a model whose people hold graded beliefs, the robot's weight of each
             hypothesis ``(G,)`` and the person's belief under it ``(G, K, L)``; ``None`` when
             each person is certain of one world (the hypotheses are then the worlds).
@@ -31,8 +34,13 @@ class Estimate:
     beliefs: FloatArray
     preference: FloatArray
     intention: tuple[int | None, int | None, float]
-    false_beliefs: tuple[int, ...]
+    false_belief: FloatArray
     hypotheses: tuple[FloatArray, FloatArray] | None = None
+
+    @property
+    def false_beliefs(self) -> tuple[int, ...]:
+        """Item indices whose false belief is more probable than not."""
+        return tuple(int(k) for k in np.flatnonzero(self.false_belief > 0.5))
 
 
 def estimate(model: WorldModel, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
@@ -50,14 +58,18 @@ def estimate(model: WorldModel, posterior: FloatArray, truth: tuple[int, ...]) -
         if joint[location] > best[2]:
             best = (k, location, float(joint[location]))
     return Estimate(
-        beliefs=beliefs, preference=preference, intention=best, false_beliefs=false_beliefs(beliefs, truth)
+        beliefs=beliefs,
+        preference=preference,
+        intention=best,
+        false_belief=point_false_belief(beliefs, truth),
     )
 
 
-def false_beliefs(beliefs: FloatArray, truth: tuple[int, ...]) -> tuple[int, ...]:
-    """Items whose most probable believed location (``beliefs`` is ``(K, L)``) differs from
-    their true location (``truth`` holds item values ``2 * location + held``)."""
-    return tuple(k for k in range(len(truth)) if int(np.argmax(beliefs[k])) != truth[k] // 2)
+def point_false_belief(beliefs: FloatArray, truth: tuple[int, ...]) -> FloatArray:
+    """``(K,)`` for people each certain of one world: ``1 - P(believed at the true location)``
+    (``beliefs`` is ``(K, L)``; ``truth`` holds item values ``2 * location + held``)."""
+    true = np.array([value // 2 for value in truth], dtype=np.int64)
+    return 1.0 - beliefs[np.arange(len(true)), true]
 
 
 def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float) -> FloatArray:
@@ -65,9 +77,14 @@ def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float)
     location less than ``mass``: a false belief, not mere ignorance (a spread belief that
     includes the truth is not one). With point beliefs this is ``1 - P(believed at the true
     location)``."""
-    true = np.array([value // 2 for value in truth])
     if est.hypotheses is None:
-        return 1.0 - est.beliefs[np.arange(len(true)), true]
+        return point_false_belief(est.beliefs, truth)
+    true = np.array([value // 2 for value in truth], dtype=np.int64)
     weights, beliefs = est.hypotheses
     at_true = beliefs[:, np.arange(len(true)), true]  # (G, K)
     return weights @ (at_true < mass)
+
+
+def reread(est: Estimate, truth: tuple[int, ...], mass: float) -> Estimate:
+    """``est`` with its false beliefs read against ``truth`` (the world as it is now)."""
+    return dataclasses.replace(est, false_belief=false_belief_probability(est, truth, mass))

@@ -33,7 +33,7 @@ from protocol import Scene
 from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
 from .belief import Percept
-from .estimates import Estimate, false_beliefs
+from .estimates import Estimate, point_false_belief
 from .inference import hazard_matrix
 from .planner import (
     INFEASIBLE,
@@ -250,5 +250,8 @@ def factored_estimate(model: WorldModel, posterior: FactoredPosterior, truth: tu
         if joint[location] > best[2]:
             best = (k, location, float(joint[location]))
     return Estimate(
-        beliefs=beliefs, preference=alpha.copy(), intention=best, false_beliefs=false_beliefs(beliefs, truth)
+        beliefs=beliefs,
+        preference=alpha.copy(),
+        intention=best,
+        false_belief=point_false_belief(beliefs, truth),
     )

@@ -7,7 +7,8 @@
 - :class:`GradedModel`: each person holds a graded belief of their own and plans with it
   (:mod:`brain.model.graded`); ``ModelSettings.belief_model = "graded"``; online and smoothed.
 
-:func:`person_model` picks one by ``ModelSettings.belief_model`` and ``exact_max_worlds``.
+:func:`person_model` picks one by ``ModelSettings.belief_model`` (graded by default) and
+``exact_max_worlds``.
 Each step is kept as a small :class:`StepRecord` (the percept, not the ``(W, W)``
 transition, which smoothing rebuilds), so a long episode does not hold a matrix per step.
 """
@@ -15,6 +16,7 @@ transition, which smoothing rebuilds), so a long episode does not hold a matrix 
 from __future__ import annotations
 
 import dataclasses
+import logging
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
@@ -26,7 +28,7 @@ from protocol import Scene
 from ..settings import ModelSettings
 from .arrays import FloatArray
 from .belief import BeliefModel, Percept
-from .estimates import Estimate, estimate
+from .estimates import Estimate, estimate, reread
 from .factored import (
     FactoredBeliefs,
     FactoredPolicy,
@@ -40,6 +42,8 @@ from .graded import expected_joint, prior_beliefs, qmdp_likelihood, update_belie
 from .inference import HmmStep, forward_step, hazard_matrix, smooth
 from .planner import Policy, cached_policy
 from .world import WorldModel, build_world_model
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -265,7 +269,8 @@ class GradedModel:
             len(beliefs), model.n_items, model.n_locations
         )  # (G, K, L)
         base = estimate(model, expected_joint(beliefs, posterior), truth)
-        return dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
+        graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
+        return reread(graded, truth, self.settings.false_belief_mass)
 
 
 def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
@@ -297,20 +302,21 @@ class GradedFilter:
 
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
-    """The graded model when ``settings.belief_model`` says so; else the exact point model
-    when its ``W`` worlds are at most ``settings.exact_max_worlds``, the factored one above.
-
-    Raises:
-        ValueError: graded beliefs asked for on a house too large for the exact model.
-    """
+    """The model ``settings.belief_model`` names: graded (the default) or the exact point
+    model, while the scene's ``W`` worlds are at most ``settings.exact_max_worlds``; above it,
+    the factored model (point beliefs per item: graded beliefs do not factor yet), with a
+    warning that says so when graded beliefs were asked for."""
     worlds = build_world_model(scene).n_worlds
-    if settings.belief_model == "graded":
-        if worlds > settings.exact_max_worlds:
-            raise ValueError(
-                f"belief_model 'graded' needs the exact model, but scene '{scene.name}' has {worlds} "
-                f"worlds (exact_max_worlds = {settings.exact_max_worlds}); use belief_model 'point'"
+    if worlds > settings.exact_max_worlds:
+        if settings.belief_model == "graded":
+            log.warning(
+                "scene '%s' has %d worlds (exact_max_worlds = %d): using the factored model, whose "
+                "people hold point beliefs per item, instead of graded beliefs",
+                scene.name,
+                worlds,
+                settings.exact_max_worlds,
             )
+        return FactoredModel(scene, settings, true_world)
+    if settings.belief_model == "graded":
         return GradedModel(scene, settings, true_world)
-    if worlds <= settings.exact_max_worlds:
-        return ExactModel(scene, settings, true_world)
-    return FactoredModel(scene, settings, true_world)
+    return ExactModel(scene, settings, true_world)

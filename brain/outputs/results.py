@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from protocol import AgentMind, Intention, ItemBelief, Mind, Prob, RobotActivity, State
 
 from ..model.estimates import OUT
@@ -48,6 +50,10 @@ def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None
                 preference=preference,
                 intention=intention,
                 false_beliefs=tuple(model.items[k] for k in est.false_beliefs),
+                false_belief=tuple(
+                    Prob(item, round(float(np.clip(est.false_belief[k], 0.0, 1.0)), 6))
+                    for k, item in enumerate(model.items)
+                ),
             )
         )
     robots = (robot,) if robot is not None else ()

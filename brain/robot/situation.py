@@ -101,8 +101,8 @@ class Snapshot:
 
 
 def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
-    """People with empty hands heading for an item they believe is somewhere it is not (and
-    nobody holds it)."""
+    """People with empty hands heading for an item about which they probably hold a false
+    belief (at least ``belief_threshold``), and nobody holds it."""
     model = snap.model
     for person in snap.people:
         est = snap.estimates.get(person)
@@ -113,9 +113,9 @@ def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
             continue
         item = model.items[k]
         location, holder = snap.item(item)
-        if holder is not None or location is None or model.locations[believed] == location:
+        if holder is not None or location is None or est.false_belief[k] < settings.belief_threshold:
             continue
-        if est.beliefs[k, believed] < settings.belief_threshold or not snap.approaching(person, believed):
+        if not snap.approaching(person, believed):
             continue
         yield Inform(person=person, item=item, location=location)
 
@@ -145,7 +145,9 @@ def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied
 
 
 def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
-    """Items resting somewhere other than where the person who left them believes."""
+    """Items resting where the person who left them probably does not believe (a false belief
+    at least ``belief_threshold`` probable), to be put back at their most probable believed
+    location."""
     model = snap.model
     for k, item in enumerate(model.items):
         location, holder = snap.item(item)
@@ -156,7 +158,7 @@ def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]
         if est is None:
             continue
         believed = int(np.argmax(est.beliefs[k]))
-        if model.locations[believed] == location or est.beliefs[k, believed] < settings.belief_threshold:
+        if est.false_belief[k] < settings.belief_threshold or model.locations[believed] == location:
             continue
         yield PutBack(item=item, location=model.locations[believed], owner=owner)
 

@@ -1,7 +1,9 @@
 """Following people through the engine's state and events, tick by tick.
 
 Each tick, every person's decisions are read off the stream: a move when their cell
-changes to a neighbouring one, a take, drop or play when an event says so. A decision is
+changes to a neighbouring one, a take, drop or play when an event says so, and a wait
+(the planner's Stay) when they stand still for ``ModelSettings.wait_decisions`` decision
+times while a decision is due (not after playing, not outside; once per pause). A decision is
 one HMM step (its action likelihood, then the percept at the new position); a change of
 percept without a decision (an item moved in view, the robot's speech, an item handed
 over) is a step with the percept alone. Between steps the estimate is carried forward.
@@ -9,15 +11,14 @@ over) is a step with the percept alone. Between steps the estimate is carried fo
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from protocol import AgentKind, Event, EventKind, Observer, Scene, State
+from protocol import Activity, AgentKind, Event, EventKind, Observer, Scene, State
 
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, percept, told, true_values
-from ..model.estimates import Estimate, false_beliefs
+from ..model.estimates import Estimate, reread
 from ..model.inference import switch_probability
 from ..model.personmodel import PersonFilter, StepRecord, person_model
 from ..model.planner import TAKE, Move, drop_action, play_action
@@ -35,6 +36,10 @@ class PersonTrack:
     """The cell the person left on their last move."""
     held: int = 0
     last_decision: float | None = None
+    waited: bool = False
+    """Whether the current pause was already counted as a decision to wait."""
+    settled: bool = False
+    """Whether the person played or left: no decision is due until they act again."""
     percept: Percept | None = None
     steps: list[StepRecord] = field(default_factory=list)
     filter: PersonFilter | None = None
@@ -117,6 +122,13 @@ class MindTracker:
             track.last_decision = state.time
         else:
             action = self._action(track, cell, events)
+            if any(a.id == track.agent and a.activity is Activity.PLAYING for a in state.agents):
+                track.settled = True
+            if action is None and self._waiting(track, cell, state.time):
+                action, track.waited = Move.STAY.value, True
+            elif action is not None:
+                track.waited = False
+                track.settled = action == play_action(model.n_items) or bool(model.outside[cell])
             if action is not None:
                 likelihood = self.person_model.likelihood(track.cell, track.held, action)
                 elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
@@ -132,6 +144,14 @@ class MindTracker:
         if track.cell is not None and cell != track.cell:
             track.moved_from = track.cell
         track.cell, track.held = cell, held
+
+    def _waiting(self, track: PersonTrack, cell: int, now: float) -> bool:
+        """Whether the person has just stood still long enough, while a decision was due, to
+        count as deciding to wait (once per pause; ``ModelSettings.wait_decisions``)."""
+        wait = self.settings.wait_decisions * self.settings.decision_seconds
+        if wait <= 0 or track.waited or track.settled or cell != track.cell or self.model.outside[cell]:
+            return False
+        return now - (track.last_decision or 0.0) >= wait
 
     def _action(self, track: PersonTrack, cell: int, events: Sequence[Event]) -> int | None:
         model = self.model
@@ -180,12 +200,11 @@ class MindTracker:
 
     def online(self, person: str) -> Estimate | None:
         """The latest online estimate of ``person`` (``None`` before the first sight), its
-        false-belief flags checked against the world as it is now."""
+        false beliefs read against the world as it is now."""
         track = self.tracks[person]
         if not track.estimates:
             return None
-        latest = track.estimates[-1]
-        return dataclasses.replace(latest, false_beliefs=false_beliefs(latest.beliefs, self.truth))
+        return reread(track.estimates[-1], self.truth, self.settings.false_belief_mass)
 
     def smoothed(self, person: str) -> list[Estimate]:
         """Smoothed estimates after each of ``person``'s steps (the online ones when the

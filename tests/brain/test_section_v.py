@@ -13,11 +13,11 @@ PAPER = ("paper-1", "paper-2", "paper-3")
 
 
 @pytest.fixture(
-    scope="module", params=[("sim2d", "point"), ("grid", "point"), ("sim2d", "graded")], ids="-".join
+    scope="module", params=[("sim2d", "graded"), ("grid", "graded"), ("sim2d", "point")], ids="-".join
 )
 def runs(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> dict[str, MindCsv]:
-    """Runs on both engines (the brain, unchanged, must reproduce Section V on either), and
-    with the graded belief model (``--set belief_model=graded``)."""
+    """Runs on both engines (the brain, unchanged, must reproduce Section V on either) with
+    the default graded beliefs, and with the paper's point beliefs (``--set belief_model=point``)."""
     engine, belief_model = request.param
     out = {}
     for scenario in (*PAPER, "sally-anne"):

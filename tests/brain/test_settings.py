@@ -13,9 +13,9 @@ from brain.settings import ModelSettings, RobotSettings, Settings, load_settings
 
 def test_defaults_then_file_then_overrides(tmp_path: Path) -> None:
     path = tmp_path / "s.toml"
-    path.write_text('[model]\nbeta = 3\nbelief_model = "graded"\n\n[robot]\nattempts = 4\n')
+    path.write_text('[model]\nbeta = 3\nbelief_model = "point"\n\n[robot]\nattempts = 4\n')
     settings = load_settings(path, ["beta=4.5", "robot.belief_threshold=0.7"])
-    assert settings.model == ModelSettings(beta=4.5, belief_model="graded")
+    assert settings.model == ModelSettings(beta=4.5, belief_model="point")
     assert settings.robot == RobotSettings(attempts=4, belief_threshold=0.7)
     assert load_settings() == Settings()
 
@@ -62,15 +62,15 @@ def test_infer_takes_settings_and_writes_them(tmp_path: Path) -> None:
     from support import toyroom_run
 
     run = toyroom_run(tmp_path / "run", "sally-anne", "--no-live", "--robot", "observe")
-    assert 'belief_model = "point"' in (run / "settings.toml").read_text()
+    assert 'belief_model = "graded"' in (run / "settings.toml").read_text()
     result = subprocess.run(
         [sys.executable, "-m", "bridge", "infer", str(run / "trace.jsonl"), "--out", str(tmp_path / "graded")]
-        + ["--set", "belief_model=graded"],
+        + ["--set", "belief_model=point"],
         capture_output=True,
         text=True,
         timeout=120,
     )
     assert result.returncode == 0, result.stderr
-    assert 'belief_model = "graded"' in (tmp_path / "graded" / "settings.toml").read_text()
-    point, graded = (run / "mind.csv").read_text(), (tmp_path / "graded" / "mind.csv").read_text()
+    assert 'belief_model = "point"' in (tmp_path / "graded" / "settings.toml").read_text()
+    graded, point = (run / "mind.csv").read_text(), (tmp_path / "graded" / "mind.csv").read_text()
     assert point != graded, "the graded model inferred exactly what the point model did"

@@ -82,8 +82,8 @@ def test_one_item_beliefs_are_the_papers_update() -> None:
 @pytest.mark.parametrize("scenario", ["paper-1", "paper-2", "paper-3", "paper-auto"])
 def test_close_to_the_exact_model_on_the_paper_map(scenario: str) -> None:
     engine = Engine(scenario, robot="observe")
-    exact = MindTracker(engine.scene())
-    factored = MindTracker(engine.scene(), ModelSettings(exact_max_worlds=0))
+    exact = MindTracker(engine.scene(), ModelSettings(belief_model="point"))
+    factored = MindTracker(engine.scene(), ModelSettings(belief_model="point", exact_max_worlds=0))
     assert exact.exact and not factored.exact
     beliefs, preferences = [], []
     state, events = engine.state(), ()

@@ -150,24 +150,32 @@ def test_graded_tracker_sees_sallys_false_belief_and_annes_true_one() -> None:
     marble = model.items.index("marble")
     basket, box = model.locations.index("basket"), model.locations.index("box")
     assert sally.beliefs[marble, basket] > 0.8, f"Sally after the move: {sally.beliefs[marble]}"
+    assert sally.false_belief[marble] > 0.8, (
+        f"Sally, who did not see the move: P(false) = {sally.false_belief}"
+    )
     assert marble in sally.false_beliefs, "Sally's false belief is not flagged"
     assert anne.beliefs[marble, box] > 0.8, f"Anne after the move: {anne.beliefs[marble]}"
+    assert anne.false_belief[marble] < 0.2, f"Anne, who moved the marble: P(false) = {anne.false_belief}"
     assert marble not in anne.false_beliefs, "Anne, who moved the marble, is flagged"
 
 
-def test_graded_needs_the_exact_model() -> None:
+def test_graded_falls_back_to_the_factored_model_on_large_houses(caplog: pytest.LogCaptureFixture) -> None:
     import tempfile
     from pathlib import Path
 
-    from brain.model.personmodel import person_model
+    from brain.model.personmodel import FactoredModel, person_model
     from sim2d.generate import write_house_episode
     from sim2d.scenario import load_scenario
 
     with tempfile.TemporaryDirectory() as tmp:
         path = write_house_episode(Path(tmp), rooms=8, items=4, seed=1)
         scene = Engine(load_scenario(str(path))).scene()
-    with pytest.raises(ValueError, match="belief_model 'graded' needs the exact model"):
-        person_model(scene, ModelSettings(belief_model="graded"))
+    with caplog.at_level("WARNING", logger="brain.model.personmodel"):
+        model = person_model(scene, ModelSettings(belief_model="graded"))
+    assert isinstance(model, FactoredModel), f"expected the factored model, got {type(model).__name__}"
+    assert "using the factored model" in caplog.text and "instead of graded beliefs" in caplog.text, (
+        caplog.text
+    )
 
 
 def test_bad_belief_settings_are_named() -> None:
@@ -181,8 +189,10 @@ def test_a_spread_belief_that_includes_the_truth_is_not_a_false_belief() -> None
     from brain.model.estimates import Estimate, false_belief_probability
 
     beliefs = np.array([[0.0, 0.0, 0.5, 0.5]])  # one item, half S2 (index 2), half P2 (index 3)
-    point = Estimate(beliefs, np.array([0.5, 0.5]), (0, 2, 0.5), ())
-    graded = Estimate(beliefs, np.array([0.5, 0.5]), (0, 2, 0.5), (), (np.array([1.0]), beliefs[None, :, :]))
+    point = Estimate(beliefs, np.array([0.5, 0.5]), (0, 2, 0.5), np.zeros(1))
+    graded = Estimate(
+        beliefs, np.array([0.5, 0.5]), (0, 2, 0.5), np.zeros(1), (np.array([1.0]), beliefs[None, :, :])
+    )
     in_s2, in_s1 = (2 * 2,), (2 * 1,)  # item values: resting at S2, at S1
     assert false_belief_probability(graded, in_s2, 0.1)[0] == 0.0, "the person's own spread includes S2"
     assert false_belief_probability(graded, in_s1, 0.1)[0] == 1.0, "nothing of the person's belief is on S1"

@@ -10,7 +10,8 @@ import pytest
 from scenes import tiny_scene, tiny_state
 
 from brain.model.inference import HmmStep, forward, hazard_matrix, smooth
-from brain.model.personmodel import ExactModel
+from brain.model.personmodel import ExactModel, GradedModel
+from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 
 
@@ -60,9 +61,9 @@ def test_random_chain(seed: int) -> None:
         assert np.allclose(got, want, atol=1e-9, rtol=0)
 
 
-def test_real_trace_of_the_tiny_scene() -> None:
+def tiny_trace(settings: ModelSettings) -> MindTracker:
     """A person comes in from outside, walks to B, takes the ball, walks to A and plays."""
-    tracker = MindTracker(tiny_scene())
+    tracker = MindTracker(tiny_scene(), settings)
     route = [
         ((4, 0), False),
         ((3, 0), False),
@@ -88,6 +89,11 @@ def test_real_trace_of_the_tiny_scene() -> None:
                 ),
             )
         tracker.observe(tiny_state(tick, cell, None if holding else "B", holding), events)
+    return tracker
+
+
+def test_real_trace_of_the_tiny_scene() -> None:
+    tracker = tiny_trace(ModelSettings(belief_model="point"))
     records = tracker.tracks["p"].steps
     assert len(records) == 6 and [s.likelihood is None for s in records] == [True] + [False] * 5
     exact = tracker.person_model
@@ -101,3 +107,38 @@ def test_real_trace_of_the_tiny_scene() -> None:
     assert final is not None and final.preference[0] > 0.9, (
         "walking in, taking the ball and carrying it to play"
     )
+
+
+def test_graded_smoothing_equals_enumeration() -> None:
+    """The graded model's forward-backward over (hypothesis g, preference d) against the
+    sum over every preference sequence (D**T of them; each hypothesis's belief, and so each
+    step's QMDP likelihood, is fixed by g), with a hazard high enough to matter."""
+    tracker = tiny_trace(ModelSettings(hazard=0.3))
+    graded = tracker.person_model
+    assert isinstance(graded, GradedModel), "the default is the graded model"
+    records = tracker.tracks["p"].steps
+    beliefs, likelihoods = graded.initial.copy(), []
+    for record in records:  # L_t(g, d) of the preference before step t's switch
+        likelihood = graded.decision_likelihood(beliefs, record)
+        likelihoods.append(np.ones_like(graded.prior()) if likelihood is None else likelihood)
+        beliefs = graded.revise(beliefs, record)
+    G, D = graded.prior().shape
+    T = len(records)
+    want = np.zeros((T, G, D))
+    for start in range(D):
+        for path in itertools.product(range(D), repeat=T):  # d_t after step t's switch
+            weight = np.full(G, 1.0 / (G * D))
+            before = start
+            for t, record in enumerate(records):
+                weight = weight * likelihoods[t][:, before] * hazard_matrix(D, record.switch)[before, path[t]]
+                before = path[t]
+            for t in range(T):
+                want[t, :, path[t]] += weight
+    want /= want.sum(axis=(1, 2), keepdims=True)
+    got = graded.smoothed(records, tracker.tracks["p"].estimates)
+    for t, est in enumerate(got):
+        assert est.hypotheses is not None
+        assert np.allclose(est.preference, want[t].sum(axis=0), atol=1e-9), (
+            f"step {t}: preference {est.preference}, enumeration {want[t].sum(axis=0)}"
+        )
+        assert np.allclose(est.hypotheses[0], want[t].sum(axis=1), atol=1e-9), f"step {t}: hypothesis weights"

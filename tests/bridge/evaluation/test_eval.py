@@ -70,11 +70,11 @@ def test_ray_backend_agrees_with_local(local: tuple[dict, list[int], Path], tmp_
 
 
 def test_brain_settings_reach_every_run(tmp_path: Path) -> None:
-    """``toyroom eval --set ...`` hands the setting to each run's brain: the graded model
+    """``toyroom eval --set ...`` hands the setting to each run's brain: the point model
     runs an episode; an unknown setting makes the brain refuse, so the episode fails."""
-    graded = evaluate(1, SEED, tmp_path / "graded", brain_args=("--set", "belief_model=graded"))
-    assert graded["episodes_failed"] == 0 and graded["brain_args"] == ["--set", "belief_model=graded"]
-    assert graded["observers"]["btom"]["belief_tv"] is not None
+    point = evaluate(1, SEED, tmp_path / "point", brain_args=("--set", "belief_model=point"))
+    assert point["episodes_failed"] == 0 and point["brain_args"] == ["--set", "belief_model=point"]
+    assert point["observers"]["btom"]["belief_tv"] is not None
     bad = evaluate(1, SEED, tmp_path / "bad", brain_args=("--set", "betta=1"))
     assert bad["episodes_failed"] == 1, f"an unknown brain setting should fail the episode: {bad}"
     logs = "".join(p.read_text() for p in (tmp_path / "bad").rglob("*.brain*.log"))
