@@ -21,6 +21,23 @@ def test_brain_bench_runs() -> None:
     assert "graded" in result.stdout, "the graded belief model should be measured beside the point one"
 
 
+def test_compare_models_runs(tmp_path: Path) -> None:
+    import json
+
+    out = tmp_path / "compare.json"
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "bench" / "compare_models.py"), "--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 0, result.stderr
+    numbers = json.loads(out.read_text())
+    assert numbers["models"] == ["graded", "point"], numbers["models"]
+    early = numbers["rows"]["S1 steps 0-2: P(false belief about the ball), online, max"]
+    assert early[0] < early[1], f"graded should flag ignorance less than point does: {early}"
+
+
 def test_view_bench_runs() -> None:
     result = subprocess.run(
         [sys.executable, str(ROOT / "bench" / "view_bench.py")], capture_output=True, text=True, timeout=300
