@@ -94,22 +94,26 @@ def main(repeats: int = 5) -> dict[str, float]:
     numbers = measure(scene, ticks, ModelSettings(belief_model="point"), repeats)
     graded = measure(scene, ticks, ModelSettings(belief_model="graded"), repeats)
     numbers |= {f"graded_{name}": value for name, value in graded.items()}
+    desires = measure(scene, ticks, ModelSettings(belief_model="graded", desire_model="graded"), repeats)
+    numbers |= {f"graded_desires_{name}": value for name, value in desires.items()}
     table = Table(title=f"brain on the paper map ({repeats} repeats, {len(ticks)} ticks of paper-2)")
-    table.add_column("measure")
+    table.add_column("measure", no_wrap=True)
     table.add_column("point", justify="right")
     table.add_column("graded (default)", justify="right")
+    table.add_column("+ graded desires", justify="right")
     table.add_column("target", justify="right")
     table.add_row(
         "planner, cold (s)",
         f"{numbers['planner_cold_s']:.3f}",
         f"{graded['planner_cold_s']:.3f}",
+        f"{desires['planner_cold_s']:.3f}",
         "<= 0.5 / 2",
     )
     for name, label, target in (
         ("brain_step_us_median", "online step per person, median (us)", "<= 1000"),
         ("brain_step_us_p99", "online step per person, p99 (us)", ""),
     ):
-        table.add_row(label, f"{numbers[name]:.0f}", f"{graded[name]:.0f}", target)
+        table.add_row(label, f"{numbers[name]:.0f}", f"{graded[name]:.0f}", f"{desires[name]:.0f}", target)
     Console().print(table)
     house = houses()
     numbers |= house

@@ -67,6 +67,12 @@ class Run:
         names = [*self.tracker.model.items, "out"]
         return float(self.at(person, label).preference[names.index(goal)])
 
+    def preferred(self, person: str, label: str, goal: str, over: str) -> float:
+        """P(``goal`` is worth more to the person than ``over``)."""
+        names = [*self.tracker.model.items, "out"]
+        desire = self.at(person, label).desire
+        return float(desire.preferred[names.index(goal), names.index(over)]) if desire else float("nan")
+
     def unsure(self, person: str, label: str, item: str, a: str, b: str) -> float:
         """P(the person's own belief gives both ``a`` and ``b`` at least 0.25 for ``item``):
         their own uncertainty (0 for point beliefs, where each person is certain)."""
@@ -118,6 +124,10 @@ ROWS: list[Row] = [
     ("S2 step 9: preference ball / skate", "ball > skate",
      lambda r: r["paper-2"].preference("A1", "9", "ball")),
     ("", "", lambda r: r["paper-2"].preference("A1", "9", "skate")),
+    ("S1 step 6: P(ball preferred to leaving)", "low: she leaves",
+     lambda r: r["paper-1"].preferred("A1", "6", "ball", "out")),
+    ("S2 step 6: P(ball preferred to leaving)", "high, graded desires",
+     lambda r: r["paper-2"].preferred("A1", "6", "ball", "out")),
     ("Sally-Anne, after the move: P(Sally's false belief), online", "> 0.8",
      lambda r: r["sally-anne"].false_belief("sally", "moved", "marble", by="anne")),
     ("Sally-Anne, after the move: P(Anne's false belief), online", "< 0.2",

@@ -51,6 +51,10 @@ class ModelSettings:
             after summing over the previous worlds).
         false_belief_mass: a person has a false belief about an item when their belief gives
             its true location less than this (``false_belief`` rows of ``mind.csv``).
+        desire_model: ``favourite`` (one favourite goal: an item, or ``out``; the paper's) or
+            ``graded`` (a utility per goal on a grid: ``brain/model/desires.py``).
+        desire_levels: graded desires: how many utilities each goal may take, evenly spaced
+            from its low to its high value (``desire_levels**(K + 1) - 1`` candidates).
     """
 
     r: float = 8.0
@@ -72,6 +76,8 @@ class ModelSettings:
     prior_resolution: int = 2
     belief_update: str = "predict"
     false_belief_mass: float = 0.1
+    desire_model: str = "favourite"
+    desire_levels: int = 3
 
     def __post_init__(self) -> None:
         checks = {
@@ -87,6 +93,8 @@ class ModelSettings:
             "prior_resolution": self.prior_resolution >= 1,
             "belief_update": self.belief_update in ("predict", "paper"),
             "false_belief_mass": 0.0 < self.false_belief_mass <= 1.0,
+            "desire_model": self.desire_model in ("favourite", "graded"),
+            "desire_levels": self.desire_levels >= 2,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

@@ -12,7 +12,18 @@ from .geometry import NEIGHBOURS, Cell, GridCell, Pose, Vec2
 from .handshake import Capability, ClockMode, EngineInfo, Hello
 from .keys import Keys, check_name
 from .message import Header, Message
-from .mind import AgentMind, Intention, ItemBelief, Mind, Observer, Prob, RobotActivity
+from .mind import (
+    AgentMind,
+    Desire,
+    GoalUtility,
+    Intention,
+    ItemBelief,
+    Mind,
+    Observer,
+    Preferred,
+    Prob,
+    RobotActivity,
+)
 from .registry import BY_TAG, MESSAGE_TYPES, tag_of
 from .replies import ControlReply, ErrorCode, ErrorReply
 from .robot import (
@@ -55,6 +66,9 @@ __all__ = [
     "Activity",
     "AgentKind",
     "AgentMind",
+    "Desire",
+    "GoalUtility",
+    "Preferred",
     "AgentSpec",
     "AgentState",
     "BY_TAG",

@@ -59,10 +59,37 @@ class Intention(msgspec.Struct, frozen=True):
     p: Probability
 
 
+class GoalUtility(msgspec.Struct, frozen=True):
+    """The expected utility of goal ``id`` (an item id, or ``out``)."""
+
+    id: Id
+    utility: float
+
+
+class Preferred(msgspec.Struct, frozen=True):
+    """P(goal ``goal`` is worth more to the person than goal ``over``), a tie counting half."""
+
+    goal: Id
+    over: Id
+    p: Probability
+
+
+class Desire(msgspec.Struct, frozen=True):
+    """What the brain believes a person wants: each goal's expected utility, each pair of
+    goals (in ``utility``'s order, ``goal`` before ``over``), and the most probable ranking,
+    most wanted first, each entry a group of goals tied at that rank, with probability ``p``."""
+
+    utility: tuple[GoalUtility, ...]
+    preferred: tuple[Preferred, ...]
+    ranking: tuple[tuple[Id, ...], ...]
+    p: Probability
+
+
 class AgentMind(msgspec.Struct, frozen=True):
     """The brain's estimate of one person's mind.
 
-    ``preference`` is a distribution over item ids plus ``out``. ``false_belief`` gives, per
+    ``preference`` is a distribution over item ids plus ``out``: P(each goal is the one the
+    person wants most). ``desire`` says more (utilities, pairs, ranking). ``false_belief`` gives, per
     item id, the brain's probability that the person has a false belief about it: that their
     belief gives the item's true location less than the brain's ``false_belief_mass`` (0.1
     by default), which ignorance (a belief spread over places that include the true one) is
@@ -75,6 +102,7 @@ class AgentMind(msgspec.Struct, frozen=True):
     intention: Intention | None = None
     false_beliefs: tuple[Id, ...] = ()
     false_belief: tuple[Prob, ...] = ()
+    desire: Desire | None = None
 
 
 class RobotActivity(msgspec.Struct, frozen=True):

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .arrays import FloatArray
+from .desires import Desires, DesireSummary
 from .world import WorldModel
 
 OUT = "out"
@@ -29,6 +30,8 @@ class Estimate:
         hypotheses: for a model whose people hold graded beliefs, the robot's weight of each
             hypothesis ``(G,)`` and the person's belief under it ``(G, K, L)``; ``None`` when
             each person is certain of one world (the hypotheses are then the worlds).
+        desire: the expected utility of each goal, P(one goal preferred to another) and the
+            most probable ranking (:class:`brain.model.desires.DesireSummary`).
     """
 
     beliefs: FloatArray
@@ -36,6 +39,7 @@ class Estimate:
     intention: tuple[int | None, int | None, float]
     false_belief: FloatArray
     hypotheses: tuple[FloatArray, FloatArray] | None = None
+    desire: DesireSummary | None = None
 
     @property
     def false_beliefs(self) -> tuple[int, ...]:
@@ -43,8 +47,16 @@ class Estimate:
         return tuple(int(k) for k in np.flatnonzero(self.false_belief > 0.5))
 
 
-def estimate(model: WorldModel, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
-    """The estimate of a ``(W, D)`` posterior given the true item values."""
+def estimate(
+    model: WorldModel, posterior: FloatArray, truth: tuple[int, ...], desires: Desires | None = None
+) -> Estimate:
+    """The estimate of a ``(W, U)`` posterior over worlds and candidate desires (``desires``;
+    without it, ``U = D`` and desire ``d`` is "goal ``d`` is the favourite") given the true
+    item values. ``preference`` is P(each goal is the most wanted)."""
+    summary = None
+    if desires is not None:
+        summary = desires.summarise(posterior.sum(axis=0))
+        posterior = posterior @ desires.wanted  # (W, D)
     L, K = model.n_locations, model.n_items
     worlds_p = posterior.sum(axis=1)
     beliefs = np.zeros((K, L))
@@ -62,6 +74,7 @@ def estimate(model: WorldModel, posterior: FloatArray, truth: tuple[int, ...]) -
         preference=preference,
         intention=best,
         false_belief=point_false_belief(beliefs, truth),
+        desire=summary,
     )
 
 

@@ -79,11 +79,11 @@ def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: st
 def qmdp_likelihood(
     beliefs: FloatArray, q: FloatArray, action: int, beta: float, epsilon: float
 ) -> FloatArray:
-    """``(G, D)`` the probability of ``action`` for each hypothesis and preference.
+    """``(G, U)`` the probability of ``action`` for each hypothesis and candidate desire.
 
     Args:
         beliefs: ``(G, W)`` the person's belief under each hypothesis.
-        q: ``(D, W, A)`` the planner's Q-values at the person's cell and held item, per
+        q: ``(U, W, A)`` the planner's Q-values at the person's cell and held item, per
             preference and world (``-inf``: impossible in that world).
         action: the action taken.
     """
@@ -106,5 +106,5 @@ def qmdp_likelihood(
 
 def expected_joint(beliefs: FloatArray, posterior: FloatArray) -> FloatArray:
     """``(W, D)`` the person's belief and preference as the robot expects them:
-    ``sum_g P(g, d) b_g(w)``, from ``(G, W)`` beliefs and the ``(G, D)`` posterior."""
+    ``sum_g P(g, u) b_g(w)``, from ``(G, W)`` beliefs and the ``(G, U)`` posterior."""
     return beliefs.T @ posterior

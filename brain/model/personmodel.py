@@ -1,6 +1,6 @@
 """The forms of one person's hidden-state model, behind one interface for the tracker.
 
-- :class:`ExactModel`: the joint ``(W, D)`` posterior over believed worlds and preferences
+- :class:`ExactModel`: the joint ``(W, U)`` posterior over believed worlds and candidate desires
   (the paper's point-belief model; online and smoothed).
 - :class:`FactoredModel`: per preference, one belief per item (:mod:`brain.model.factored`), for
   houses whose ``W = V**K`` worlds do not fit; online only.
@@ -28,6 +28,7 @@ from protocol import Scene
 from ..settings import ModelSettings
 from .arrays import FloatArray
 from .belief import BeliefModel, Percept
+from .desires import Desires, favourite_utilities
 from .estimates import Estimate, estimate, reread
 from .factored import (
     FactoredBeliefs,
@@ -103,13 +104,14 @@ class ExactModel:
     def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
         self.policy: Policy = cached_policy(scene, settings)
         self.model = self.policy.model
+        self.desires = Desires(self.policy.utilities)
         self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
         self.true_world = true_world
 
     def prior(self) -> FloatArray:
-        """``(W, D)`` uniform."""
-        W, D = self.model.n_worlds, self.model.n_items + 1
-        return np.full((W, D), 1.0 / (W * D))
+        """``(W, U)`` uniform over worlds and candidate desires."""
+        W, U = self.model.n_worlds, len(self.policy.utilities)
+        return np.full((W, U), 1.0 / (W * U))
 
     def new_filter(self) -> ExactFilter:
         return ExactFilter(self, self.prior())
@@ -127,12 +129,14 @@ class ExactModel:
 
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
         posteriors = smooth(self.prior(), [self.hmm_step(r) for r in records])
-        return [estimate(self.model, p, r.truth) for p, r in zip(posteriors, records, strict=True)]
+        return [
+            estimate(self.model, p, r.truth, self.desires) for p, r in zip(posteriors, records, strict=True)
+        ]
 
 
 @dataclass
 class ExactFilter:
-    """The ``(W, D)`` forward pass of one person."""
+    """The ``(W, U)`` forward pass of one person."""
 
     owner: ExactModel
     posterior: FloatArray
@@ -141,7 +145,7 @@ class ExactFilter:
         self.posterior = forward_step(self.posterior, self.owner.hmm_step(record))
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        return estimate(self.owner.model, self.posterior, truth)
+        return estimate(self.owner.model, self.posterior, truth, self.owner.desires)
 
 
 class FactoredModel:
@@ -153,6 +157,7 @@ class FactoredModel:
     def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
         self.policy: FactoredPolicy = cached_factored_policy(scene, settings)
         self.model = self.policy.model
+        self.desires = Desires(favourite_utilities(settings, self.model.n_items))
         self.beliefs = FactoredBeliefs(self.model, settings.r, settings.delta)
         self.true_world = true_world
 
@@ -185,7 +190,8 @@ class FactoredFilter:
         )
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        return factored_estimate(self.owner.model, self.posterior, truth)
+        est = factored_estimate(self.owner.model, self.posterior, truth)
+        return dataclasses.replace(est, desire=self.owner.desires.summarise(self.posterior.alpha))
 
 
 class GradedModel:
@@ -198,6 +204,7 @@ class GradedModel:
     def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
         self.policy: Policy = cached_policy(scene, settings)
         self.model = self.policy.model
+        self.desires = Desires(self.policy.utilities)
         self.settings = settings
         self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
         self.true_world = true_world
@@ -208,20 +215,20 @@ class GradedModel:
         """``(W, K, L)`` one where world ``w`` puts item ``k`` at location ``l``."""
 
     def prior(self) -> FloatArray:
-        """``(G, D)`` uniform over hypotheses and preferences."""
-        G, D = len(self.initial), self.model.n_items + 1
-        return np.full((G, D), 1.0 / (G * D))
+        """``(G, U)`` uniform over hypotheses and candidate desires."""
+        G, U = len(self.initial), len(self.policy.utilities)
+        return np.full((G, U), 1.0 / (G * U))
 
     def new_filter(self) -> GradedFilter:
         return GradedFilter(self, self.initial.copy(), self.prior())
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
-        """The point model's ``(W, D)`` likelihood (kept in the record; the graded filter
+        """The point model's ``(W, U)`` likelihood (kept in the record; the graded filter
         computes its own from ``StepRecord.decision``)."""
         return self.policy.action_likelihood(cell, held, action)
 
     def decision_likelihood(self, beliefs: FloatArray, record: StepRecord) -> FloatArray | None:
-        """``(G, D)`` QMDP likelihood of the record's decision (``None`` for a percept alone)."""
+        """``(G, U)`` QMDP likelihood of the record's decision (``None`` for a percept alone)."""
         if record.decision is None:
             return None
         cell, held, action = record.decision
@@ -262,19 +269,19 @@ class GradedModel:
         return out
 
     def read(self, beliefs: FloatArray, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
-        """The estimate of ``(G, W)`` beliefs under a ``(G, D)`` posterior, with the
+        """The estimate of ``(G, W)`` beliefs under a ``(G, U)`` posterior, with the
         hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
         model = self.model
         marginals = (beliefs @ self.place_of.reshape(model.n_worlds, -1)).reshape(
             len(beliefs), model.n_items, model.n_locations
         )  # (G, K, L)
-        base = estimate(model, expected_joint(beliefs, posterior), truth)
+        base = estimate(model, expected_joint(beliefs, posterior), truth, self.desires)
         graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
         return reread(graded, truth, self.settings.false_belief_mass)
 
 
 def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
-    """``(G, D)`` posterior after a step: the decision's likelihood, then the preference switch."""
+    """``(G, U)`` posterior after a step: the decision's likelihood, then the preference switch."""
     if likelihood is not None:
         alpha = alpha * likelihood
     if switch > 0:
@@ -290,7 +297,7 @@ class GradedFilter:
     beliefs: FloatArray
     """``(G, W)``."""
     posterior: FloatArray
-    """``(G, D)``."""
+    """``(G, U)``."""
 
     def step(self, record: StepRecord) -> None:
         likelihood = self.owner.decision_likelihood(self.beliefs, record)
@@ -308,6 +315,14 @@ def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = Fa
     warning that says so when graded beliefs were asked for."""
     worlds = build_world_model(scene).n_worlds
     if worlds > settings.exact_max_worlds:
+        if settings.desire_model == "graded":
+            log.warning(
+                "scene '%s' has %d worlds (exact_max_worlds = %d): the factored model has "
+                "favourite desires only, not graded ones",
+                scene.name,
+                worlds,
+                settings.exact_max_worlds,
+            )
         if settings.belief_model == "graded":
             log.warning(
                 "scene '%s' has %d worlds (exact_max_worlds = %d): using the factored model, whose "

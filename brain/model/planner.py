@@ -22,6 +22,7 @@ from protocol import Scene
 
 from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
+from .desires import utilities
 from .world import WorldModel, build_world_model
 
 INFEASIBLE = -1
@@ -130,18 +131,18 @@ def transitions(model: WorldModel) -> Transitions:
     return Transitions(next_state=nxt, terminal_kind=kind, held=h)
 
 
-def rewards(model: WorldModel, trans: Transitions, settings: ModelSettings, preference: int) -> FloatArray:
-    """``(S, A)`` reward of each action for preference ``preference`` (an item, or ``K``: out)."""
+def rewards(
+    model: WorldModel, trans: Transitions, settings: ModelSettings, utility: FloatArray
+) -> FloatArray:
+    """``(S, A)`` reward of each action for a person with the ``(D,)`` goal utilities
+    ``utility`` (playing with each item, then reaching the outside;
+    :mod:`brain.model.desires`)."""
     K = model.n_items
-    out = preference == K
-    leave = settings.leave_utility_out if out else settings.leave_utility_item
-    utility = np.full(K + 1, settings.other_utility)
-    if not out:
-        utility[preference + 1] = settings.preferred_utility
+    play_value = np.concatenate([[0.0], utility[:K]])  # by held code h (0: nothing)
     reward = np.full(trans.next_state.shape, -settings.step_cost)
-    reward[trans.terminal_kind == 1] = leave
+    reward[trans.terminal_kind == 1] = utility[K]
     play = trans.terminal_kind == 2
-    reward[play] = np.broadcast_to(utility[trans.held][:, None], reward.shape)[play]
+    reward[play] = np.broadcast_to(play_value[trans.held][:, None], reward.shape)[play]
     return reward
 
 
@@ -189,11 +190,13 @@ class Policy:
 
     Attributes:
         model: the world model.
-        q: ``(D, S, A)`` Q-values.
-        likelihood: ``(D, S, A)`` Boltzmann action likelihoods.
+        utilities: ``(U, D)`` the candidate desires, one MDP each (:mod:`brain.model.desires`).
+        q: ``(U, S, A)`` Q-values.
+        likelihood: ``(U, S, A)`` Boltzmann action likelihoods.
     """
 
     model: WorldModel
+    utilities: FloatArray
     q: FloatArray
     likelihood: FloatArray
 
@@ -204,23 +207,24 @@ class Policy:
         return slice(base, base + W)
 
     def action_likelihood(self, cell: int, held: int, action: int) -> FloatArray:
-        """``(W, D)`` likelihood of ``action`` from ``(cell, held)`` for every world and preference."""
+        """``(W, U)`` likelihood of ``action`` from ``(cell, held)`` for every world and desire."""
         return self.likelihood[:, self.state_slice(cell, held), action].T
 
 
 def plan(model: WorldModel, settings: ModelSettings) -> Policy:
-    """Solve the MDP of every preference (no cache; see :func:`cached_policy`)."""
+    """Solve the MDP of every candidate desire (no cache; see :func:`cached_policy`)."""
     trans = transitions(model)
+    u = utilities(settings, model.n_items)
     qs = np.stack(
         [
             value_iteration(
-                trans, rewards(model, trans, settings, d), settings.discount, settings.vi_tolerance
+                trans, rewards(model, trans, settings, row), settings.discount, settings.vi_tolerance
             )
-            for d in range(model.n_items + 1)
+            for row in u
         ]
     )
     likelihood = np.stack([boltzmann(q, settings.beta, settings.epsilon) for q in qs])
-    return Policy(model=model, q=qs, likelihood=likelihood)
+    return Policy(model=model, utilities=u, q=qs, likelihood=likelihood)
 
 
 @lru_cache(maxsize=8)

@@ -4,7 +4,9 @@ Header ``tick,label,agent,quantity,item,value,p_online,p_smoothed``. Per tick an
 one ``belief`` row per item and location (``value`` = the location id), then one
 ``preference`` row per item and one for ``out`` (``value`` empty), then one ``false_belief``
 row per item (``value`` empty): the probability that the person's belief gives the item's
-true location at that tick less than ``ModelSettings.false_belief_mass``. ``label`` is the
+true location at that tick less than ``ModelSettings.false_belief_mass``, then the ``desire``
+rows (:func:`_desire_rows`: expected utilities, pairwise preferences, the most probable
+ranking). ``label`` is the
 scenario step the person completed at that tick, else empty. Between a person's steps the
 last estimate is carried forward (false beliefs are read against each tick's truth).
 """
@@ -13,9 +15,11 @@ from __future__ import annotations
 
 import csv
 import io
+import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..model.desires import ranking_text
 from ..model.estimates import OUT, Estimate, false_belief_probability
 from ..tracking.tracker import MindTracker
 
@@ -94,6 +98,51 @@ def mind_rows(tracker: MindTracker) -> list[MindRow]:
                     )
                 )
             rows += _false_belief_rows(tracker, tick, label, person, online, smooth)
+            rows += _desire_rows(tracker, tick, label, person, online, smooth)
+    return rows
+
+
+def _desire_rows(
+    tracker: MindTracker, tick: int, label: str, person: str, online: Estimate, smooth: Estimate
+) -> list[MindRow]:
+    """``desire`` rows: per goal its expected utility (``value = utility``; a utility, not a
+    probability), per pair of goals ``a`` before ``b`` P(a preferred to b) (``value = b``),
+    and the online estimate's most probable ranking (``item = ranking``, ``value`` e.g.
+    ``ball>skate>out``) with its probability online and smoothed."""
+    if online.desire is None or smooth.desire is None:
+        return []
+    goals = (*tracker.model.items, OUT)
+    on, sm = online.desire, smooth.desire
+    rows = [
+        MindRow(tick, label, person, "desire", goal, "utility", float(on.utility[d]), float(sm.utility[d]))
+        for d, goal in enumerate(goals)
+    ]
+    for a, b in itertools.combinations(range(len(goals)), 2):
+        rows.append(
+            MindRow(
+                tick,
+                label,
+                person,
+                "desire",
+                goals[a],
+                goals[b],
+                float(on.preferred[a, b]),
+                float(sm.preferred[a, b]),
+            )
+        )
+    best = on.ranking
+    rows.append(
+        MindRow(
+            tick,
+            label,
+            person,
+            "desire",
+            "ranking",
+            ranking_text(best, goals),
+            on.probability(best),
+            sm.probability(best),
+        )
+    )
     return rows
 
 

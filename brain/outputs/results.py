@@ -3,12 +3,26 @@ message the brain publishes every tick."""
 
 from __future__ import annotations
 
+import itertools
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from protocol import AgentMind, Intention, ItemBelief, Mind, Prob, RobotActivity, State
+from protocol import (
+    AgentMind,
+    Desire,
+    GoalUtility,
+    Intention,
+    ItemBelief,
+    Mind,
+    Preferred,
+    Prob,
+    RobotActivity,
+    State,
+)
 
+from ..model.desires import DesireSummary
 from ..model.estimates import OUT
 from ..tracking.tracker import MindTracker
 from .groundtruth import load_ground_truth
@@ -54,10 +68,33 @@ def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None
                     Prob(item, round(float(np.clip(est.false_belief[k], 0.0, 1.0)), 6))
                     for k, item in enumerate(model.items)
                 ),
+                desire=desire_message(est.desire, (*model.items, OUT)),
             )
         )
     robots = (robot,) if robot is not None else ()
     return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents), robots=robots)
+
+
+def desire_message(summary: DesireSummary | None, goals: Sequence[str]) -> Desire | None:
+    """The ``desire`` field of a person's mind (``None`` without a summary)."""
+    if summary is None:
+        return None
+    best = summary.ranking
+
+    def p(value: float) -> float:
+        return round(min(max(float(value), 0.0), 1.0), 6)
+
+    return Desire(
+        utility=tuple(
+            GoalUtility(goal, round(float(u), 6)) for goal, u in zip(goals, summary.utility, strict=True)
+        ),
+        preferred=tuple(
+            Preferred(goals[a], goals[b], p(summary.preferred[a, b]))
+            for a, b in itertools.combinations(range(len(goals)), 2)
+        ),
+        ranking=tuple(tuple(goals[d] for d in group) for group in best),
+        p=p(summary.probability(best)),
+    )
 
 
 def write_outputs(tracker: MindTracker, scenario: str, out: Path) -> Path:
