@@ -17,6 +17,7 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
+from brain.model.lookahead import cached_lookahead
 from brain.model.personmodel import person_model
 from brain.model.planner import cached_policy
 from brain.settings import ModelSettings
@@ -45,6 +46,7 @@ def measure(
     cold = []
     for _ in range(repeats):
         cached_policy.cache_clear()
+        cached_lookahead.cache_clear()
         start = time.perf_counter()
         person_model(scene, settings)
         cold.append(time.perf_counter() - start)
@@ -96,25 +98,36 @@ def main(repeats: int = 5) -> dict[str, float]:
     numbers |= {f"graded_{name}": value for name, value in graded.items()}
     desires = measure(scene, ticks, ModelSettings(belief_model="graded", desire_model="graded"), repeats)
     numbers |= {f"graded_desires_{name}": value for name, value in desires.items()}
+    looking = measure(scene, ticks, ModelSettings(belief_model="graded", person_planner="belief"), repeats)
+    numbers |= {f"graded_lookahead_{name}": value for name, value in looking.items()}
     table = Table(title=f"brain on the paper map ({repeats} repeats, {len(ticks)} ticks of paper-2)")
     table.add_column("measure", no_wrap=True)
     table.add_column("point", justify="right")
     table.add_column("graded (default)", justify="right")
-    table.add_column("+ graded desires", justify="right")
+    table.add_column("graded desires", justify="right")
+    table.add_column("belief-space", justify="right")
     table.add_column("target", justify="right")
     table.add_row(
         "planner, cold (s)",
         f"{numbers['planner_cold_s']:.3f}",
         f"{graded['planner_cold_s']:.3f}",
         f"{desires['planner_cold_s']:.3f}",
+        f"{looking['planner_cold_s']:.3f}",
         "<= 0.5 / 2",
     )
     for name, label, target in (
         ("brain_step_us_median", "online step per person, median (us)", "<= 1000"),
         ("brain_step_us_p99", "online step per person, p99 (us)", ""),
     ):
-        table.add_row(label, f"{numbers[name]:.0f}", f"{graded[name]:.0f}", f"{desires[name]:.0f}", target)
-    Console().print(table)
+        table.add_row(
+            label,
+            f"{numbers[name]:.0f}",
+            f"{graded[name]:.0f}",
+            f"{desires[name]:.0f}",
+            f"{looking[name]:.0f}",
+            target,
+        )
+    Console(width=140).print(table)
     house = houses()
     numbers |= house
     table = Table(title="the tracker per tick on the evaluation houses (W = 512; 300 ticks, all people)")

@@ -53,6 +53,10 @@ class ModelSettings:
             its true location less than this (``false_belief`` rows of ``mind.csv``).
         desire_model: ``favourite`` (one favourite goal: an item, or ``out``; the paper's) or
             ``graded`` (a utility per goal on a grid: ``brain/model/desires.py``).
+        person_planner: graded beliefs: how a person plans with their belief: ``qmdp`` (the
+            expected value under it, as if it resolved after one step) or ``belief`` (value
+            iteration over their discretised belief, so going to look has value;
+            ``brain/model/lookahead.py``).
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
             from its low to its high value (``desire_levels**(K + 1) - 1`` candidates).
     """
@@ -77,6 +81,7 @@ class ModelSettings:
     belief_update: str = "predict"
     false_belief_mass: float = 0.1
     desire_model: str = "favourite"
+    person_planner: str = "qmdp"
     desire_levels: int = 3
 
     def __post_init__(self) -> None:
@@ -95,6 +100,7 @@ class ModelSettings:
             "false_belief_mass": 0.0 < self.false_belief_mass <= 1.0,
             "desire_model": self.desire_model in ("favourite", "graded"),
             "desire_levels": self.desire_levels >= 2,
+            "person_planner": self.person_planner in ("qmdp", "belief"),
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

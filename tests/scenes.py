@@ -71,3 +71,35 @@ def tiny_state(tick: int, cell: tuple[int, int], ball_at: str | None, holding: b
         held_by="p" if holding else None,
     )
     return State(episode=1, tick=tick, time=tick * 0.7, agents=(person,), items=(ball,))
+
+
+def lookout_scene() -> Scene:
+    """A corridor with a spot at each end and a lookout above its middle:
+
+        (3,1) lookout: sees A and B
+        (0,0) A [play]  (1,0) (2,0) (3,0) (4,0) (5,0)  (6,0) B [play]
+
+    Only A's own cell sees A, and only B's sees B. Someone in the middle who does not know
+    whether the ball is at A or B does best to step up and look (5 steps against 6 on
+    average for walking to one end and back)."""
+    corridor = tuple(Cell(c, 0) for c in range(7))
+    lookout = Cell(3, 1)
+    visibility = tuple(
+        Visibility(cell=c, locations=("A",) if c.col == 0 else ("B",) if c.col == 6 else ()) for c in corridor
+    ) + (Visibility(cell=lookout, locations=("A", "B")),)
+    return Scene(
+        name="lookout",
+        cell_size=1.0,
+        origin=Vec2(0.0, 0.0),
+        columns=7,
+        rows=2,
+        regions=(Region(id="R", kind=RegionKind.PLAYGROUND, cells=(*corridor, lookout)),),
+        doors=(),
+        locations=(
+            Location(id="A", region="R", cell=Cell(0, 0), play=True),
+            Location(id="B", region="R", cell=Cell(6, 0), play=True),
+        ),
+        visibility=visibility,
+        agents=(AgentSpec(id="p", kind=AgentKind.PERSON, home=Cell(3, 0)),),
+        items=(ItemSpec(id="ball", shape=ItemShape.BALL),),
+    )

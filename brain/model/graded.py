@@ -96,12 +96,18 @@ def qmdp_likelihood(
     expected = (beliefs @ values.transpose(1, 0, 2).reshape(W, D * A)).reshape(-1, D, A)
     mass = beliefs @ feasible.transpose(1, 0, 2).reshape(W, D * A).astype(np.float64)
     possible = mass.reshape(-1, D, A) > 1e-12
-    scaled = np.where(possible, beta * expected, -np.inf)
-    top = scaled.max(axis=2, keepdims=True)
-    weights = np.where(possible, np.exp(scaled - np.where(np.isfinite(top), top, 0.0)), 0.0)
-    total = weights.sum(axis=2)
-    soft = np.where(total > 0, weights[:, :, action] / np.where(total > 0, total, 1.0), 0.0)
-    return (1.0 - epsilon) * soft + epsilon / q.shape[2]
+    return choice_likelihood(np.where(possible, expected, -np.inf), action, beta, epsilon)
+
+
+def choice_likelihood(q: FloatArray, action: int, beta: float, epsilon: float) -> FloatArray:
+    """``q.shape[:-1]`` the Boltzmann probability of ``action`` over the last axis of ``q``
+    (``-inf``: impossible), with the floor ``epsilon`` spread over every action."""
+    scaled = beta * q
+    top = scaled.max(axis=-1, keepdims=True)
+    weights = np.where(np.isfinite(scaled), np.exp(scaled - np.where(np.isfinite(top), top, 0.0)), 0.0)
+    total = weights.sum(axis=-1)
+    soft = np.where(total > 0, weights[..., action] / np.where(total > 0, total, 1.0), 0.0)
+    return (1.0 - epsilon) * soft + epsilon / q.shape[-1]
 
 
 def expected_joint(beliefs: FloatArray, posterior: FloatArray) -> FloatArray:

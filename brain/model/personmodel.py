@@ -41,6 +41,7 @@ from .factored import (
 )
 from .graded import expected_joint, prior_beliefs, qmdp_likelihood, update_beliefs
 from .inference import HmmStep, forward_step, hazard_matrix, smooth
+from .lookahead import cached_lookahead
 from .planner import Policy, cached_policy
 from .world import WorldModel, build_world_model
 
@@ -213,6 +214,13 @@ class GradedModel:
             self.model.place[:, :, None] == np.arange(self.model.n_locations)[None, None, :]
         ).astype(np.float64)
         """``(W, K, L)`` one where world ``w`` puts item ``k`` at location ``l``."""
+        self.rest_of = (
+            (self.model.worlds[:, :, None] == 2 * np.arange(self.model.n_locations)[None, None, :])
+            .reshape(self.model.n_worlds, -1)
+            .astype(np.float64)
+        )
+        """``(W, K L)`` one where world ``w`` has item ``k`` resting at location ``l``."""
+        self.lookahead = cached_lookahead(scene, settings) if settings.person_planner == "belief" else None
 
     def prior(self) -> FloatArray:
         """``(G, U)`` uniform over hypotheses and candidate desires."""
@@ -232,8 +240,12 @@ class GradedModel:
         if record.decision is None:
             return None
         cell, held, action = record.decision
+        beta, epsilon = self.settings.beta, self.settings.epsilon
+        if self.lookahead is not None:
+            rest = (beliefs @ self.rest_of).reshape(len(beliefs), self.model.n_items, self.model.n_locations)
+            return self.lookahead.likelihood(rest, cell, held, action, beta, epsilon)
         q = self.policy.q[:, self.policy.state_slice(cell, held), :]
-        return qmdp_likelihood(beliefs, q, action, self.settings.beta, self.settings.epsilon)
+        return qmdp_likelihood(beliefs, q, action, beta, epsilon)
 
     def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
         """Every hypothesis's belief after the record's percept."""
