@@ -40,6 +40,8 @@ class ModelSettings:
         vi_tolerance: value iteration stops when no value moves more than this.
         exact_max_worlds: the largest number of worlds ``W = (2 L)**K`` for which the exact
             joint model is used; above it, the factored model (``brain/model/factored.py``).
+        top_worlds: how many of the most probable whole worlds of each person's belief the
+            outputs give (``world`` rows of ``mind.csv``, ``worlds`` in the ``mind`` message).
         belief_model: ``graded`` (the default): each person holds a belief of their own and
             plans on it by QMDP (``brain/model/graded.py``; exact model only: above
             ``exact_max_worlds`` the factored model's point beliefs are used); ``point``: each
@@ -76,6 +78,7 @@ class ModelSettings:
     step_cost: float = 1.0
     vi_tolerance: float = 1e-9
     exact_max_worlds: int = 512
+    top_worlds: int = 3
     belief_model: str = "graded"
     prior_resolution: int = 2
     belief_update: str = "predict"
@@ -101,6 +104,7 @@ class ModelSettings:
             "desire_model": self.desire_model in ("favourite", "graded"),
             "desire_levels": self.desire_levels >= 2,
             "person_planner": self.person_planner in ("qmdp", "belief"),
+            "top_worlds": self.top_worlds >= 0,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

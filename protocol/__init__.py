@@ -20,9 +20,11 @@ from .mind import (
     ItemBelief,
     Mind,
     Observer,
+    Placement,
     Preferred,
     Prob,
     RobotActivity,
+    WorldBelief,
 )
 from .registry import BY_TAG, MESSAGE_TYPES, tag_of
 from .replies import ControlReply, ErrorCode, ErrorReply
@@ -68,6 +70,7 @@ __all__ = [
     "AgentMind",
     "Desire",
     "GoalUtility",
+    "Placement",
     "Preferred",
     "AgentSpec",
     "AgentState",
@@ -117,6 +120,7 @@ __all__ = [
     "Reset",
     "Resume",
     "RobotActivity",
+    "WorldBelief",
     "RobotCommand",
     "Say",
     "SayTopic",

@@ -85,11 +85,29 @@ class Desire(msgspec.Struct, frozen=True):
     p: Probability
 
 
+class Placement(msgspec.Struct, frozen=True):
+    """Where a world puts ``item``: resting at ``location``, or carried (``held``) by someone
+    whose carried item counts as being there."""
+
+    item: Id
+    location: Id
+    held: bool = False
+
+
+class WorldBelief(msgspec.Struct, frozen=True):
+    """One whole world (every item's place) and the probability the person's belief gives it."""
+
+    items: tuple[Placement, ...]
+    p: Probability
+
+
 class AgentMind(msgspec.Struct, frozen=True):
     """The brain's estimate of one person's mind.
 
     ``preference`` is a distribution over item ids plus ``out``: P(each goal is the one the
-    person wants most). ``desire`` says more (utilities, pairs, ranking). ``false_belief`` gives, per
+    person wants most). ``desire`` says more (utilities, pairs, ranking). ``worlds`` lists the
+    most probable whole worlds of the person's belief (absent when the brain's model does not
+    hold the joint), so that "nothing is at that spot" can be read exactly. ``false_belief`` gives, per
     item id, the brain's probability that the person has a false belief about it: that their
     belief gives the item's true location less than the brain's ``false_belief_mass`` (0.1
     by default), which ignorance (a belief spread over places that include the true one) is
@@ -103,6 +121,7 @@ class AgentMind(msgspec.Struct, frozen=True):
     false_beliefs: tuple[Id, ...] = ()
     false_belief: tuple[Prob, ...] = ()
     desire: Desire | None = None
+    worlds: tuple[WorldBelief, ...] = ()
 
 
 class RobotActivity(msgspec.Struct, frozen=True):

@@ -32,6 +32,9 @@ class Estimate:
             each person is certain of one world (the hypotheses are then the worlds).
         desire: the expected utility of each goal, P(one goal preferred to another) and the
             most probable ranking (:class:`brain.model.desires.DesireSummary`).
+        worlds: ``(W,)`` the person's belief over whole worlds as the robot expects it (so
+            "nothing is at that spot" is read exactly, not from marginals); ``None`` for the
+            factored model.
     """
 
     beliefs: FloatArray
@@ -40,6 +43,15 @@ class Estimate:
     false_belief: FloatArray
     hypotheses: tuple[FloatArray, FloatArray] | None = None
     desire: DesireSummary | None = None
+    worlds: FloatArray | None = None
+
+    def top_worlds(self, k: int) -> list[tuple[int, float]]:
+        """The ``k`` most probable ``(world index, probability)`` of the person's belief
+        (empty without the joint: the factored model)."""
+        if self.worlds is None:
+            return []
+        order = np.argsort(-self.worlds, kind="stable")[:k]
+        return [(int(w), float(self.worlds[w])) for w in order]
 
     @property
     def false_beliefs(self) -> tuple[int, ...]:
@@ -75,6 +87,7 @@ def estimate(
         intention=best,
         false_belief=point_false_belief(beliefs, truth),
         desire=summary,
+        worlds=worlds_p,
     )
 
 
@@ -101,3 +114,11 @@ def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float)
 def reread(est: Estimate, truth: tuple[int, ...], mass: float) -> Estimate:
     """``est`` with its false beliefs read against ``truth`` (the world as it is now)."""
     return dataclasses.replace(est, false_belief=false_belief_probability(est, truth, mass))
+
+
+def world_text(model: WorldModel, world: int) -> str:
+    """A world as text: ``skate@S1;ball@P2`` (``+held``: carried by someone near there)."""
+    return ";".join(
+        f"{item}@{model.locations[value // 2]}{'+held' if value % 2 else ''}"
+        for item, value in zip(model.items, model.worlds[world], strict=True)
+    )

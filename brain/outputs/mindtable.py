@@ -6,7 +6,7 @@ one ``belief`` row per item and location (``value`` = the location id), then one
 row per item (``value`` empty): the probability that the person's belief gives the item's
 true location at that tick less than ``ModelSettings.false_belief_mass``, then the ``desire``
 rows (:func:`_desire_rows`: expected utilities, pairwise preferences, the most probable
-ranking). ``label`` is the
+ranking) and the ``world`` rows (:func:`_world_rows`). ``label`` is the
 scenario step the person completed at that tick, else empty. Between a person's steps the
 last estimate is carried forward (false beliefs are read against each tick's truth).
 """
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..model.desires import ranking_text
-from ..model.estimates import OUT, Estimate, false_belief_probability
+from ..model.estimates import OUT, Estimate, false_belief_probability, world_text
 from ..tracking.tracker import MindTracker
 
 HEADER = ("tick", "label", "agent", "quantity", "item", "value", "p_online", "p_smoothed")
@@ -99,7 +99,24 @@ def mind_rows(tracker: MindTracker) -> list[MindRow]:
                 )
             rows += _false_belief_rows(tracker, tick, label, person, online, smooth)
             rows += _desire_rows(tracker, tick, label, person, online, smooth)
+            rows += _world_rows(tracker, tick, label, person, online, smooth)
     return rows
+
+
+def _world_rows(
+    tracker: MindTracker, tick: int, label: str, person: str, online: Estimate, smooth: Estimate
+) -> list[MindRow]:
+    """``world`` rows: the online estimate's ``top_worlds`` most probable whole worlds of the
+    person's belief (``item`` = rank from 1, ``value`` e.g. ``skate@S1;ball@P2``), each with its
+    probability online and smoothed."""
+    if smooth.worlds is None:
+        return []
+    return [
+        MindRow(
+            tick, label, person, "world", str(rank), world_text(tracker.model, w), p, float(smooth.worlds[w])
+        )
+        for rank, (w, p) in enumerate(online.top_worlds(tracker.settings.top_worlds), start=1)
+    ]
 
 
 def _desire_rows(

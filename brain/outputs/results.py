@@ -16,10 +16,12 @@ from protocol import (
     Intention,
     ItemBelief,
     Mind,
+    Placement,
     Preferred,
     Prob,
     RobotActivity,
     State,
+    WorldBelief,
 )
 
 from ..model.desires import DesireSummary
@@ -69,6 +71,16 @@ def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None
                     for k, item in enumerate(model.items)
                 ),
                 desire=desire_message(est.desire, (*model.items, OUT)),
+                worlds=tuple(
+                    WorldBelief(
+                        items=tuple(
+                            Placement(item, model.locations[v // 2], bool(v % 2))
+                            for item, v in zip(model.items, model.worlds[w], strict=True)
+                        ),
+                        p=round(min(max(p, 0.0), 1.0), 6),
+                    )
+                    for w, p in est.top_worlds(tracker.settings.top_worlds)
+                ),
             )
         )
     robots = (robot,) if robot is not None else ()

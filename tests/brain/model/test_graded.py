@@ -220,3 +220,27 @@ def test_the_fast_change_sum_equals_the_dense_matrix(paper, predict: bool) -> No
                 g = g / g.sum(axis=0, keepdims=True)
             fast = beliefs_model.apply_change(beliefs, p, predict=predict)
             assert np.allclose(fast, beliefs @ g.T, atol=1e-12), f"cell {cell}, seen {seen}"
+
+
+def test_the_joint_says_what_is_nowhere() -> None:
+    """Scenario 1 after A1 put the skate in S1 (step 2): her belief's most probable whole
+    worlds have the skate in S1 and the ball in S2 or P2 (online: 0.60 and 0.24), and nothing in P1
+    (read off the joint, not the marginals)."""
+    engine = Engine("paper-1", robot="observe")
+    tracker = MindTracker(engine.scene(), ModelSettings(top_worlds=4))
+    tracker.observe(engine.state(), ())
+    est = None
+    while not engine.done and est is None:
+        result = engine.step()
+        tracker.observe(result.state, result.events)
+        if any(label == "2" and who == "A1" for (t, who), label in tracker.labels.items()):
+            est = tracker.online("A1")
+    assert est is not None and est.worlds is not None, "no joint at step 2"
+    from brain.model.estimates import world_text
+
+    top = [(world_text(tracker.model, w), p) for w, p in est.top_worlds(2)]
+    assert {text for text, _ in top} == {"skate@S1;ball@S2", "skate@S1;ball@P2"}, top
+    assert all(p > 0.2 for _, p in top) and sum(p for _, p in top) > 0.8, top
+    p1 = tracker.model.locations.index("P1")
+    nothing_in_p1 = est.worlds[np.all(tracker.model.place != p1, axis=1)].sum()
+    assert nothing_in_p1 > 0.99, f"P(nothing in P1) = {nothing_in_p1:.4f}"
