@@ -17,6 +17,7 @@ class EventKind(enum.Enum):
     - ``take``: ``actor`` took ``item`` from ``location``.
     - ``drop``: ``actor`` put ``item`` down at ``location``.
     - ``play`` / ``stop``: ``actor`` started / stopped playing with ``item`` at ``location``.
+    - ``use``: ``actor`` used ``item``, resting at the ``use`` location ``location``, in place.
     - ``give``: ``actor`` handed ``item`` to ``target``.
     - ``say``: ``actor`` told ``target`` something about ``item`` (``location`` where it is,
       or ``detail`` ``"occupied by <id>"``).
@@ -31,6 +32,7 @@ class EventKind(enum.Enum):
     DROP = "drop"
     PLAY = "play"
     STOP = "stop"
+    USE = "use"
     GIVE = "give"
     SAY = "say"
     REQUEST = "request"

@@ -55,13 +55,18 @@ class Door(msgspec.Struct, frozen=True):
 class Location(msgspec.Struct, frozen=True):
     """An item location (a spot where items rest), inside one region.
 
-    ``play`` marks a play spot: a person holding an item may play with it there.
+    ``play`` marks a play spot: a person holding an item may play with it there. ``use``
+    marks a place where a person uses an item resting there without carrying it (eating at
+    a stall): the ``use`` event. ``capacity``: at most this many items rest there at once
+    (``None``: any number); the brain rules out worlds that break it.
     """
 
     id: Id
     region: Id
     cell: Cell
     play: bool = False
+    use: bool = False
+    capacity: Annotated[int, msgspec.Meta(ge=1)] | None = None
 
 
 class Visibility(msgspec.Struct, frozen=True):
@@ -105,11 +110,17 @@ class ItemShape(enum.Enum):
 
 
 class ItemSpec(msgspec.Struct, frozen=True):
-    """A movable item (a toy)."""
+    """A movable item (a toy).
+
+    ``absent``: the item is not in the scene (no state lists it), though people may want
+    it and believe it is somewhere; the brain then counts "absent" as one more place an
+    item can be (never seen, never taken).
+    """
 
     id: Id
     shape: ItemShape = ItemShape.BLOCK
     name: str = ""
+    absent: bool = False
 
 
 class Scene(msgspec.Struct, frozen=True):

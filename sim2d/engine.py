@@ -95,7 +95,9 @@ class Engine:
             agent_spec(a.id, a.kind, a.home, a.name, self.acts if a.kind is AgentKind.ROBOT else True)
             for a in self.scenario.agents
         )
-        items = tuple(ItemSpec(id=i.id, shape=i.shape, name=i.name) for i in self.scenario.items)
+        items = tuple(
+            ItemSpec(id=i.id, shape=i.shape, name=i.name, absent=i.absent) for i in self.scenario.items
+        )
         return self.scenario.map.scene(agents, items)
 
     def info(self, world: str, clock: ClockMode) -> EngineInfo:

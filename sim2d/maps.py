@@ -239,7 +239,17 @@ def _location(
     if region_of.get(cell) != region:
         where = f"room '{region_of[cell]}'" if cell in region_of else "a wall"
         raise ScenarioError(path, entry, f"item spot {cell} is in {where}, not in room '{region}'")
-    return Location(id=lid, region=region, cell=Cell(*cell), play=bool(table.get("play", False)))
+    capacity = table.get("capacity")
+    if capacity is not None and (not isinstance(capacity, int) or isinstance(capacity, bool) or capacity < 1):
+        raise ScenarioError(path, entry, f"capacity must be a positive integer, got {capacity!r}")
+    return Location(
+        id=lid,
+        region=region,
+        cell=Cell(*cell),
+        play=bool(table.get("play", False)),
+        use=bool(table.get("use", False)),
+        capacity=capacity,
+    )
 
 
 def _visibility(

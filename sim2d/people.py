@@ -18,7 +18,7 @@ from typing import Protocol
 from protocol import EventKind
 
 from .scenario import AgentSetup
-from .script import Drop, Enter, Goto, Play, Step, Take, Wait
+from .script import Drop, Enter, Goto, Play, Step, Take, Use, Wait
 from .world import Agent, World
 
 log = logging.getLogger("toyroom.sim2d")
@@ -104,6 +104,8 @@ class ScriptedPerson:
                 after = self._hand(world, agent, step)
             elif isinstance(step, Play):
                 after = self._play(world, agent, step)
+            elif isinstance(step, Use):
+                after = self._use(world, agent, step)
             else:
                 after = self._wait(world, step)
             if after is After.TICK:
@@ -176,6 +178,28 @@ class ScriptedPerson:
         self._advance(world, None)
         return After.STEP
 
+    def _use(self, world: World, agent: Agent, step: Use) -> After:
+        if not self.started:
+            if self.acted or not world.arrived(self.id):
+                return After.TICK
+            self.started = True
+            self.ticks_left = step.ticks or 0
+            reason = world.use(self.id, step.item)
+            if reason is not None:
+                log.info("%s: use failed: %s", self.id, reason)
+                self._advance(world, None)
+                return After.STEP
+            self.acted = True
+            if step.label is not None:
+                world.complete(self.id, step.label)
+            return After.TICK
+        if self._still_going(step, world):
+            return After.TICK
+        agent.playing = False
+        world.emit(EventKind.STOP, self.id, item=step.item)
+        self._advance(world, None)
+        return After.STEP
+
     def _wait(self, world: World, step: Wait) -> After:
         if not self.started:
             self.started = True
@@ -187,7 +211,7 @@ class ScriptedPerson:
         self._advance(world, None)
         return After.STEP
 
-    def _still_going(self, step: Play | Wait, world: World) -> bool:
+    def _still_going(self, step: Play | Use | Wait, world: World) -> bool:
         if step.ticks is not None:
             self.ticks_left -= 1
             return self.ticks_left > 0

@@ -19,12 +19,14 @@ RobotMode = Literal["act", "observe"]
 
 @dataclass(frozen=True)
 class ItemSetup:
-    """An item and where it starts: ``at`` is a location id or the id of the agent holding it."""
+    """An item and where it starts: ``at`` is a location id or the id of the agent holding it
+    (empty for an ``absent`` item: people may want it, it is not in the scene)."""
 
     id: str
     shape: ItemShape
     at: str
     name: str = ""
+    absent: bool = False
 
 
 @dataclass(frozen=True)
@@ -197,6 +199,13 @@ def _item(
         known = ", ".join(s.value for s in ItemShape)
         raise ScenarioError(path, entry, f"unknown shape {table.get('shape')!r}; known: {known}") from None
     at = table.get("at")
+    absent = table.get("absent", False)
+    if not isinstance(absent, bool):
+        raise ScenarioError(path, entry, f"absent must be true or false, got {absent!r}")
+    if absent:
+        if at is not None:
+            raise ScenarioError(path, entry, f"an absent item has no 'at', got {at!r}")
+        return ItemSetup(id=iid, shape=shape, at="", name=str(table.get("name", "")), absent=True)
     if at in agent_ids:
         if at in holders:
             raise ScenarioError(path, entry, f"agent '{at}' already holds '{holders[at]}'")

@@ -9,6 +9,8 @@ publishes a ``waypoint`` event when the person completes it:
 - ``{do = "drop"}``: put the carried item down at the spot the person stands on.
 - ``{do = "play", ticks = 20}``: play with the carried item (on a play spot); without
   ``ticks`` or ``until``, play on until something happens.
+- ``{do = "use", item = "cake", ticks = 20}``: use an item resting at the ``use`` location
+  the person stands on, in place (eating at a stall), for ``ticks`` (or ``until``).
 - ``{do = "wait", ticks = 40}``, ``{do = "wait", until = "A2:swapped"}`` (until agent A2
   completed its step labelled ``swapped``), or ``{do = "wait"}`` (for good).
 
@@ -67,13 +69,21 @@ class Play:
 
 
 @dataclass(frozen=True)
+class Use:
+    item: str
+    ticks: int | None = None
+    until: Signal | None = None
+    label: str | None = None
+
+
+@dataclass(frozen=True)
 class Wait:
     ticks: int | None = None
     until: Signal | None = None
     label: str | None = None
 
 
-Step = Enter | Goto | Take | Drop | Play | Wait
+Step = Enter | Goto | Take | Drop | Play | Use | Wait
 
 
 def _signal(value: Any, path: Path, entry: str) -> Signal:
@@ -104,6 +114,7 @@ def parse_step(table: Any, game_map: GameMap, path: Path, entry: str) -> Step:
         "take": {"item"},
         "drop": set(),
         "play": {"ticks", "until"},
+        "use": {"item", "ticks", "until"},
         "wait": {"ticks", "until"},
     }
     if do not in allowed:
@@ -143,4 +154,6 @@ def parse_step(table: Any, game_map: GameMap, path: Path, entry: str) -> Step:
     until = _signal(table["until"], path, entry) if "until" in table else None
     if do == "play":
         return Play(ticks, until, label)
+    if do == "use":
+        return Use(str(table.get("item", "")), ticks, until, label)
     return Wait(ticks, until, label)

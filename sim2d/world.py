@@ -91,6 +91,8 @@ class World:
             self.agents[setup.id] = agent
             self.physics.add_agent(setup.id, self.map.centre(setup.home), radius, self._controller(setup.id))
         for item_setup in scenario.items:
+            if item_setup.absent:  # not in the scene: no body, in no state
+                continue
             item = Item(item_setup.id)
             self.items[item.id] = item
             if item_setup.at in self.agents:
@@ -234,18 +236,36 @@ class World:
         return None
 
     def drop(self, agent_id: str, location_id: str) -> str | None:
-        """Put the carried item down at ``location_id`` (within reach)."""
+        """Put the carried item down at ``location_id`` (within reach, and not full)."""
         agent = self.agents[agent_id]
         if agent.holding is None:
             return f"hands empty: {agent_id} holds nothing"
         loc = self.locations[location_id]
         if not self.within_reach(agent.cell, (loc.cell.col, loc.cell.row)):
             return f"out of reach: location {loc.id} is at ({loc.cell.col},{loc.cell.row})"
+        resting = [i.id for i in self.items.values() if i.location == loc.id]
+        if loc.capacity is not None and len(resting) >= loc.capacity:
+            return f"location full: {loc.id} holds at most {loc.capacity} ({', '.join(resting)})"
         item = self.items[agent.holding]
         item.holder, item.location = None, loc.id
         agent.holding, agent.playing = None, False
         self.physics.put_down(item.id, self.map.centre((loc.cell.col, loc.cell.row)))
         self.emit(EventKind.DROP, agent_id, item=item.id, location=loc.id)
+        return None
+
+    def use(self, agent_id: str, item_id: str) -> str | None:
+        """``agent_id`` uses ``item_id`` in place: it rests at the ``use`` location the agent
+        stands on (or next to); the reason when it cannot."""
+        agent, item = self.agents[agent_id], self.items.get(item_id)
+        if item is None or item.location is None:
+            return f"'{item_id}' is not resting anywhere"
+        loc = self.locations[item.location]
+        if not loc.use:
+            return f"location {loc.id} is not a place to use things in"
+        if not self.within_reach(agent.cell, (loc.cell.col, loc.cell.row)):
+            return f"out of reach: location {loc.id} is at ({loc.cell.col},{loc.cell.row})"
+        agent.playing = True
+        self.emit(EventKind.USE, agent_id, item=item_id, location=loc.id)
         return None
 
     def hand_over(self, giver: str, receiver: str) -> None:

@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .arrays import FloatArray
-from .world import WorldModel
+from .world import ABSENT, WorldModel
 
 NOT_IN_VIEW = -1
 
@@ -44,7 +44,8 @@ def true_values(
     held by someone near ``l`` (the location a carried item counts as being at).
 
     Args:
-        resting: item id -> location id where it rests (``None`` when carried).
+        resting: item id -> location id where it rests (``None`` when carried; an item
+            missing, or neither resting nor carried, is :data:`ABSENT` when the scene has one).
         holders: item id -> cell index of its carrier (``None`` when resting).
     """
     values = []
@@ -52,8 +53,10 @@ def true_values(
         holder_cell = holders.get(item)
         if holder_cell is not None:
             values.append(2 * int(model.nearest[holder_cell]) + 1)
+        elif resting.get(item) is None and ABSENT in model.locations:
+            values.append(2 * model.locations.index(ABSENT))
         else:
-            values.append(2 * model.locations.index(resting[item] or ""))
+            values.append(2 * model.locations.index(resting.get(item) or ""))
     return tuple(values)
 
 
@@ -103,12 +106,12 @@ class BeliefModel:
         return bits
 
     def percept_likelihood(self, p: Percept) -> FloatArray:
-        """``(W,)`` ``P(o | x, w)`` for every world."""
+        """``(W,)`` ``P(o | x, w)`` for every world (0 for a world a location's capacity rules out)."""
         model = self.model
         visible = model.sees[p.cell]
         seen = np.array(p.seen)
         match = np.where(seen[None, :] >= 0, model.worlds == seen[None, :], ~visible[model.place])
-        return np.prod(np.where(match, 1.0 - self.delta, self.delta), axis=1)
+        return np.prod(np.where(match, 1.0 - self.delta, self.delta), axis=1) * model.allowed
 
     def in_pw(self, p: Percept) -> npt.NDArray[np.bool_]:
         """``(W_i, W_j)`` whether ``i`` is in ``PW(j)``: it differs from ``j`` only in items the

@@ -13,7 +13,7 @@ States ``(c, h, i_1, ..., i_K)``: cell, held item (0: nothing), and per item the
 its belief point (or ``HELD`` when it is the person's own carried item); ``J = (B + 1)^K``
 belief states per cell and held item. Arriving at a cell, each item's belief branches over
 what is seen there (``T_k[c]``, ``(B + 1, B + 1)`` row-stochastic); a sweep is one batched
-matrix product per item axis. Rewards, discount and terminals are the point planner's
+matrix product per item axis. Rewards, discount and terminals (Play, Use, leaving) are the point planner's
 (:mod:`brain.model.planner`), one MDP per candidate desire. The decision likelihood reads
 each hypothesis's belief ``b_g`` as per-item points (the nearest, in total variation).
 """
@@ -31,7 +31,7 @@ from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
 from .desires import utilities
 from .graded import choice_likelihood, simplex_grid
-from .planner import TAKE, Move, drop_action, n_actions, play_action
+from .planner import TAKE, Move, drop_action, n_actions, play_action, use_action
 from .world import WorldModel, build_world_model
 
 
@@ -168,6 +168,10 @@ class LookaheadPolicy:
                 q[:, :, drop_action(K)] = step + gamma * self.value[:, cell, 0][:, after]
         if held and model.play_at[cell]:
             q[:, :, play_action(K)] = self.utilities[:, held - 1][:, None]
+        if spot >= 0 and model.use_at[cell]:
+            for k in range(K):
+                ok = digits[:, k] == int(self.certain[spot])
+                q[:, ok, use_action(K, k)] = self.utilities[:, k][:, None]
         return q
 
 
@@ -200,6 +204,7 @@ def solve(model: WorldModel, settings: ModelSettings, max_sweeps: int = 10_000) 
     value = np.zeros((len(u), C, K + 1, J))
     spots = np.flatnonzero(model.spot_at >= 0)
     plays = np.flatnonzero(model.play_at)
+    uses = np.flatnonzero(model.use_at & (model.spot_at >= 0))
     for _ in range(max_sweeps):
         arrive = _arrivals(value, look, n, K)
         best = np.where(model.outside[None, :, None, None], leave, step + gamma * value)  # Stay
@@ -220,6 +225,11 @@ def solve(model: WorldModel, settings: ModelSettings, max_sweeps: int = 10_000) 
                 best[:, c, k + 1] = np.maximum(best[:, c, k + 1], step + gamma * value[:, c, 0][:, dropped])
         for c in plays:
             best[:, c, 1:] = np.maximum(best[:, c, 1:], u[:, :K][:, :, None])
+        for c in uses:
+            there = int(certain[model.spot_at[c]])
+            for k in range(K):
+                ok = (digits[:, k] == there)[None, None, :]
+                best[:, c] = np.where(ok, np.maximum(best[:, c], u[:, k][:, None, None]), best[:, c])
         converged = np.max(np.abs(best - value)) <= settings.vi_tolerance
         value = best
         if converged:

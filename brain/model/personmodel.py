@@ -110,9 +110,10 @@ class ExactModel:
         self.true_world = true_world
 
     def prior(self) -> FloatArray:
-        """``(W, U)`` uniform over worlds and candidate desires."""
-        W, U = self.model.n_worlds, len(self.policy.utilities)
-        return np.full((W, U), 1.0 / (W * U))
+        """``(W, U)`` uniform over the worlds the scene allows and the candidate desires."""
+        allowed = self.model.allowed.astype(np.float64)
+        U = len(self.policy.utilities)
+        return np.repeat(allowed[:, None], U, axis=1) / (allowed.sum() * U)
 
     def new_filter(self) -> ExactFilter:
         return ExactFilter(self, self.prior())
@@ -209,7 +210,10 @@ class GradedModel:
         self.settings = settings
         self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
         self.true_world = true_world
-        self.initial = prior_beliefs(self.model.worlds, self.model.n_locations, settings.prior_resolution)
+        initial = prior_beliefs(self.model.worlds, self.model.n_locations, settings.prior_resolution)
+        initial = initial * self.model.allowed[None, :]  # no belief in a world a capacity rules out
+        total = initial.sum(axis=1, keepdims=True)
+        self.initial = initial[total[:, 0] > 0] / total[total[:, 0] > 0]
         self.place_of = (
             self.model.place[:, :, None] == np.arange(self.model.n_locations)[None, None, :]
         ).astype(np.float64)

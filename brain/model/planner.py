@@ -3,7 +3,9 @@ iteration, and the Boltzmann action likelihood the inference uses.
 
 States ``s = (c * (K + 1) + h) * W + w`` for cell ``c``, held item ``h`` (0: nothing, else
 item ``h - 1``) and world ``w``; ``S = C (K + 1) W``. Actions ``Up, Down, Left, Right, Stay,
-Take(0..K-1), Drop, Play``; ``A = K + 7``. Preferences ``d`` are the items, then ``out``;
+Take(0..K-1), Drop, Play, Use(0..K-1)``; ``A = 2 K + 7``. Use(k) ends the episode with
+``k``'s utility on a ``use`` location where ``k`` rests; a Drop into a world that a
+location's ``capacity`` rules out is impossible. Preferences ``d`` are the items, then ``out``;
 ``D = K + 1``. Everything is vectorised over states: one value-iteration sweep is a gather
 and a max over an ``(S, A)`` array.
 """
@@ -30,7 +32,7 @@ TERMINAL = -2
 
 
 class Move(enum.IntEnum):
-    """The movement actions; ``Take(k)`` is ``TAKE + k``, then ``Drop`` and ``Play``."""
+    """The movement actions; ``Take(k)`` is ``TAKE + k``, then ``Drop``, ``Play`` and ``Use(k)``."""
 
     UP = 0
     DOWN = 1
@@ -43,7 +45,7 @@ TAKE = 5
 
 
 def n_actions(n_items: int) -> int:
-    return TAKE + n_items + 2
+    return TAKE + 2 * n_items + 2
 
 
 def drop_action(n_items: int) -> int:
@@ -54,13 +56,18 @@ def play_action(n_items: int) -> int:
     return TAKE + n_items + 1
 
 
+def use_action(n_items: int, item: int) -> int:
+    """``Use(k)``: use item ``k``, resting at the person's ``use`` location, in place."""
+    return TAKE + n_items + 2 + item
+
+
 @dataclass(frozen=True)
 class Transitions:
     """The MDP's deterministic dynamics, shared by every preference.
 
     Attributes:
         next_state: ``(S, A)`` successor, or ``INFEASIBLE`` / ``TERMINAL``.
-        terminal_kind: ``(S, A)`` 1 for reaching the outside, 2 for Play, else 0.
+        terminal_kind: ``(S, A)`` 1 for reaching the outside, 2 for Play, 3 for Use, else 0.
         held: ``(S,)`` held item code ``h`` of each state.
     """
 
@@ -120,14 +127,21 @@ def transitions(model: WorldModel) -> Transitions:
         nxt[ok, TAKE + k] = index(
             c[ok], np.full(ok.sum(), k + 1), model.with_value(w[ok], k, 2 * spot[ok] + 1)
         )
+    allowed = model.allowed
     for k in range(K):
         ok = (h == k + 1) & on_spot
+        after = model.with_value(w[ok], k, 2 * spot[ok])
+        ok[ok] = allowed[after]  # a drop on a full spot is impossible
         nxt[ok, drop_action(K)] = index(
             c[ok], np.zeros(ok.sum(), dtype=np.int64), model.with_value(w[ok], k, 2 * spot[ok])
         )
     play = (h > 0) & model.play_at[c]
     nxt[play, play_action(K)] = TERMINAL
     kind[play, play_action(K)] = 2
+    for k in range(K):
+        use = model.use_at[c] & on_spot & (model.worlds[w, k] == 2 * spot)
+        nxt[use, use_action(K, k)] = TERMINAL
+        kind[use, use_action(K, k)] = 3
     return Transitions(next_state=nxt, terminal_kind=kind, held=h)
 
 
@@ -143,6 +157,9 @@ def rewards(
     reward[trans.terminal_kind == 1] = utility[K]
     play = trans.terminal_kind == 2
     reward[play] = np.broadcast_to(play_value[trans.held][:, None], reward.shape)[play]
+    for k in range(K):
+        column = reward[:, use_action(K, k)]
+        column[trans.terminal_kind[:, use_action(K, k)] == 3] = utility[k]
     return reward
 
 

@@ -18,6 +18,9 @@ from protocol.carry import carry_locations, location_distances
 
 from .arrays import BoolArray, IntArray
 
+ABSENT = "absent"
+"""The location of an item that is not in the scene (``ItemSpec.absent``)."""
+
 MOVE_STEPS = ((0, 1), (0, -1), (-1, 0), (1, 0))
 """The cell step of each move action, in action-index order (``Move.UP``, ``DOWN``, ``LEFT``,
 ``RIGHT``) as (d col, d row); rows grow upwards. The planner's alphabet, not the
@@ -37,8 +40,11 @@ class WorldModel:
         nearest: ``(C,)`` the location a carried item counts as being at: the nearest
             location of the cell's region, or the nearest of all for regions with none.
         sees: ``(C, L)`` whether a location is visible from a cell.
-        locations: ``L`` location ids; items: ``K`` item ids.
+        locations: ``L`` location ids; items: ``K`` item ids. When the scene has an
+            ``absent`` item, the last location is :data:`ABSENT`: never seen, on no cell.
         distance: ``(L, C)`` path length in cells from each location to every cell.
+        use_at: ``(C,)`` whether the cell is a place where items are used in place.
+        capacity: ``(L,)`` how many items may rest at each location (0: any number).
     """
 
     cells: IntArray
@@ -52,6 +58,8 @@ class WorldModel:
     items: tuple[str, ...]
     cell_index: dict[tuple[int, int], int]
     distance: IntArray
+    use_at: BoolArray
+    capacity: IntArray
 
     @property
     def n_cells(self) -> int:
@@ -95,6 +103,18 @@ class WorldModel:
             [self.n_values ** (self.n_items - 1 - k) for k in range(self.n_items)], dtype=np.int64
         )
 
+    @cached_property
+    def allowed(self) -> BoolArray:
+        """``(W,)`` the worlds no location's ``capacity`` rules out (and no item held "at"
+        :data:`ABSENT`)."""
+        resting = self.worlds % 2 == 0
+        ok = np.ones(len(self.worlds), dtype=bool)
+        for loc in np.flatnonzero(self.capacity > 0):
+            ok &= ((self.place == loc) & resting).sum(axis=1) <= self.capacity[loc]
+        if self.locations and self.locations[-1] == ABSENT:
+            ok &= ~np.any(self.worlds == 2 * (self.n_locations - 1) + 1, axis=1)
+        return ok
+
     def world_index(self, values: IntArray) -> IntArray:
         """World indices of ``(..., K)`` item values."""
         return np.asarray(values, dtype=np.int64) @ self.strides
@@ -116,13 +136,17 @@ def build_world_model(scene: Scene) -> WorldModel:
     for i, (col, row) in enumerate(walkable):
         for a, (dc, dr) in enumerate(MOVE_STEPS):
             neighbour[i, a] = index.get((col + dc, row + dr), -1)
-    locations = tuple(loc.id for loc in scene.locations)
+    absent = any(item.absent for item in scene.items)
+    locations = tuple(loc.id for loc in scene.locations) + ((ABSENT,) if absent else ())
     spot_at = np.full(n, -1, dtype=np.int64)
     play_at = np.zeros(n, dtype=bool)
+    use_at = np.zeros(n, dtype=bool)
     for li, loc in enumerate(scene.locations):
         ci = index[(loc.cell.col, loc.cell.row)]
         spot_at[ci] = li
         play_at[ci] = loc.play
+        use_at[ci] = loc.use
+    capacity = np.array([loc.capacity or 0 for loc in scene.locations] + [0] * absent, dtype=np.int64)
     outside = np.array([region_of.get(c) in outside_regions for c in walkable], dtype=bool)
     sees = np.zeros((n, len(locations)), dtype=bool)
     loc_index = {loc: i for i, loc in enumerate(locations)}
@@ -133,8 +157,8 @@ def build_world_model(scene: Scene) -> WorldModel:
                 sees[seen_from, loc_index[loc_id]] = True
     walked = location_distances(scene)
     distances = np.array(
-        [[walked[loc.id].get(cell, 1 << 30) for cell in walkable] for loc in scene.locations], dtype=np.int64
-    ).reshape(len(scene.locations), n)
+        [[walked.get(loc, {}).get(cell, 1 << 30) for cell in walkable] for loc in locations], dtype=np.int64
+    ).reshape(len(locations), n)
     carried = carry_locations(scene)  # the one rule engines and evaluators use too
     nearest = np.array(
         [locations.index(carried[cell]) if cell in carried else 0 for cell in walkable], dtype=np.int64
@@ -152,4 +176,6 @@ def build_world_model(scene: Scene) -> WorldModel:
         items=items,
         cell_index=index,
         distance=distances,
+        use_at=use_at,
+        capacity=capacity,
     )

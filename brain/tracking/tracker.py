@@ -21,7 +21,7 @@ from ..model.belief import Percept, percept, told, true_values
 from ..model.estimates import Estimate, reread
 from ..model.inference import switch_probability
 from ..model.personmodel import PersonFilter, StepRecord, person_model
-from ..model.planner import TAKE, Move, drop_action, play_action
+from ..model.planner import TAKE, Move, drop_action, play_action, use_action
 from ..model.world import MOVE_STEPS
 from ..settings import ModelSettings
 
@@ -128,7 +128,7 @@ class MindTracker:
                 action, track.waited = Move.STAY.value, True
             elif action is not None:
                 track.waited = False
-                track.settled = action == play_action(model.n_items) or bool(model.outside[cell])
+                track.settled = action >= play_action(model.n_items) or bool(model.outside[cell])
             if action is not None:
                 likelihood = self.person_model.likelihood(track.cell, track.held, action)
                 elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
@@ -165,6 +165,8 @@ class MindTracker:
                 return drop_action(K)
             if event.kind is EventKind.PLAY:
                 return play_action(K)
+            if event.kind is EventKind.USE and event.item in model.items:
+                return use_action(K, model.items.index(event.item))
         assert track.cell is not None
         if cell == track.cell:
             return None

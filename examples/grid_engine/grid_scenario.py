@@ -23,7 +23,7 @@ class Map:
     cell_size: float
     regions: list[dict[str, Any]]  # {"id", "kind", "name", "cells": [Cell]}
     doors: list[dict[str, Any]]  # {"id", "cell": Cell, "joins": [a, b]}
-    locations: list[dict[str, Any]]  # {"id", "region", "cell": Cell, "play": bool}
+    locations: list[dict[str, Any]]  # {"id", "region", "cell": Cell, "play", "use": bool, "capacity"}
     sees: dict[Cell, list[str]]
     homes: dict[str, Cell]
     region_of: dict[Cell, str] = field(default_factory=dict)
@@ -41,7 +41,7 @@ class Scenario:
     tick_seconds: float  # of the scenario's own ticks (script ``ticks`` count in these)
     max_ticks: int
     settle_ticks: int
-    items: list[dict[str, Any]]  # {"id", "shape", "name", "at"}
+    items: list[dict[str, Any]]  # {"id", "shape", "name", "at", "absent"}
     agents: list[
         dict[str, Any]
     ]  # {"id", "kind", "name", "home": Cell, "wants", "answers": bool, "script": [...]}
@@ -80,6 +80,8 @@ def read_map(path: Path) -> Map:
             "region": loc["region"],
             "cell": _cell(loc["cell"]),
             "play": bool(loc.get("play", False)),
+            "use": bool(loc.get("use", False)),
+            "capacity": loc.get("capacity"),
         }
         for loc in data.get("locations", [])
     ]
@@ -140,7 +142,13 @@ def read_scenario(path: Path) -> Scenario:
         max_ticks=int(data.get("max_ticks", 3000)),
         settle_ticks=int(data.get("settle_ticks", 1)),
         items=[
-            {"id": i["id"], "shape": i.get("shape", "block"), "name": i.get("name", ""), "at": i["at"]}
+            {
+                "id": i["id"],
+                "shape": i.get("shape", "block"),
+                "name": i.get("name", ""),
+                "at": i.get("at"),
+                "absent": bool(i.get("absent", False)),
+            }
             for i in data.get("items", [])
         ],
         agents=agents,

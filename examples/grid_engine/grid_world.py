@@ -63,7 +63,12 @@ class Person:
         if self.index >= len(self.plan):
             return True
         step = self.plan[self.index]
-        return self.started and step["do"] in ("play", "wait") and "ticks" not in step and "until" not in step
+        return (
+            self.started
+            and step["do"] in ("play", "use", "wait")
+            and "ticks" not in step
+            and "until" not in step
+        )
 
     def replace(self, plan: list[dict[str, Any]]) -> None:
         self.plan, self.index, self.started = plan, 0, False
@@ -91,6 +96,8 @@ class GridWorld:
         self.moved: set[str] = set()
         self.items: dict[str, dict[str, str | None]] = {}
         for item in scenario.items:
+            if item["absent"]:  # not in the scene: in no state
+                continue
             if item["at"] in self.cells:
                 self.items[item["id"]] = {"location": None, "holder": item["at"]}
                 self.holding[item["at"]] = item["id"]
@@ -228,6 +235,9 @@ class GridWorld:
             return "hands empty"
         if loc is None or not near(self.cells[agent], loc["cell"]):
             return f"out of reach: location {location_id}"
+        here = [i for i, where in self.items.items() if where["location"] == location_id]
+        if loc["capacity"] is not None and len(here) >= loc["capacity"]:
+            return f"location full: {location_id} holds at most {loc['capacity']}"
         self.items[item] = {"location": location_id, "holder": None}
         self.holding[agent], self.playing[agent] = None, False
         self.event("drop", agent, item=item, location=location_id)
@@ -315,6 +325,14 @@ class GridWorld:
                         (loc["id"] for loc in self.map.locations if loc["cell"] == self.cells[agent]), None
                     )
                     self.event("play", agent, item=self.holding[agent], location=spot)
+                if do == "use":
+                    where = self.items.get(step["item"], {}).get("location")
+                    loc = self.location(where or "")
+                    if loc is None or not loc["use"] or not near(self.cells[agent], loc["cell"]):
+                        self.complete(person, None)
+                        continue
+                    self.playing[agent] = True
+                    self.event("use", agent, item=step["item"], location=where)
                 if step.get("label"):
                     self.labels.add((agent, step["label"]))
                     self.event("waypoint", agent, label=step["label"], location=self.regions[agent])
@@ -332,9 +350,9 @@ class GridWorld:
                     return
             else:
                 return
-            if do == "play":
+            if do in ("play", "use"):
                 self.playing[agent] = False
-                self.event("stop", agent, item=self.holding[agent])
+                self.event("stop", agent, item=self.holding[agent] if do == "play" else step["item"])
             person.index += 1
             person.started = False
             continue

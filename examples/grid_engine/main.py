@@ -105,12 +105,22 @@ class GridEngine:
             ],
             "doors": [{"id": d["id"], "cell": cell(d["cell"]), "joins": d["joins"]} for d in m.doors],
             "locations": [
-                {"id": loc["id"], "region": loc["region"], "cell": cell(loc["cell"]), "play": loc["play"]}
+                {
+                    "id": loc["id"],
+                    "region": loc["region"],
+                    "cell": cell(loc["cell"]),
+                    "play": loc["play"],
+                    "use": loc["use"],
+                    "capacity": loc["capacity"],
+                }
                 for loc in m.locations
             ],
             "visibility": [{"cell": cell(c), "locations": v} for c, v in sorted(m.sees.items())],
             "agents": agents,
-            "items": [{"id": i["id"], "shape": i["shape"], "name": i["name"]} for i in self.scenario.items],
+            "items": [
+                {"id": i["id"], "shape": i["shape"], "name": i["name"], "absent": i["absent"]}
+                for i in self.scenario.items
+            ],
         }
         return {
             "type": "engine_info",

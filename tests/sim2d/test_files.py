@@ -25,6 +25,7 @@ def test_every_bundled_scenario_loads() -> None:
         "paper-robot-decline",
         "paper-tidy",
         "sally-anne",
+        "food-trucks",
     } <= set(names)
     for name in names:
         scenario = load_scenario(name)

@@ -24,7 +24,7 @@ def brute_force_q(settings: ModelSettings) -> tuple[list[tuple[int, int, int]], 
     nearest = {(0, 0): 0, (1, 0): 0, (2, 0): 1, (3, 0): 1, (4, 0): 1}
     values = range(4)  # 2 * location + held
     states = [(c, h, w) for c in range(len(cells)) for h in (0, 1) for w in values]
-    actions = 5 + 1 + 2  # moves, stay, take(ball), drop, play
+    actions = 5 + 1 + 2 + 1  # moves, stay, take(ball), drop, play, use(ball): no use place here
 
     def step(state: tuple[int, int, int], a: int) -> tuple[str, tuple[int, int, int] | None]:
         c, h, w = state
@@ -45,7 +45,7 @@ def brute_force_q(settings: ModelSettings) -> tuple[list[tuple[int, int, int]], 
             if h == 1 and cell in spots:
                 return "go", (c, 0, 2 * spots[cell])
             return "infeasible", None
-        if h == 1 and cell in play:
+        if a == 7 and h == 1 and cell in play:
             return "play", None
         return "infeasible", None
 
