@@ -28,8 +28,9 @@ class Estimate:
             item's true location (at the time the estimate was read) less than
             ``ModelSettings.false_belief_mass`` (:func:`false_belief_probability`).
         hypotheses: for a model whose people hold graded beliefs, the robot's weight of each
-            hypothesis ``(G,)`` and the person's belief under it ``(G, K, L)``; ``None`` when
-            each person is certain of one world (the hypotheses are then the worlds).
+            hypothesis ``(G,)`` and the person's belief under it ``(G, K, L)`` (or, per item
+            for the factored model, ``(K, P)`` and ``(K, P, L)``); ``None`` when each person
+            is certain of one world (the hypotheses are then the worlds).
         desire: the expected utility of each goal, P(one goal preferred to another) and the
             most probable ranking (:class:`brain.model.desires.DesireSummary`).
         worlds: ``(W,)`` the person's belief over whole worlds as the robot expects it (so
@@ -107,6 +108,9 @@ def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float)
         return point_false_belief(est.beliefs, truth)
     true = np.array([value // 2 for value in truth], dtype=np.int64)
     weights, beliefs = est.hypotheses
+    if weights.ndim == 2:  # per item (the factored model): (K, P) weights, (K, P, L) beliefs
+        at_true = beliefs[np.arange(len(true)), :, true]  # (K, P)
+        return (weights * (at_true < mass)).sum(axis=1)
     at_true = beliefs[:, np.arange(len(true)), true]  # (G, K)
     return weights @ (at_true < mass)
 

@@ -117,23 +117,32 @@ class FactoredPolicy:
         model: the world model (its ``worlds`` are never built).
         likelihood: ``(D, C, 3, V, A)`` Boltzmann action likelihoods per preference
             (``out``'s does not depend on the value: it is planned with one and broadcast).
+        q: ``(D, C, 3, V, A)`` the Q-values behind them (``-inf``: impossible), for people
+            who plan with a graded belief (:mod:`brain.model.gradedfactored`).
     """
 
     model: WorldModel
     likelihood: FloatArray
+    q: FloatArray
+
+    def relative(self, held: int) -> IntArray:
+        """``(D,)`` what a person holding ``held`` (0 nothing, else item index + 1) holds, seen
+        from each preference's MDP."""
+        D = self.model.n_items + 1
+        return np.where(held == 0, NOTHING, np.where(np.arange(D) + 1 == held, WANTED, OTHER))
 
     def action_likelihood(self, cell: int, held: int, action: int) -> FloatArray:
         """``(D, V)`` likelihood of ``action`` from ``(cell, held)`` (``held``: 0 nothing,
         else item index + 1) for each preference and value of its wanted item."""
         D = self.model.n_items + 1
-        relative = np.where(held == 0, NOTHING, np.where(np.arange(D) + 1 == held, WANTED, OTHER))
-        return self.likelihood[np.arange(D), cell, relative, :, action]
+        return self.likelihood[np.arange(D), cell, self.relative(held), :, action]
 
 
 def plan_factored(model: WorldModel, settings: ModelSettings) -> FactoredPolicy:
     """Solve one small MDP per preference (no cache; see :func:`cached_factored_policy`)."""
     K, V, C = model.n_items, model.n_values, model.n_cells
     out = np.empty((K + 1, C, 3, V, n_actions(K)))
+    qs = np.empty_like(out)
     for d in range(K + 1):
         wants = d < K
         trans = focus_transitions(model, d if wants else None)
@@ -141,7 +150,8 @@ def plan_factored(model: WorldModel, settings: ModelSettings) -> FactoredPolicy:
             trans, focus_rewards(trans, settings, wants), settings.discount, settings.vi_tolerance
         )
         out[d] = boltzmann(q, settings.beta, settings.epsilon).reshape(C, 3, V if wants else 1, -1)
-    return FactoredPolicy(model=model, likelihood=out)
+        qs[d] = q.reshape(C, 3, V if wants else 1, -1)
+    return FactoredPolicy(model=model, likelihood=out, q=qs)
 
 
 @lru_cache(maxsize=8)
@@ -172,6 +182,24 @@ class FactoredBeliefs:
         g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
         t = likelihood[:, :, None] * g
         return t / t.sum(axis=1, keepdims=True)
+
+    def revise(self, beliefs: FloatArray, p: Percept, *, predict: bool) -> FloatArray:
+        """``(K, N, V)`` each item's graded beliefs after percept ``p``, by Bayes on the item
+        alone: the paper's change weights (1 to stay, ``r`` for a change of a value in view or
+        believed visible), each column first normalised when ``predict``, times the percept's
+        likelihood; a belief the percept rules out entirely is kept."""
+        seen = np.array(p.seen, dtype=np.int64)
+        visible = self.model.sees[p.cell][self.place]
+        values = np.arange(self.model.n_values)
+        match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], ~visible[None, :])
+        likelihood = np.where(match, 1.0 - self.delta, self.delta)  # (K, V)
+        affected = (seen[:, None] >= 0) | visible[None, :]
+        g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
+        if predict:
+            g = g / g.sum(axis=1, keepdims=True)
+        new = np.einsum("kij,knj->kni", g, beliefs) * likelihood[:, None, :]
+        total = new.sum(axis=2, keepdims=True)
+        return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
 
     def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
         """``(K, V, V)`` transition of an observer who assumes people know the true world."""

@@ -40,6 +40,7 @@ from .factored import (
     factored_step,
 )
 from .graded import expected_joint, prior_beliefs, qmdp_likelihood, update_beliefs
+from .gradedfactored import GradedFactoredModel
 from .inference import HmmStep, forward_step, hazard_matrix, smooth
 from .lookahead import cached_lookahead
 from .planner import Policy, cached_policy
@@ -325,28 +326,21 @@ class GradedFilter:
 
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
-    """The model ``settings.belief_model`` names: graded (the default) or the exact point
-    model, while the scene's ``W`` worlds are at most ``settings.exact_max_worlds``; above it,
-    the factored model (point beliefs per item: graded beliefs do not factor yet), with a
-    warning that says so when graded beliefs were asked for."""
+    """The model ``settings.belief_model`` names, graded (the default) or point: exact while
+    the scene's ``W`` worlds are at most ``settings.exact_max_worlds``, factored above it
+    (:mod:`brain.model.gradedfactored`, :mod:`brain.model.factored`)."""
     worlds = build_world_model(scene).n_worlds
     if worlds > settings.exact_max_worlds:
-        if settings.desire_model == "graded":
+        if settings.desire_model == "graded" or settings.person_planner == "belief":
             log.warning(
                 "scene '%s' has %d worlds (exact_max_worlds = %d): the factored model has "
-                "favourite desires only, not graded ones",
+                "favourite desires and QMDP only (desire_model and person_planner ignored)",
                 scene.name,
                 worlds,
                 settings.exact_max_worlds,
             )
         if settings.belief_model == "graded":
-            log.warning(
-                "scene '%s' has %d worlds (exact_max_worlds = %d): using the factored model, whose "
-                "people hold point beliefs per item, instead of graded beliefs",
-                scene.name,
-                worlds,
-                settings.exact_max_worlds,
-            )
+            return GradedFactoredModel(scene, settings, true_world)
         return FactoredModel(scene, settings, true_world)
     if settings.belief_model == "graded":
         return GradedModel(scene, settings, true_world)

@@ -131,3 +131,31 @@ def test_factored_estimate_reads_marginals() -> None:
     est = factored_estimate(model, FactoredPosterior(np.array([0.25, 0.75]), b), truth=(2,))
     assert np.allclose(est.beliefs, [[0.25, 0.75]]) and est.false_beliefs == ()
     assert est.intention == (None, None, 0.75)
+
+
+@pytest.mark.parametrize("scenario", ["paper-1", "paper-2", "paper-3", "sally-anne"])
+def test_graded_factored_is_close_to_the_exact_graded_model(scenario: str) -> None:
+    """Graded beliefs per item against the exact graded model, online, on the paper map:
+    item beliefs, preferences and false-belief probabilities per person and tick."""
+    engine = Engine(scenario, robot="observe")
+    exact = MindTracker(engine.scene(), ModelSettings())
+    factored = MindTracker(engine.scene(), ModelSettings(exact_max_worlds=0))
+    assert type(factored.person_model).__name__ == "GradedFactoredModel"
+    beliefs, preferences, false = [], [], []
+    state, events = engine.state(), ()
+    while True:
+        exact.observe(state, events)
+        factored.observe(state, events)
+        for person in exact.people:
+            a, b = exact.online(person), factored.online(person)
+            if a is not None and b is not None:
+                beliefs.extend(0.5 * np.abs(a.beliefs - b.beliefs).sum(axis=1))
+                preferences.append(0.5 * np.abs(a.preference - b.preference).sum())
+                false.extend(np.abs(a.false_belief - b.false_belief))
+        if engine.done:
+            break
+        result = engine.step()
+        state, events = result.state, result.events
+    assert np.mean(beliefs) <= 0.02, f"mean belief TV {np.mean(beliefs):.4f}, expected <= 0.02"
+    assert np.mean(preferences) <= 0.05, f"mean preference TV {np.mean(preferences):.4f}, expected <= 0.05"
+    assert np.mean(false) <= 0.02, f"mean false-belief difference {np.mean(false):.4f}, expected <= 0.02"

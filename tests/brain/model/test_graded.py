@@ -159,10 +159,11 @@ def test_graded_tracker_sees_sallys_false_belief_and_annes_true_one() -> None:
     assert marble not in anne.false_beliefs, "Anne, who moved the marble, is flagged"
 
 
-def test_graded_falls_back_to_the_factored_model_on_large_houses(caplog: pytest.LogCaptureFixture) -> None:
+def test_graded_uses_the_graded_factored_model_on_large_houses(caplog: pytest.LogCaptureFixture) -> None:
     import tempfile
     from pathlib import Path
 
+    from brain.model.gradedfactored import GradedFactoredModel
     from brain.model.personmodel import FactoredModel, person_model
     from sim2d.generate import write_house_episode
     from sim2d.scenario import load_scenario
@@ -170,12 +171,12 @@ def test_graded_falls_back_to_the_factored_model_on_large_houses(caplog: pytest.
     with tempfile.TemporaryDirectory() as tmp:
         path = write_house_episode(Path(tmp), rooms=8, items=4, seed=1)
         scene = Engine(load_scenario(str(path))).scene()
+    model = person_model(scene, ModelSettings())
+    assert isinstance(model, GradedFactoredModel), f"expected the graded factored model, got {type(model)}"
+    assert isinstance(person_model(scene, ModelSettings(belief_model="point")), FactoredModel)
     with caplog.at_level("WARNING", logger="brain.model.personmodel"):
-        model = person_model(scene, ModelSettings(belief_model="graded"))
-    assert isinstance(model, FactoredModel), f"expected the factored model, got {type(model).__name__}"
-    assert "using the factored model" in caplog.text and "instead of graded beliefs" in caplog.text, (
-        caplog.text
-    )
+        person_model(scene, ModelSettings(desire_model="graded"))
+    assert "favourite desires and QMDP only" in caplog.text, caplog.text
 
 
 def test_bad_belief_settings_are_named() -> None:
