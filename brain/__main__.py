@@ -123,10 +123,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())
             return 0
+        if args.out is not None:  # first, so a recorder of this run finds them
+            args.out.mkdir(parents=True, exist_ok=True)
+            (args.out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
         with (
             Bridge(args.world, settings_from_args(args)) as bridge,
             (
-                McapRecorder(bridge, args.record, timeout=args.handshake_timeout)
+                McapRecorder(
+                    bridge,
+                    args.record,
+                    timeout=args.handshake_timeout,
+                    settings=lambda: settings_toml(settings),
+                )
                 if args.record
                 else nullcontext()
             ),

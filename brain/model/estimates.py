@@ -33,6 +33,9 @@ class Estimate:
             is certain of one world (the hypotheses are then the worlds).
         desire: the expected utility of each goal, P(one goal preferred to another) and the
             most probable ranking (:class:`brain.model.desires.DesireSummary`).
+        log_evidence: the marginal log-likelihood (natural log) of the person's decisions so
+            far under the model, ``sum_t log P(a_t | a_<t, percepts)``: the filter's
+            normalisers, which compare models and fit parameters.
         worlds: ``(W,)`` the person's belief over whole worlds as the robot expects it (so
             "nothing is at that spot" is read exactly, not from marginals); ``None`` for the
             factored model.
@@ -45,6 +48,7 @@ class Estimate:
     hypotheses: tuple[FloatArray, FloatArray] | None = None
     desire: DesireSummary | None = None
     worlds: FloatArray | None = None
+    log_evidence: float = 0.0
 
     def top_worlds(self, k: int) -> list[tuple[int, float]]:
         """The ``k`` most probable ``(world index, probability)`` of the person's belief

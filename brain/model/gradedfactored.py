@@ -107,6 +107,7 @@ class GradedFactoredFilter:
     alpha: FloatArray
     weights: FloatArray
     beliefs: FloatArray
+    log_evidence: float = 0.0
 
     def step(self, record: StepRecord) -> None:
         if record.decision is not None:
@@ -116,6 +117,7 @@ class GradedFactoredFilter:
             wanted = self.weights[items, items] * likelihood[:K]  # (K, P)
             evidence = np.append(wanted.sum(axis=1), likelihood[K].mean())
             weighted = self.alpha * evidence
+            self.log_evidence += float(np.log(weighted.sum())) if weighted.sum() > 0 else float("-inf")
             if weighted.sum() > 0:
                 self.weights = self.weights.copy()
                 self.weights[items, items] = wanted / np.where(
@@ -151,5 +153,6 @@ class GradedFactoredFilter:
             false_belief=np.zeros(K),
             hypotheses=(weights, own),
             desire=self.owner.desires.summarise(self.alpha),
+            log_evidence=self.log_evidence,
         )
         return reread(est, truth, self.owner.settings.false_belief_mass)

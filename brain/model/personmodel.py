@@ -143,12 +143,16 @@ class ExactFilter:
 
     owner: ExactModel
     posterior: FloatArray
+    log_evidence: float = 0.0
 
     def step(self, record: StepRecord) -> None:
+        if record.likelihood is not None:
+            self.log_evidence += _log(float((self.posterior * record.likelihood).sum()))
         self.posterior = forward_step(self.posterior, self.owner.hmm_step(record))
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        return estimate(self.owner.model, self.posterior, truth, self.owner.desires)
+        est = estimate(self.owner.model, self.posterior, truth, self.owner.desires)
+        return dataclasses.replace(est, log_evidence=self.log_evidence)
 
 
 class FactoredModel:
@@ -186,15 +190,23 @@ class FactoredFilter:
 
     owner: FactoredModel
     posterior: FactoredPosterior
+    log_evidence: float = 0.0
 
     def step(self, record: StepRecord) -> None:
+        if record.likelihood is not None:
+            K = self.owner.model.n_items
+            items = np.arange(K)
+            wanted = (self.posterior.beliefs[items, items, :] * record.likelihood[:K]).sum(axis=1)
+            evidence = np.append(wanted, record.likelihood[K].mean())
+            self.log_evidence += _log(float(self.posterior.alpha @ evidence))
         self.posterior = factored_step(
             self.posterior, self.owner.transition(record), record.likelihood, record.switch
         )
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
         est = factored_estimate(self.owner.model, self.posterior, truth)
-        return dataclasses.replace(est, desire=self.owner.desires.summarise(self.posterior.alpha))
+        desire = self.owner.desires.summarise(self.posterior.alpha)
+        return dataclasses.replace(est, desire=desire, log_evidence=self.log_evidence)
 
 
 class GradedModel:
@@ -297,6 +309,11 @@ class GradedModel:
         return reread(graded, truth, self.settings.false_belief_mass)
 
 
+def _log(evidence: float) -> float:
+    """The log of a step's evidence (``-inf`` never: the likelihood's floor keeps it positive)."""
+    return float(np.log(evidence)) if evidence > 0 else float("-inf")
+
+
 def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
     """``(G, U)`` posterior after a step: the decision's likelihood, then the preference switch."""
     if likelihood is not None:
@@ -315,14 +332,18 @@ class GradedFilter:
     """``(G, W)``."""
     posterior: FloatArray
     """``(G, U)``."""
+    log_evidence: float = 0.0
 
     def step(self, record: StepRecord) -> None:
         likelihood = self.owner.decision_likelihood(self.beliefs, record)
+        if likelihood is not None:
+            self.log_evidence += _log(float((self.posterior * likelihood).sum()))
         self.posterior = _filter_step(self.posterior, likelihood, record.switch)
         self.beliefs = self.owner.revise(self.beliefs, record)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        return self.owner.read(self.beliefs, self.posterior, truth)
+        est = self.owner.read(self.beliefs, self.posterior, truth)
+        return dataclasses.replace(est, log_evidence=self.log_evidence)
 
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:

@@ -6,7 +6,9 @@ one ``belief`` row per item and location (``value`` = the location id), then one
 row per item (``value`` empty): the probability that the person's belief gives the item's
 true location at that tick less than ``ModelSettings.false_belief_mass``, then the ``desire``
 rows (:func:`_desire_rows`: expected utilities, pairwise preferences, the most probable
-ranking) and the ``world`` rows (:func:`_world_rows`). ``label`` is the
+ranking), the ``world`` rows (:func:`_world_rows`) and one ``log_evidence`` row: the
+marginal log-likelihood of the person's decisions up to that tick (``p_online``; natural
+log, not a probability) and over the whole run (``p_smoothed``). ``label`` is the
 scenario step the person completed at that tick, else empty. Between a person's steps the
 last estimate is carried forward (false beliefs are read against each tick's truth).
 """
@@ -100,6 +102,8 @@ def mind_rows(tracker: MindTracker) -> list[MindRow]:
             rows += _false_belief_rows(tracker, tick, label, person, online, smooth)
             rows += _desire_rows(tracker, tick, label, person, online, smooth)
             rows += _world_rows(tracker, tick, label, person, online, smooth)
+            total = track.estimates[-1].log_evidence
+            rows.append(MindRow(tick, label, person, "log_evidence", "", "", online.log_evidence, total))
     return rows
 
 

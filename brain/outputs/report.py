@@ -185,6 +185,17 @@ def truth_note(truth: GroundTruth | None) -> str:
     )
 
 
+def evidence_note(rows: list[MindRow]) -> str:
+    """Each person's log-evidence: the marginal log-likelihood of their decisions under the
+    model (comparable across models and settings on the same run)."""
+    totals = {r.agent: r.p_smoothed for r in rows if r.quantity == "log_evidence"}
+    if not totals:
+        return ""
+    lines = ["", "## Log-evidence", "", "| person | log P(decisions) |", "| --- | --- |"]
+    lines += [f"| {agent} | {total:.2f} |" for agent, total in totals.items()]
+    return "\n".join(lines) + "\n"
+
+
 def write_report(
     rows: list[MindRow],
     scenario: str,
@@ -204,5 +215,5 @@ def write_report(
         return
     belief_figure(rows, agent, truth, out / "beliefs.png")
     preference_figure(rows, agent, truth, out / "preferences.png")
-    text = report_markdown(rows, scenario, agent, observer) + truth_note(truth) + note
+    text = report_markdown(rows, scenario, agent, observer) + evidence_note(rows) + truth_note(truth) + note
     (out / "report.md").write_text(text, encoding="utf-8")

@@ -208,6 +208,12 @@ class MindTracker:
             return None
         return reread(track.estimates[-1], self.truth, self.settings.false_belief_mass)
 
+    def log_evidence(self, person: str) -> float:
+        """The marginal log-likelihood of ``person``'s decisions so far under the model (0
+        before any decision; :attr:`Estimate.log_evidence` of each step gives the running sum)."""
+        track = self.tracks[person]
+        return track.estimates[-1].log_evidence if track.estimates else 0.0
+
     def smoothed(self, person: str) -> list[Estimate]:
         """Smoothed estimates after each of ``person``'s steps (the online ones when the
         factored model is used: it only filters)."""

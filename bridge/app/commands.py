@@ -184,17 +184,30 @@ def _conform(args: argparse.Namespace) -> int:
 
 
 def _infer(args: argparse.Namespace) -> int:
-    trace = args.trace
+    """``toyroom infer``: a recording through a fresh brain, with the settings recorded with
+    it (an MCAP file's metadata, or the ``settings.toml`` beside a ``trace.jsonl``) unless
+    ``--settings`` names others; ``--set`` applies on top of either."""
+    trace, recorded = args.trace, None
     if trace.suffix == ".mcap":
-        from ..recording.mcap import mcap_to_trace
+        from ..recording.mcap import mcap_to_trace, recorded_settings
 
         args.out.mkdir(parents=True, exist_ok=True)
         converted = args.out / "trace.jsonl"
         mcap_to_trace(trace, converted)
+        text = recorded_settings(trace)
+        if text is not None:
+            recorded = args.out / "recorded-settings.toml"
+            recorded.write_text(text, encoding="utf-8")
         trace = converted
+    elif (trace.parent / "settings.toml").is_file():
+        recorded = trace.parent / "settings.toml"
+    settings = args.settings
+    if settings is None and recorded is not None:
+        print(f"toyroom infer: using the settings recorded with the run ({recorded})", flush=True)
+        settings = recorded
     argv = ["infer", str(trace), "--out", str(args.out), "--observer", args.observer]
     argv += ["--log-level", args.log_level] if args.log_level else []
-    argv += settings_argv(args.settings, args.overrides)
+    argv += settings_argv(settings, args.overrides)
     return exec_node("brain", argv, prog="toyroom infer")
 
 

@@ -125,7 +125,12 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
                 report_failure("engine", engine.returncode, engine_log)
                 return engine.returncode or 1
             view = MindView(f"toyroom run: {config.scenario} (world {world})", config.live)
-            mcap = McapRecorder(bridge, config.record, info=info) if config.record else nullcontext()
+            settings_file = config.out / "settings.toml"
+            mcap = (
+                McapRecorder(bridge, config.record, info=info, settings=lambda: _read(settings_file))
+                if config.record
+                else nullcontext()
+            )
             with TraceRecorder(bridge, config.out / "trace.jsonl", info=info), mcap, view:
                 bridge.subscribe(bridge.keys.mind, view.on_mind, expected=Mind)
                 brain_args = [
@@ -163,3 +168,11 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
         for process in (brain, engine, viewer):
             if process is not None:
                 stop_node(process)
+
+
+def _read(path: Path) -> str | None:
+    """A file's text, or ``None`` when it is not there (yet)."""
+    try:
+        return path.read_text(encoding="utf-8")
+    except OSError:
+        return None

@@ -14,12 +14,12 @@ from __future__ import annotations
 import json
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
 
-from mcap.records import Channel, Schema
+from mcap.records import Channel, Metadata, Schema
 from mcap.records import Message as McapMessage
 from mcap.stream_reader import StreamReader
 from mcap.writer import Writer
@@ -31,15 +31,24 @@ from ..bridge import Bridge
 from .trace import Recorder, trace_line
 
 FLUSH_SECONDS = 0.5
+SETTINGS_METADATA = "toyroom.settings"
+"""The MCAP metadata record that holds the brain's ``settings.toml`` (key ``toml``)."""
 
 
 class McapRecorder(Recorder):
     """Writes every message of a world to an MCAP file (see the module docstring)."""
 
     def __init__(
-        self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
+        self,
+        bridge: Bridge,
+        path: Path,
+        *,
+        info: EngineInfo | None = None,
+        timeout: float = 30.0,
+        settings: Callable[[], str | None] | None = None,
     ) -> None:
         self.path = path
+        self._settings = settings
         self._file: IO[bytes] = path.open("wb")
         self._writer = Writer(self._file, use_chunking=False)
         self._writer.start(profile="", library="toyroom")
@@ -83,6 +92,9 @@ class McapRecorder(Recorder):
 
     def _finish(self) -> None:
         self._stop.set()
+        text = self._settings() if self._settings is not None else None
+        if text:  # the brain's settings, so that ``toyroom infer`` on the file reproduces its run
+            self._writer.add_metadata(SETTINGS_METADATA, {"toml": text})
         self._writer.finish()
         self._file.close()
 
@@ -127,3 +139,16 @@ def mcap_to_trace(source: Path, target: Path) -> int:
             out.write(trace_line(recorded.key, message) + "\n")
             count += 1
     return count
+
+
+def recorded_settings(path: Path) -> str | None:
+    """The brain settings (TOML text) recorded in an MCAP file, if any."""
+    with path.open("rb") as handle:
+        reader = StreamReader(handle, skip_magic=False, emit_chunks=False, validate_crcs=False)
+        try:
+            for record in reader.records:
+                if isinstance(record, Metadata) and record.name == SETTINGS_METADATA:
+                    return record.metadata.get("toml")
+        except Exception:  # a file cut off mid-record: no settings were written  # noqa: BLE001
+            return None
+    return None

@@ -113,3 +113,6 @@ def test_food_trucks_over_zenoh(tmp_path: Path, engine: str) -> None:
     assert any(r["quantity"] == "desire" for r in mind.rows), "no desire rows"
     assert any(r["quantity"] == "world" for r in mind.rows), "no world rows"
     assert "use" in (out / "events.csv").read_text()
+    evidence = [float(r["p_smoothed"]) for r in mind.rows if r["quantity"] == "log_evidence"]
+    assert evidence and evidence[0] < 0.0, "no log-evidence of the student's decisions"
+    assert "## Log-evidence" in (out / "report.md").read_text()

@@ -74,3 +74,29 @@ def test_infer_takes_settings_and_writes_them(tmp_path: Path) -> None:
     assert 'belief_model = "point"' in (tmp_path / "graded" / "settings.toml").read_text()
     graded, point = (run / "mind.csv").read_text(), (tmp_path / "graded" / "mind.csv").read_text()
     assert point != graded, "the graded model inferred exactly what the point model did"
+
+
+def test_infer_on_a_recording_reproduces_its_run(tmp_path: Path) -> None:
+    """The brain's settings travel with the recording (MCAP metadata; the settings.toml
+    beside trace.jsonl), so ``toyroom infer`` gives the run's mind.csv without being told."""
+    import subprocess
+    import sys
+
+    from support import toyroom_run
+
+    mcap = tmp_path / "run.mcap"
+    run = toyroom_run(tmp_path / "run", "sally-anne", "--no-live", "--set", "beta=3", "--record", str(mcap))
+    for source, name in ((mcap, "from-mcap"), (run / "trace.jsonl", "from-trace")):
+        result = subprocess.run(
+            [sys.executable, "-m", "bridge", "infer", str(source), "--out", str(tmp_path / name)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert result.returncode == 0, result.stderr
+        assert "using the settings recorded with the run" in result.stdout, result.stdout
+        used = (tmp_path / name / "settings.toml").read_text()
+        assert "beta = 3.0" in used, f"{name}: settings.toml says\n{used}"
+        assert (tmp_path / name / "mind.csv").read_text() == (run / "mind.csv").read_text(), (
+            f"{name}: infer did not reproduce the run's mind.csv"
+        )

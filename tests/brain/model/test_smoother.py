@@ -142,3 +142,33 @@ def test_graded_smoothing_equals_enumeration() -> None:
             f"step {t}: preference {est.preference}, enumeration {want[t].sum(axis=0)}"
         )
         assert np.allclose(est.hypotheses[0], want[t].sum(axis=1), atol=1e-9), f"step {t}: hypothesis weights"
+
+
+@pytest.mark.parametrize("belief_model", ["point", "graded"])
+def test_log_evidence_is_the_unnormalised_forward_pass(belief_model: str) -> None:
+    """``log_evidence`` (the sum of the filter's log normalisers) equals the log of the total
+    mass of the forward pass run without normalising: log P(all decisions)."""
+    tracker = tiny_trace(ModelSettings(belief_model=belief_model, hazard=0.3))
+    records = tracker.tracks["p"].steps
+    person = tracker.person_model
+    alpha = person.prior()
+    if isinstance(person, ExactModel):
+        for record in records:
+            step = person.hmm_step(record)
+            weighted = alpha if step.likelihood is None else alpha * step.likelihood
+            alpha = step.transition @ weighted
+            if step.switch > 0:
+                alpha = alpha @ hazard_matrix(alpha.shape[1], step.switch)
+    else:
+        assert isinstance(person, GradedModel)
+        beliefs = person.initial.copy()
+        for record in records:
+            likelihood = person.decision_likelihood(beliefs, record)
+            alpha = alpha if likelihood is None else alpha * likelihood
+            if record.switch > 0:
+                alpha = alpha @ hazard_matrix(alpha.shape[1], record.switch)
+            beliefs = person.revise(beliefs, record)
+    want = float(np.log(alpha.sum()))
+    got = tracker.log_evidence("p")
+    assert got == pytest.approx(want, abs=1e-9), f"log evidence {got}, unnormalised forward pass {want}"
+    assert got < 0.0
