@@ -25,17 +25,23 @@ from pathlib import Path
 
 from protocol import Observer
 
-from .metrics import Counts, Outcome
+from .intervals import intervals
+from .metrics import Counts, Outcome, majority_counts
 from .report import report
-from .runs import RunResult, RunSpec, run_once
+from .runs import MOTION, RunResult, RunSpec, run_once
 
 log = logging.getLogger("toyroom.eval")
 
-OBSERVERS = Observer.names()
+BRAIN_OBSERVERS = Observer.names()
+OBSERVERS = (*BRAIN_OBSERVERS, MOTION)
+"""Every observer scored: the brain's three, and the motion heuristic."""
 BTOM = Observer.BTOM.value
 RUN_ATTEMPTS = 3
 """How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
 MAPS = ("paper", "house-a", "house-b")
+MAJORITY = "majority"
+"""A majority-class baseline scored on the same ticks: always the most common true preference
+(of the episodes scored: it is fitted on them), never a false belief, no belief."""
 
 
 def map_of(index: int) -> str:
@@ -75,7 +81,7 @@ def episode_runs(scenario: Path, brain_args: tuple[str, ...] = ()) -> list[RunSp
     """Two runs: the robot observing (BToM live, the baselines as shadows of the same ticks:
     an observing robot changes nothing, so one run serves every observer), then acting."""
     return [
-        RunSpec(scenario, OBSERVERS[0], "observe", shadows=OBSERVERS[1:], brain_args=brain_args),
+        RunSpec(scenario, BRAIN_OBSERVERS[0], "observe", shadows=BRAIN_OBSERVERS[1:], brain_args=brain_args),
         RunSpec(scenario, BTOM, "act", brain_args=brain_args),
     ]
 
@@ -144,12 +150,16 @@ def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]
     failed = [e for e in episodes if "error" in e]
     episodes = [e for e in episodes if "error" not in e]
     totals = {observer: Counts() for observer in OBSERVERS}
+    per_episode: dict[str, list[Counts]] = {observer: [] for observer in (*OBSERVERS, MAJORITY)}
     with_robot = Outcome()
     without = Outcome()
     waits: dict[str, list[int]] = {"robot": [], BTOM: []}
     for episode in episodes:
         for observer in OBSERVERS:
-            totals[observer].add(Counts(**episode[observer]["counts"]))  # type: ignore[index]
+            counts = Counts(**episode[observer]["counts"])  # type: ignore[index]
+            totals[observer].add(counts)
+            per_episode[observer].append(counts)
+
         for outcome, key in ((with_robot, "robot"), (without, BTOM)):
             run = episode[key]
             assert isinstance(run, dict)
@@ -158,12 +168,18 @@ def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]
                 outcome.successes += bool(ok)
             for tick in run.get("ticks_to_goal", {}).values():  # never reached: the episode's length
                 waits[key].append(tick if tick is not None else run["episode_ticks"])
+    goal = max(totals[BTOM].pref_truth, key=lambda g: (totals[BTOM].pref_truth[g], g), default="")
+    per_episode[MAJORITY] = [majority_counts(c, goal) for c in per_episode[BTOM]]
+    bounds, differences = intervals(per_episode, seed)
     return {
         "episodes": len(episodes),
         "seed": seed,
         "episodes_failed": len(failed),
         "failed_runs_retried": sum(_count(e.get("failed_runs")) for e in episodes),
-        "observers": {observer: totals[observer].metrics() for observer in OBSERVERS},
+        "observers": {observer: totals[observer].metrics() for observer in OBSERVERS}
+        | {MAJORITY: totals[BTOM].majority().metrics()},
+        "intervals": bounds,
+        "paired_differences": differences,
         "robot": {"with": with_robot.rate, "without": without.rate},
         "ticks_to_goal": {
             "with": statistics.fmean(waits["robot"]) if waits["robot"] else None,

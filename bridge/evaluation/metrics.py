@@ -6,8 +6,12 @@ Per tick, person and item, from the brain's online ``mind`` and the engine's ``t
   the item's location, averaged;
 - ``preference_accuracy``: the most probable inferred preference equals the true one,
   over ticks after the person first took an item;
-- false beliefs: the brain's flag against the truth that the person's most probable
-  location for the item is wrong, as precision, recall and F1 (pooled over everything).
+- false beliefs: the brain's flag against the truth that the person's true belief gives
+  the item's true location less than :data:`FALSE_BELIEF_MASS` (a belief spread over
+  places that include the truth is ignorance, not a false belief; no tie is broken by the
+  order of locations), as precision, recall and F1 (pooled over everything);
+- the true preferences seen, so that a majority-class observer (always the most common
+  preference, never a false belief) can be scored from the same counts.
 """
 
 from __future__ import annotations
@@ -15,6 +19,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from protocol import Mind, Truth
+
+FALSE_BELIEF_MASS = 0.1
+"""A person has a false belief about an item when their true belief gives its true location
+less than this (the brain's default ``false_belief_mass``)."""
 
 
 @dataclass
@@ -29,19 +37,29 @@ class Counts:
     fp: int = 0
     fn: int = 0
     tn: int = 0
+    pref_truth: dict[str, int] = field(default_factory=dict)
+    """How often each preference was the true one, over the ticks ``pref_n`` counts."""
 
     def add(self, other: Counts) -> None:
         for name in ("tv_sum", "tv_n", "pref_hits", "pref_n", "tp", "fp", "fn", "tn"):
             setattr(self, name, getattr(self, name) + getattr(other, name))
+        for goal, n in other.pref_truth.items():
+            self.pref_truth[goal] = self.pref_truth.get(goal, 0) + n
+
+    def majority(self) -> Counts:
+        """:func:`majority_counts` with the most common true preference of these counts."""
+        goal = max(self.pref_truth, key=lambda g: (self.pref_truth[g], g), default="")
+        return majority_counts(self, goal)
 
     def metrics(self) -> dict[str, float | None]:
         precision = self.tp / (self.tp + self.fp) if self.tp + self.fp else None
         recall = self.tp / (self.tp + self.fn) if self.tp + self.fn else None
-        f1 = (
-            2 * precision * recall / (precision + recall)
-            if precision is not None and recall is not None and precision + recall > 0
-            else (0.0 if precision is not None and recall is not None else None)
-        )
+        if recall is not None and self.tp == 0:
+            f1: float | None = 0.0  # false beliefs happened and none was caught (or flagged)
+        elif precision is not None and recall is not None:
+            f1 = 2 * precision * recall / (precision + recall)
+        else:
+            f1 = None
         return {
             "belief_tv": self.tv_sum / self.tv_n if self.tv_n else None,
             "preference_accuracy": self.pref_hits / self.pref_n if self.pref_n else None,
@@ -49,6 +67,13 @@ class Counts:
             "false_belief_recall": recall,
             "false_belief_f1": f1,
         }
+
+
+def majority_counts(counts: Counts, goal: str) -> Counts:
+    """The counts of a majority-class observer on the ticks of ``counts``: always ``goal``
+    (the most common true preference), never a false belief, no belief (``belief_tv``: none)."""
+    positives, negatives = counts.tp + counts.fn, counts.fp + counts.tn
+    return Counts(pref_hits=counts.pref_truth.get(goal, 0), pref_n=counts.pref_n, fn=positives, tn=negatives)
 
 
 def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: set[str]) -> Counts:
@@ -75,9 +100,7 @@ def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: se
             )
             counts.tv_n += 1
             where = true_location.get(belief.item)
-            actual = (
-                where is not None and max(true, key=lambda loc: (true[loc], -list(true).index(loc))) != where
-            )
+            actual = where is not None and true.get(where, 0.0) < FALSE_BELIEF_MASS
             flagged = belief.item in est.false_beliefs
             counts.tp += actual and flagged
             counts.fp += (not actual) and flagged
@@ -87,6 +110,7 @@ def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: se
             best = max(est.preference, key=lambda p: p.p).id
             counts.pref_n += 1
             counts.pref_hits += best == person.preference
+            counts.pref_truth[person.preference] = counts.pref_truth.get(person.preference, 0) + 1
     return counts
 
 

@@ -21,10 +21,32 @@ def _cell(value: object) -> str:
     return "-" if value is None else f"{value:.3f}"
 
 
+def _with_interval(value: object, interval: Mapping[str, Any] | None) -> str:
+    if interval is None or interval.get("lo") is None:
+        return _cell(value)
+    return f"{_cell(value)} [{interval['lo']:.3f}, {interval['hi']:.3f}]"
+
+
 def _table(metrics: Mapping[str, Any]) -> list[str]:
     lines = ["| observer | " + " | ".join(METRICS) + " |", "|---" * (len(METRICS) + 1) + "|"]
+    bounds = metrics.get("intervals", {})
     for observer, values in metrics["observers"].items():
-        lines.append(f"| {observer} | " + " | ".join(_cell(values[n]) for n in METRICS) + " |")
+        cells = [_with_interval(values[n], bounds.get(observer, {}).get(n)) for n in METRICS]
+        lines.append(f"| {observer} | " + " | ".join(cells) + " |")
+    differences = metrics.get("paired_differences")
+    if differences:
+        names = list(next(iter(differences.values())))
+        lines += [
+            "",
+            "btom minus each other observer, paired by episode (bootstrap 95% intervals; an "
+            "interval that excludes 0 is a difference):",
+            "",
+            "| observer | " + " | ".join(names) + " |",
+            "|---" * (len(names) + 1) + "|",
+        ]
+        for observer, by_metric in differences.items():
+            cells = [_with_interval(by_metric[n]["mean"], by_metric[n]) for n in names]
+            lines.append(f"| {observer} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -66,7 +88,10 @@ def report(
     lines = [
         f"# Evaluation: {metrics['episodes']} episodes, seed {metrics['seed']}",
         "",
-        "Online estimates against the simulated people's true minds (lower `belief_tv` is better).",
+        "Online estimates against the simulated people's true minds (lower `belief_tv` is better; "
+        "a false belief: the person's true belief gives the item's true location less than 0.1). "
+        "In brackets: bootstrap 95% intervals over episodes. `majority`: always the most common "
+        "true preference of these episodes (so fitted on them), never a false belief.",
         "",
         *_table(metrics),
     ]

@@ -12,7 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from protocol import Event, EventKind, Mind, Truth, decode
+from protocol import Event, EventKind, Mind, State, Truth, decode
 
 from ..bridge import Bridge
 from ..processes import (
@@ -25,8 +25,12 @@ from ..processes import (
 )
 from ..pubsub import Received
 from ..session import SessionSettings
+from .heuristic import MotionHeuristic
 from .metrics import Counts, Outcome, score_tick
 from .outcome import judge
+
+MOTION = "motion"
+"""The motion-heuristic observer's name (:mod:`bridge.evaluation.heuristic`)."""
 
 
 @dataclass(frozen=True)
@@ -56,6 +60,7 @@ class RunRecord:
 
     minds: dict[int, Mind] = field(default_factory=dict)
     truths: dict[int, Truth] = field(default_factory=dict)
+    states: dict[int, State] = field(default_factory=dict)
     took: dict[int, set[str]] = field(default_factory=dict)
     """Tick -> the people who took an item then."""
     playing: dict[str, str | None] = field(default_factory=dict)
@@ -71,6 +76,10 @@ class RunRecord:
     def on_truth(self, truth: Truth, _: Received) -> None:
         with self.lock:
             self.truths[truth.tick] = truth
+
+    def on_state(self, state: State, _: Received) -> None:
+        with self.lock:
+            self.states[state.tick] = state
 
     def on_event(self, event: Event, _: Received) -> None:
         """Who took what, who plays with what, who is where."""
@@ -132,6 +141,8 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
                 raise RuntimeError(f"{tag}: the engine failed")
             bridge.subscribe(bridge.keys.mind, record.on_mind, expected=Mind)
             bridge.subscribe(bridge.keys.truth, record.on_truth, expected=Truth)
+            if spec.robot == "observe":  # the motion heuristic reads where people walk
+                bridge.subscribe(bridge.keys.state, record.on_state, expected=State)
             bridge.subscribe(bridge.keys.events, record.on_event, expected=Event)
             brain = start_node(brain_command(spec, world, settings, shadow_dir), brain_log)
             if brain.wait(timeout=1800) != 0:
@@ -150,6 +161,14 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
         last = record.truths[max(record.truths)]
         outcome = judge(info.scene, last, record.playing, record.regions, record.reached)
     results = {spec.observer: _score(record.minds, record.truths, record.took, outcome)}
+    if spec.robot == "observe":
+        heuristic = MotionHeuristic(info.scene)
+        guessed = {
+            tick: heuristic.mind(record.states[tick], record.truths[tick])
+            for tick in sorted(record.states)
+            if tick in record.truths
+        }
+        results[MOTION] = _score(guessed, record.truths, record.took, outcome)
     for observer in spec.shadows:
         lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
         shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}

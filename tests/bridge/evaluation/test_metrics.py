@@ -69,3 +69,41 @@ def test_no_flags_at_all_has_no_precision() -> None:
     counts = score_tick(mind(1, 1.0, False, "marble"), truth(1, 1.0, "marble"), {"marble": "box"}, set())
     m = counts.metrics()
     assert m["false_belief_precision"] is None and m["false_belief_recall"] == 0.0
+    assert m["false_belief_f1"] == 0.0, "a false belief happened and was missed: F1 is 0, not undefined"
+
+
+def test_ignorance_is_not_a_false_belief() -> None:
+    """Sally unsure between basket and box (half each) with the marble in the box: ignorance,
+    not a false belief; with less than 0.1 on the box, a false belief."""
+    unsure = score_tick(mind(1, 0.5, False, "marble"), truth(1, 0.5, "marble"), {"marble": "box"}, set())
+    assert (unsure.tp, unsure.fp, unsure.fn, unsure.tn) == (0, 0, 0, 1)
+    sure = score_tick(mind(1, 0.95, True, "marble"), truth(1, 0.95, "marble"), {"marble": "box"}, set())
+    assert (sure.tp, sure.fp, sure.fn, sure.tn) == (1, 0, 0, 0)
+
+
+def test_the_majority_class_observer() -> None:
+    """Always the most common true preference, never a false belief."""
+    total = Counts()
+    for tick, prefers in enumerate(("marble", "marble", "out"), start=1):
+        total.add(
+            score_tick(mind(tick, 0.8, True, "out"), truth(tick, 1.0, prefers), {"marble": "box"}, {"sally"})
+        )
+    majority = total.majority().metrics()
+    assert majority["preference_accuracy"] == pytest.approx(2 / 3)
+    assert majority["false_belief_recall"] == 0.0 and majority["false_belief_f1"] == 0.0
+    assert majority["belief_tv"] is None
+
+
+def test_paired_bootstrap_intervals() -> None:
+    from bridge.evaluation.intervals import intervals
+
+    good = [Counts(tp=9, fn=1, tn=10, tv_sum=1.0, tv_n=10) for _ in range(20)]
+    bad = [Counts(tp=2, fp=3, fn=8, tn=7, tv_sum=4.0, tv_n=10) for _ in range(20)]
+    bounds, differences = intervals({"btom": good, "other": bad}, seed=1, resamples=200)
+    f1 = bounds["btom"]["false_belief_f1"]
+    assert f1["lo"] <= f1["mean"] <= f1["hi"] and f1["mean"] == pytest.approx(2 * 0.9 * 1.0 / 1.9)
+    diff = differences["other"]["false_belief_f1"]
+    assert diff["lo"] > 0, f"btom should beat the other observer on every resample: {diff}"
+    assert differences["other"]["belief_tv"]["hi"] < 0, "btom's belief_tv is lower"
+    again, _ = intervals({"btom": good, "other": bad}, seed=1, resamples=200)
+    assert again == bounds, "the same seed should give the same intervals"

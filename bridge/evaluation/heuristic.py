@@ -1,0 +1,98 @@
+"""A motion-heuristic observer (Baker et al. 2017's baseline): no theory of mind, only
+where each person is heading. Their goal is the item location (or the outside) whose
+walking distance fell most over the last ``window`` ticks; they want the item truly there
+(``out`` when heading outside; the last goal while standing still); their beliefs are the
+truth (a point at each item's true location), so no false belief is ever flagged.
+
+Built as ``mind`` messages from the states and the truth, so the evaluation scores it like
+every other observer. Pure functions.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Mapping
+
+from protocol import AgentKind, AgentMind, ItemBelief, Mind, Prob, RegionKind, Scene, State, Truth
+from protocol.carry import location_distances
+from protocol.geometry import NEIGHBOURS, GridCell
+
+OUT = "out"
+WINDOW = 5
+"""Ticks over which a person's approach to each goal is measured."""
+
+
+def goal_distances(scene: Scene) -> dict[str, dict[GridCell, int]]:
+    """Walking distance from every cell to each location and (as ``out``) to the outside."""
+    distances = location_distances(scene)
+    walkable = scene.walkable()
+    outside = [(c.col, c.row) for r in scene.regions if r.kind is RegionKind.OUTSIDE for c in r.cells]
+    seen = dict.fromkeys(outside, 0)
+    queue = deque(outside)
+    while queue:
+        cell = queue.popleft()
+        for dc, dr in NEIGHBOURS:
+            nxt = (cell[0] + dc, cell[1] + dr)
+            if nxt in walkable and nxt not in seen:
+                seen[nxt] = seen[cell] + 1
+                queue.append(nxt)
+    if outside:
+        distances[OUT] = seen
+    return distances
+
+
+def heading(distances: Mapping[str, Mapping[GridCell, int]], before: GridCell, now: GridCell) -> str | None:
+    """The goal whose distance fell most from ``before`` to ``now`` (ties: the nearer), or
+    ``None`` when none fell."""
+    best: tuple[int, int, str] | None = None
+    for goal, d in distances.items():
+        if before in d and now in d and d[now] < d[before]:
+            key = (d[before] - d[now], -d[now], goal)
+            best = key if best is None or key > best else best
+    return best[2] if best is not None else None
+
+
+class MotionHeuristic:
+    """Follows the states of one run and writes a ``mind`` per tick."""
+
+    def __init__(self, scene: Scene, window: int = WINDOW) -> None:
+        self.scene = scene
+        self.distances = goal_distances(scene)
+        self.items = [i.id for i in scene.items]
+        self.locations = [loc.id for loc in scene.locations]
+        self.people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
+        self.trail: dict[str, deque[GridCell]] = {p: deque(maxlen=window + 1) for p in self.people}
+        self.goal: dict[str, str | None] = dict.fromkeys(self.people)
+
+    def mind(self, state: State, truth: Truth) -> Mind:
+        """The heuristic's estimates at ``state``'s tick (the truth gives each item's place)."""
+        where = {place.item: place.location for place in truth.items}
+        cells = {a.id: (a.cell.col, a.cell.row) for a in state.agents}
+        agents = []
+        for person in self.people:
+            if person not in cells:
+                continue
+            trail = self.trail[person]
+            trail.append(cells[person])
+            goal = heading(self.distances, trail[0], trail[-1]) or self.goal[person]
+            self.goal[person] = goal
+            wanted = OUT if goal == OUT else next((i for i in self.items if where.get(i) == goal), None)
+            agents.append(
+                AgentMind(
+                    agent=person,
+                    beliefs=tuple(
+                        ItemBelief(
+                            item,
+                            tuple(
+                                Prob(loc, 1.0 if where.get(item) == loc else 0.0) for loc in self.locations
+                            ),
+                        )
+                        for item in self.items
+                    ),
+                    preference=tuple(
+                        Prob(g, (1.0 if g == wanted else 0.0) if wanted else 1.0 / (len(self.items) + 1))
+                        for g in (*self.items, OUT)
+                    ),
+                )
+            )
+        return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents))

@@ -1,0 +1,32 @@
+"""The motion heuristic on the tiny corridor: the goal is where a person heads."""
+
+from __future__ import annotations
+
+from bridge.evaluation.heuristic import MotionHeuristic, goal_distances, heading
+from protocol import ItemPlace, Truth
+from tests.scenes import tiny_scene, tiny_state
+
+
+def truth(tick: int) -> Truth:
+    return Truth(episode=1, tick=tick, agents=(), items=(ItemPlace(item="ball", location="A"),))
+
+
+def test_heading_is_the_goal_that_got_nearer() -> None:
+    distances = goal_distances(tiny_scene())
+    assert heading(distances, (3, 0), (1, 0)) == "A", "walking left approaches A"
+    assert heading(distances, (1, 0), (3, 0)) == "out", "walking right approaches the outside most"
+    assert heading(distances, (2, 0), (2, 0)) is None, "standing still approaches nothing"
+
+
+def test_the_heuristic_wants_what_lies_ahead_and_believes_the_truth() -> None:
+    heuristic = MotionHeuristic(tiny_scene())
+    minds = [
+        heuristic.mind(tiny_state(t, cell, "A"), truth(t)) for t, cell in enumerate([(3, 0), (2, 0), (1, 0)])
+    ]
+    last = minds[-1].agents[0]
+    assert {p.id: p.p for p in last.preference} == {"ball": 1.0, "out": 0.0}, last.preference
+    assert {p.id: p.p for p in last.beliefs[0].locations} == {"A": 1.0, "B": 0.0}
+    assert last.false_beliefs == ()
+    for t, cell in enumerate([(1, 0), (2, 0), (3, 0), (4, 0)], start=3):
+        turned = heuristic.mind(tiny_state(t, cell, "A"), truth(t)).agents[0]
+    assert {p.id: p.p for p in turned.preference}["out"] == 1.0, "turning back towards the outside"
