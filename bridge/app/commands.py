@@ -225,6 +225,7 @@ def _replay(args: argparse.Namespace) -> int:
             stop=stop,
             until_tick=args.until_tick,
             wait_subscribers=args.wait_subscribers,
+            resend_minds=args.hold,
         )
         print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'", flush=True)
         if args.hold:

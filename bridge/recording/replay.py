@@ -32,10 +32,14 @@ def replay(
     stop: threading.Event | None = None,
     until_tick: int | None = None,
     wait_subscribers: float = 0.0,
+    resend_minds: bool = False,
 ) -> int:
     """Republish ``path`` into ``bridge``'s world (up to tick ``until_tick``, when given);
     return the number of messages sent. With ``wait_subscribers``, first wait up to that many
-    seconds for someone to subscribe to the world's state."""
+    seconds for someone to subscribe to the world's state. With ``resend_minds`` (a replay
+    that then holds still for a viewer), the last ``brain/mind`` is sent once more half a
+    second after the end: as fast as possible, a slow subscriber may have had the last ones
+    dropped, and the mind is what a viewer draws over the scene."""
     records = list(read_mcap(path))
     info = None
     for record in records:
@@ -58,6 +62,7 @@ def replay(
             time.sleep(0.05)
         time.sleep(0.2)  # let every other subscription of the newcomer arrive too
     sent = 0
+    last_mind: tuple[object, bytes] | None = None
     first = records[0].log_time if records else 0
     started = time.monotonic()
     prefix = Keys(bridge.world).prefix
@@ -80,6 +85,11 @@ def replay(
             publisher = publishers[key] = bridge.session.declare_publisher(key, encoding=_JSON)
         publisher.put(record.data)  # type: ignore[attr-defined]
         sent += 1
+        if key.endswith("/brain/mind"):
+            last_mind = (publisher, record.data)
+    if resend_minds and last_mind is not None and not (stop is not None and stop.is_set()):
+        time.sleep(0.5)
+        last_mind[0].put(last_mind[1])  # type: ignore[attr-defined]
     return sent
 
 
