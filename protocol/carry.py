@@ -9,28 +9,31 @@ has one answer while someone carries it.
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Collection, Iterable
 
 from .geometry import NEIGHBOURS, GridCell
 from .scene import Scene
 
 
+def walking_distances(walkable: Collection[GridCell], starts: Iterable[GridCell]) -> dict[GridCell, int]:
+    """Walking distance, in cells, from the nearest of ``starts`` to every walkable cell it
+    reaches (a breadth-first search from all of them at once)."""
+    seen = dict.fromkeys(starts, 0)
+    queue = deque(seen)
+    while queue:
+        cell = queue.popleft()
+        for dc, dr in NEIGHBOURS:
+            nxt = (cell[0] + dc, cell[1] + dr)
+            if nxt in walkable and nxt not in seen:
+                seen[nxt] = seen[cell] + 1
+                queue.append(nxt)
+    return seen
+
+
 def location_distances(scene: Scene) -> dict[str, dict[GridCell, int]]:
     """Walking distance, in cells, from each location to every walkable cell it reaches."""
     walkable = scene.walkable()
-    distance: dict[str, dict[GridCell, int]] = {}
-    for loc in scene.locations:
-        start = (loc.cell.col, loc.cell.row)
-        seen = {start: 0}
-        queue = deque([start])
-        while queue:
-            cell = queue.popleft()
-            for dc, dr in NEIGHBOURS:
-                nxt = (cell[0] + dc, cell[1] + dr)
-                if nxt in walkable and nxt not in seen:
-                    seen[nxt] = seen[cell] + 1
-                    queue.append(nxt)
-        distance[loc.id] = seen
-    return distance
+    return {loc.id: walking_distances(walkable, [(loc.cell.col, loc.cell.row)]) for loc in scene.locations}
 
 
 def carry_locations(scene: Scene) -> dict[GridCell, str]:

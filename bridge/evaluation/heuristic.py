@@ -14,8 +14,8 @@ from collections import deque
 from collections.abc import Mapping
 
 from protocol import AgentKind, AgentMind, ItemBelief, Mind, Prob, RegionKind, Scene, State, Truth
-from protocol.carry import location_distances
-from protocol.geometry import NEIGHBOURS, GridCell
+from protocol.carry import location_distances, walking_distances
+from protocol.geometry import GridCell
 
 OUT = "out"
 WINDOW = 5
@@ -25,19 +25,9 @@ WINDOW = 5
 def goal_distances(scene: Scene) -> dict[str, dict[GridCell, int]]:
     """Walking distance from every cell to each location and (as ``out``) to the outside."""
     distances = location_distances(scene)
-    walkable = scene.walkable()
     outside = [(c.col, c.row) for r in scene.regions if r.kind is RegionKind.OUTSIDE for c in r.cells]
-    seen = dict.fromkeys(outside, 0)
-    queue = deque(outside)
-    while queue:
-        cell = queue.popleft()
-        for dc, dr in NEIGHBOURS:
-            nxt = (cell[0] + dc, cell[1] + dr)
-            if nxt in walkable and nxt not in seen:
-                seen[nxt] = seen[cell] + 1
-                queue.append(nxt)
     if outside:
-        distances[OUT] = seen
+        distances[OUT] = walking_distances(scene.walkable(), outside)
     return distances
 
 
