@@ -87,16 +87,23 @@ def qmdp_likelihood(
             preference and world (``-inf``: impossible in that world).
         action: the action taken.
     """
-    D, W, A = q.shape
+    values = expected_q(beliefs, q.transpose(1, 0, 2))  # (G, U, A)
+    return choice_likelihood(values, action, beta, epsilon)
+
+
+def expected_q(beliefs: FloatArray, q: FloatArray) -> FloatArray:
+    """``(N, ..., A)`` QMDP's expected Q-values of ``(N, W)`` beliefs over ``(W, ..., A)``
+    Q-values: an action impossible in a world counts what Stay does there, and an action
+    impossible in every believed world is ``-inf``. One ``(N, W) @ (W, M)`` matrix product
+    each (BLAS), not an einsum over four indices."""
+    W = q.shape[0]
     feasible = np.isfinite(q)
-    stay = q[:, :, Move.STAY]
-    substitute = np.where(np.isfinite(stay), stay, 0.0)[:, :, None]
-    values = np.where(feasible, q, substitute)
-    # (G, W) @ (W, D A): one matrix product each (BLAS), not an einsum over four indices
-    expected = (beliefs @ values.transpose(1, 0, 2).reshape(W, D * A)).reshape(-1, D, A)
-    mass = beliefs @ feasible.transpose(1, 0, 2).reshape(W, D * A).astype(np.float64)
-    possible = mass.reshape(-1, D, A) > 1e-12
-    return choice_likelihood(np.where(possible, expected, -np.inf), action, beta, epsilon)
+    stay = q[..., Move.STAY]
+    values = np.where(feasible, q, np.where(np.isfinite(stay), stay, 0.0)[..., None])
+    shape = (len(beliefs), *q.shape[1:])
+    expected = (beliefs @ values.reshape(W, -1)).reshape(shape)
+    possible = (beliefs @ feasible.reshape(W, -1).astype(np.float64)).reshape(shape) > 1e-12
+    return np.where(possible, expected, -np.inf)
 
 
 def choice_likelihood(q: FloatArray, action: int, beta: float, epsilon: float) -> FloatArray:

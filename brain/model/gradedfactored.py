@@ -30,9 +30,8 @@ from .belief import Percept
 from .desires import Desires, favourite_utilities
 from .estimates import Estimate, reread
 from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy
-from .graded import choice_likelihood, simplex_grid
+from .graded import choice_likelihood, expected_q, simplex_grid
 from .inference import hazard_matrix
-from .planner import Move
 
 if TYPE_CHECKING:
     from .personmodel import StepRecord
@@ -79,14 +78,8 @@ class GradedFactoredModel:
             if d == K:
                 out[d] = choice_likelihood(q[0], action, self.settings.beta, self.settings.epsilon)
                 continue
-            feasible = np.isfinite(q)
-            stay = np.where(np.isfinite(q[:, Move.STAY]), q[:, Move.STAY], 0.0)[:, None]
-            b = beliefs[d]  # (P, V)
-            expected = b @ np.where(feasible, q, stay)
-            possible = b @ feasible.astype(np.float64) > 1e-12
-            out[d] = choice_likelihood(
-                np.where(possible, expected, -np.inf), action, self.settings.beta, self.settings.epsilon
-            )
+            values = expected_q(beliefs[d], q)  # (P, A) under each hypothesis's belief about d
+            out[d] = choice_likelihood(values, action, self.settings.beta, self.settings.epsilon)
         return out
 
     def revise(self, beliefs: FloatArray, truth: tuple[int, ...], percept: Percept) -> FloatArray:
