@@ -47,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def generate_parser() -> argparse.ArgumentParser:
     """``python -m sim2d generate``'s options."""
-    from .generate import ITEM_SHAPES, MAPS
+    from .generate import ITEM_SHAPES, MAPS, MINDS
 
     parser = command_parser(
         "python -m sim2d generate",
@@ -60,6 +60,13 @@ def generate_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--seed", type=int, default=0, help="the episode's seed (items, people, their minds)")
     parser.add_argument("--max-ticks", type=int, default=1500, help="the episode ends after this many ticks")
+    parser.add_argument(
+        "--minds",
+        choices=MINDS,
+        default="simple",
+        help="simple: people perceive exactly and keep to themselves; rich: they forget, overlook, "
+        "gossip and wander (drawn from the seed)",
+    )
     parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
     add_log_level(parser, "WARNING")
     return parser
@@ -74,11 +81,13 @@ def generate_main(argv: Sequence[str]) -> int:
     args = parser.parse_args(argv)
     if args.rooms is not None:
         try:
-            print(write_house_episode(args.out, args.rooms, args.items, args.seed, args.max_ticks))
+            print(
+                write_house_episode(args.out, args.rooms, args.items, args.seed, args.max_ticks, args.minds)
+            )
         except ValueError as err:
             parser.error(str(err))
     else:
-        print(write_episode(args.out, args.map, args.seed, args.max_ticks))
+        print(write_episode(args.out, args.map, args.seed, args.max_ticks, args.minds))
     return 0
 
 

@@ -17,6 +17,13 @@ carries on with their current plan or makes a new one:
 Their preference may change with a small probability per tick. They answer the robot: an
 ``inform`` replaces their belief about that item; a swap request is accepted when the item
 offered is worth more to them than the one they hold.
+
+Rich minds (:class:`~sim2d.scenario.Autonomy`) are less tidy than the brain's model of them:
+they forget (``forget``), overlook items in view (``miss``: drawn once when an item comes
+into view at a place, kept while it stays there), tell each other things (``hearsay``,
+:mod:`sim2d.hearsay`), look first where it is near (``search = "nearest"``), wander off
+(``wander``) and change their minds on the way (``replan``). With every knob at its default
+a person behaves exactly as the simple one does, draw for draw.
 """
 
 from __future__ import annotations
@@ -61,6 +68,8 @@ class AutonomousPerson:
         self.current: Primitive | None = None
         self.left = 0
         self.started = False
+        self.attention: dict[str, tuple[str, bool]] = {}
+        """Item in view -> (where it is seen, whether the person noticed it there)."""
 
     @property
     def finished(self) -> bool:
@@ -84,12 +93,39 @@ class AutonomousPerson:
     # ----- the tick ---------------------------------------------------------------------
 
     def perceive(self, world: World) -> None:
-        """Update the true belief on what the person sees now (idempotent)."""
+        """Update the true belief on what the person sees now (idempotent within a tick)."""
         visible, seen = world.percept(self.id)
-        self.belief.perceive(visible, seen)
+        self.belief.perceive(visible, seen, self._missed(world, seen))
+
+    def _missed(self, world: World, seen: dict[str, str]) -> set[str]:
+        """The items in view the person has not noticed (``Autonomy.miss``; their own is
+        always noticed). Drawn once per item and place it is seen at."""
+        if self.autonomy.miss <= 0:
+            return set()
+        own = world.agents[self.id].holding
+        attention = {}
+        for item, where in seen.items():
+            before = self.attention.get(item)
+            if item == own:
+                attention[item] = (where, True)
+            elif before is not None and before[0] == where:
+                attention[item] = before
+            else:
+                attention[item] = (where, bool(self.rng.random() >= self.autonomy.miss))
+        self.attention = attention
+        return {item for item, (_, noticed) in attention.items() if not noticed}
 
     def update(self, world: World) -> None:
+        self.belief.forget(self.autonomy.forget)
         self.perceive(world)
+        if (
+            self.autonomy.replan > 0
+            and self.current is not None
+            and self.current.do == "goto"
+            and self.rng.random() < self.autonomy.replan
+        ):
+            self.current = None
+            self.plan.clear()
         if self.rng.random() < self.autonomy.switch:
             self.preference = str(self.rng.choice([o for o in self.options if o != self.preference]))
             if self.current is not None and self.current.do in ("play", "wait"):
@@ -202,12 +238,31 @@ class AutonomousPerson:
         if item.holder is not None and world.item_location(want) in visible:
             self.plan.append(Primitive("wait", ticks=self._ticks(self.autonomy.wait_ticks)))  # occupied: wait
             return
-        believed = self.belief.most_likely(want)
+        believed = self._where_to_look(world, want)
         if believed is None:
             self.plan.append(Primitive("wait", ticks=self._ticks(self.autonomy.wait_ticks)))
             return
         loc = world.locations[believed]
+        if self.autonomy.wander > 0 and self.rng.random() < self.autonomy.wander:
+            cells = sorted(world.region_of)
+            self.plan.append(Primitive("goto", cell=cells[int(self.rng.integers(len(cells)))]))
         self.plan.extend([Primitive("goto", cell=(loc.cell.col, loc.cell.row)), Primitive("take", item=want)])
+
+    def _where_to_look(self, world: World, item: str) -> str | None:
+        """The place to look for ``item`` first (``Autonomy.search``)."""
+        if self.autonomy.search == "likely":
+            return self.belief.most_likely(item)
+        row = self.belief.of(item)
+        if row.max() <= 0:
+            return None
+        col, rowx = world.agents[self.id].cell
+        candidates = [loc for loc, p in zip(self.belief.locations, row, strict=True) if p >= 0.5 * row.max()]
+        return min(
+            candidates,
+            key=lambda loc: (
+                abs(world.locations[loc].cell.col - col) + abs(world.locations[loc].cell.row - rowx)
+            ),
+        )
 
     def _outside_regions(self, world: World) -> set[str]:
         return {r.id for r in world.map.regions if r.kind.value == "outside"}

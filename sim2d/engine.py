@@ -27,6 +27,7 @@ from protocol import (
 )
 
 from .autonomous import AutonomousPerson
+from .hearsay import exchange
 from .maps import agent_spec
 from .people import Person, ScriptedPerson
 from .robot import RobotBody
@@ -80,6 +81,8 @@ class Engine:
                 self.people[setup.id] = ScriptedPerson(setup)
         acts = (self.robot_override or scenario.robot) == "act"
         self.robots = {r.id: RobotBody(r.id, acts, scenario.name) for r in scenario.robots}
+        self.gossip = np.random.default_rng([seed, len(scenario.people)])
+        """Draws of hearsay (:mod:`sim2d.hearsay`), apart from every person's own."""
         self.settled = 0
         self.done = False
 
@@ -141,6 +144,8 @@ class Engine:
         world.events = []
         for person in self.people.values():
             person.update(world)
+        autonomous = [p for p in self.people.values() if isinstance(p, AutonomousPerson)]
+        exchange(autonomous, world, self.gossip, self.scenario.autonomy.hearsay)
         for robot in self.robots.values():
             robot.update(world, self.people)
         world.physics.step()

@@ -155,10 +155,42 @@ def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
     return "\n".join(lines + _visibility_lines(rng, rooms, doors))
 
 
-def episode(name: str, map_ref: str, map_path: Path, items: int, seed: int, *, max_ticks: int = 1500) -> str:
+MINDS = ("simple", "rich")
+"""Kinds of simulated minds: ``simple`` people perceive exactly, remember, keep to themselves
+and go where they believe their item most likely is (what the brain's percept filter
+assumes); ``rich`` ones get the knobs :func:`rich_autonomy` draws."""
+
+
+def rich_autonomy(seed: int) -> list[str]:
+    """The ``[autonomy]`` lines of a rich mind, drawn from ``seed`` (apart from every other
+    draw of the episode, so a rich episode has the same items, homes and habits as the
+    simple one of its seed)."""
+    rng = np.random.default_rng([seed, 1])
+    return [
+        f"forget = {rng.uniform(0.0002, 0.001):.5f}",
+        f"miss = {rng.uniform(0.1, 0.4):.3f}",
+        f"hearsay = {rng.uniform(0.01, 0.05):.4f}",
+        f'search = "{("likely", "nearest")[int(rng.integers(2))]}"',
+        f"wander = {rng.uniform(0.0, 0.15):.3f}",
+        f"replan = {rng.uniform(0.0, 0.02):.4f}",
+    ]
+
+
+def episode(
+    name: str,
+    map_ref: str,
+    map_path: Path,
+    items: int,
+    seed: int,
+    *,
+    max_ticks: int = 1500,
+    minds: str = "simple",
+) -> str:
     """The TOML text of a random episode on the map at ``map_path``, which the file names as
     ``map_ref`` (a bundled map's name, or a file name beside the episode: no absolute paths,
-    so a folder of episodes can be moved or shared)."""
+    so a folder of episodes can be moved or shared); ``minds``: one of :data:`MINDS`."""
+    if minds not in MINDS:
+        raise ValueError(f"minds must be one of {', '.join(MINDS)}, not {minds!r}")
     rng = np.random.default_rng(seed)
     game_map = load_map(str(map_path))
     spots = [loc.id for loc in game_map.locations]
@@ -183,6 +215,7 @@ def episode(name: str, map_ref: str, map_path: Path, items: int, seed: int, *, m
         f"put_away = {rng.uniform(0.3, 0.8):.3f}",
         "play_ticks = [60, 200]",
         "wait_ticks = [20, 60]",
+        *(rich_autonomy(seed) if minds == "rich" else []),
         "",
     ]
     if not 1 <= items <= len(ITEM_SHAPES):
@@ -236,7 +269,9 @@ def map_of(episode: str) -> str:
     return episode[len(PREFIX) :].rsplit("-s", 1)[0]
 
 
-def write_house_episode(directory: Path, rooms: int, items: int, seed: int, max_ticks: int = 1500) -> Path:
+def write_house_episode(
+    directory: Path, rooms: int, items: int, seed: int, max_ticks: int = 1500, minds: str = "simple"
+) -> Path:
     """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
     ``items`` items on it (the scaling family of ``toyroom bench``); return its path."""
     if rooms < 2:
@@ -247,11 +282,13 @@ def write_house_episode(directory: Path, rooms: int, items: int, seed: int, max_
     map_path.write_text(house_map(map_name, rooms, rooms, seed))
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
-    path.write_text(episode(name, map_path.name, map_path, items, seed, max_ticks=max_ticks))
+    path.write_text(episode(name, map_path.name, map_path, items, seed, max_ticks=max_ticks, minds=minds))
     return path
 
 
-def write_episode(directory: Path, map_name: str, seed: int, max_ticks: int = 1500) -> Path:
+def write_episode(
+    directory: Path, map_name: str, seed: int, max_ticks: int = 1500, minds: str = "simple"
+) -> Path:
     """Write a random episode (and its generated map) into ``directory``; return its path."""
     directory.mkdir(parents=True, exist_ok=True)
     spec = MAPS[map_name]
@@ -264,5 +301,5 @@ def write_episode(directory: Path, map_name: str, seed: int, max_ticks: int = 15
             map_path.write_text(house_map(map_name, *spec))
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
-    path.write_text(episode(name, map_ref, map_path, ITEMS[map_name], seed, max_ticks=max_ticks))
+    path.write_text(episode(name, map_ref, map_path, ITEMS[map_name], seed, max_ticks=max_ticks, minds=minds))
     return path

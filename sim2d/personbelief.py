@@ -6,6 +6,10 @@ Perception is exact: an item in view is where it is seen (a carried item counts 
 carrier's location, as the brain reads it); an item not in view is not at any visible
 location, so the probability there moves to the locations out of view, in proportion to
 what they had. Speech replaces the belief about the item it names.
+
+Rich minds (``Autonomy.forget``, ``Autonomy.miss``) add two imperfections: an item the person
+failed to notice is left out of the percept (its belief stays as it was), and beliefs drift
+toward uniform over the locations, which perception then corrects for what is in view.
 """
 
 from __future__ import annotations
@@ -26,10 +30,15 @@ class PersonBelief:
         self.locations = list(locations)
         self.p = np.full((len(items), len(locations)), 1.0 / max(len(locations), 1))
 
-    def perceive(self, visible: Collection[str], seen: Mapping[str, str]) -> None:
-        """Update on a percept: ``visible`` location ids, and where each item in view is."""
+    def perceive(
+        self, visible: Collection[str], seen: Mapping[str, str], missed: Collection[str] = ()
+    ) -> None:
+        """Update on a percept: ``visible`` location ids, and where each item in view is;
+        the beliefs about items in ``missed`` (in view, not noticed) are left alone."""
         mask = np.array([loc in visible for loc in self.locations])
         for k, item in enumerate(self.items):
+            if item in missed:
+                continue
             if item in seen:
                 self.p[k] = 0.0
                 self.p[k, self.locations.index(seen[item])] = 1.0
@@ -40,6 +49,12 @@ class PersonBelief:
                 self.p[k] = row / total
             elif (~mask).any():  # it was believed in view but is gone: anywhere out of view
                 self.p[k] = np.where(mask, 0.0, 1.0) / (~mask).sum()
+
+    def forget(self, rate: float) -> None:
+        """Every belief drifts toward uniform: ``p <- (1 - rate) p + rate / L`` (what is in
+        view is put right by the next :meth:`perceive`)."""
+        if rate > 0 and self.locations:
+            self.p = (1.0 - rate) * self.p + rate / len(self.locations)
 
     def told(self, item: str, location: str) -> None:
         """Being told where ``item`` is replaces the belief about it."""

@@ -62,6 +62,35 @@ class Autonomy:
     """Chance of putting an item away (and wanting something else) after playing with it."""
     play_ticks: tuple[int, int] = (60, 200)
     wait_ticks: tuple[int, int] = (20, 60)
+    forget: float = 0.0
+    """Rate per tick at which the belief about an item out of view drifts toward uniform
+    over the locations: ``p <- (1 - forget) p + forget / L``."""
+    miss: float = 0.0
+    """Chance that an item coming into view (at a location, not carried by the person) goes
+    unnoticed for as long as it stays in view there: its belief is left as it was."""
+    hearsay: float = 0.0
+    """Chance per tick, for two autonomous people in one region, that one tells the other
+    where they believe an item is (one they disagree on), unheard by the robot."""
+    search: str = "likely"
+    """Where a person looks for what they want: ``likely`` (the most probable place; ties:
+    the first) or ``nearest`` (the nearest place at least half as probable as the best)."""
+    wander: float = 0.0
+    """Chance, when setting off for what they want, of first walking to a random cell."""
+    replan: float = 0.0
+    """Chance per tick of dropping a walk under way and deciding again."""
+
+    def __post_init__(self) -> None:
+        rates = {name: getattr(self, name) for name in RATES}
+        bad = [f"{name} = {value}" for name, value in rates.items() if not 0.0 <= value <= 1.0]
+        if bad:
+            raise ValueError(f"probabilities must be in [0, 1]: {', '.join(bad)}")
+        if self.search not in SEARCH_ORDERS:
+            raise ValueError(f"search must be one of {', '.join(SEARCH_ORDERS)}, not {self.search!r}")
+
+
+RATES = ("switch", "mischief", "put_away", "forget", "miss", "hearsay", "wander", "replan")
+"""The probabilities of :class:`Autonomy`."""
+SEARCH_ORDERS = ("likely", "nearest")
 
 
 @dataclass(frozen=True)
@@ -282,11 +311,14 @@ def _tick_range(value: Any, default: tuple[int, int]) -> tuple[int, int]:
 def _autonomy(data: dict[str, Any], path: Path) -> Autonomy:
     """How autonomous people behave (``[autonomy]``)."""
     table = data.get("autonomy", {})
+    known = {*RATES, "play_ticks", "wait_ticks", "search"}
+    unknown = sorted(set(table) - known)
+    if unknown:
+        raise ScenarioError(path, "autonomy", f"unknown settings {unknown} (known: {sorted(known)})")
     try:
         return Autonomy(
-            switch=float(table.get("switch", Autonomy.switch)),
-            mischief=float(table.get("mischief", Autonomy.mischief)),
-            put_away=float(table.get("put_away", Autonomy.put_away)),
+            **{name: float(table[name]) for name in RATES if name in table},
+            search=str(table.get("search", Autonomy.search)),
             play_ticks=_tick_range(table.get("play_ticks"), Autonomy.play_ticks),
             wait_ticks=_tick_range(table.get("wait_ticks"), Autonomy.wait_ticks),
         )

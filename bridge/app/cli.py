@@ -158,6 +158,19 @@ def _eval_command(command: Command) -> None:
     evaluation.add_argument(
         "--out", type=Path, default=Path("out/eval"), help="directory for metrics and report"
     )
+    evaluation.add_argument(
+        "--perception",
+        default="omniscient",
+        help="omniscient (the robot sees every item) or embodied (only from its own cell); "
+        "comma-separated for several conditions",
+    )
+    evaluation.add_argument(
+        "--minds",
+        default="simple",
+        help="simple (people perceive exactly) or rich (they forget, overlook, gossip, wander); "
+        "comma-separated for several conditions",
+    )
+    evaluation.add_argument("--kind", default="everyday", help="everyday (random episodes)")
     add_settings_args(evaluation)
 
 

@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 import sys
 import threading
 from collections.abc import Sequence
 from pathlib import Path
 
+from ..evaluation.conditions import Condition
 from ..flags import PROG_ENV, settings_argv
 from ..processes import stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
@@ -46,7 +48,14 @@ def router_main(listen: Sequence[str], config_file: Path | None) -> int:
 
 
 def eval_main(
-    episodes: int, seed: int, workers: int, backend: str, out: Path, brain_args: Sequence[str] = ()
+    episodes: int,
+    seed: int,
+    workers: int,
+    backend: str,
+    out: Path,
+    brain_args: Sequence[str] = (),
+    conditions: Sequence[Condition] = (),
+    command: str = "",
 ) -> int:
     """Run the evaluation with a progress bar and print the metrics."""
     from rich.console import Console
@@ -56,16 +65,20 @@ def eval_main(
     from ..evaluation.episodes import evaluate
     from ..evaluation.report import report
 
+    chosen = tuple(conditions) or (Condition(),)
     with Progress() as bar:
-        task = bar.add_task(f"{episodes} episodes", total=episodes)
+        total = episodes * len(chosen)
+        task = bar.add_task(f"{episodes} episodes x {len(chosen)} condition(s)", total=total)
         metrics = evaluate(
             episodes,
             seed,
             out,
+            conditions=chosen,
             workers=workers,
             backend=backend,
             progress=lambda n: bar.advance(task, n),
             brain_args=tuple(brain_args),
+            command=command,
         )
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
@@ -175,8 +188,16 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _eval(args: argparse.Namespace) -> int:
+    from ..evaluation.conditions import conditions
+
     brain = settings_argv(args.settings, args.overrides)
-    return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out, brain)
+    try:
+        chosen = conditions(args.perception.split(","), args.minds.split(","), args.kind.split(","))
+    except ValueError as err:
+        print(f"toyroom eval: {err}", file=sys.stderr)
+        return 2
+    command = shlex.join(["toyroom", *sys.argv[1:]])
+    return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out, brain, chosen, command)
 
 
 def _conform(args: argparse.Namespace) -> int:

@@ -13,20 +13,22 @@ and without the robot. Episodes run ``workers`` at a time, locally or as Ray tas
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import logging
-import statistics
 import subprocess
 import sys
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from protocol import Observer
 
-from .intervals import intervals
-from .metrics import Counts, Outcome, majority_counts
+from .aggregate import aggregate
+from .conditions import Condition
 from .report import report
 from .runs import MOTION, RunResult, RunSpec, run_once
 
@@ -39,9 +41,18 @@ BTOM = Observer.BTOM.value
 RUN_ATTEMPTS = 3
 """How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
 MAPS = ("paper", "house-a", "house-b")
-MAJORITY = "majority"
-"""A majority-class baseline scored on the same ticks: always the most common true preference
-(of the episodes scored: it is fitted on them), never a false belief, no belief."""
+
+
+@dataclass(frozen=True)
+class EpisodeJob:
+    """Episode ``index`` of a sweep with ``seed`` under ``condition`` (plain data, so a Ray
+    task can take it), its files under ``workdir``."""
+
+    index: int
+    seed: int
+    workdir: str
+    condition: Condition = Condition()
+    brain_args: tuple[str, ...] = ()
 
 
 def map_of(index: int) -> str:
@@ -49,8 +60,9 @@ def map_of(index: int) -> str:
     return MAPS[index % len(MAPS)]
 
 
-def generate(directory: Path, index: int, seed: int) -> Path:
-    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)."""
+def generate(directory: Path, index: int, seed: int, minds: str = "simple") -> Path:
+    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
+    with simulated people of ``minds``."""
     map_name = map_of(index)
     result = subprocess.run(
         [
@@ -64,6 +76,8 @@ def generate(directory: Path, index: int, seed: int) -> Path:
             str(seed * 1000 + index),
             "--max-ticks",
             "1000",
+            "--minds",
+            minds,
             "--out",
             str(directory),
         ],
@@ -86,29 +100,29 @@ def episode_runs(scenario: Path, brain_args: tuple[str, ...] = ()) -> list[RunSp
     ]
 
 
-def run_episode(index: int, seed: int, workdir: str, brain_args: tuple[str, ...] = ()) -> dict[str, object]:
+def run_episode(job: EpisodeJob) -> dict[str, Any]:
     """Everything about one episode, as plain data (so a Ray task can return it); an
     episode whose runs kept failing comes back with its ``error`` and no scores."""
     try:
-        return _episode(index, seed, workdir, brain_args)
+        return _episode(job)
     except Exception as err:
-        log.error("episode %d failed: %s", index, err)
+        log.error("episode %d failed: %s", job.index, err)
         return {
-            "index": index,
-            "map": map_of(index),
-            "scenario": f"episode-{index}",
+            "index": job.index,
+            "map": map_of(job.index),
+            "scenario": f"episode-{job.index}",
             "error": f"{type(err).__name__}: {err}",
         }
 
 
-def _episode(index: int, seed: int, workdir: str, brain_args: tuple[str, ...]) -> dict[str, object]:
-    directory = Path(workdir)
-    scenario = generate(directory / "scenarios", index, seed)
+def _episode(job: EpisodeJob) -> dict[str, Any]:
+    directory = Path(job.workdir) / job.condition.name
+    scenario = generate(directory / "scenarios", job.index, job.seed, job.condition.minds)
     logs = directory / "logs"
     logs.mkdir(parents=True, exist_ok=True)
-    out: dict[str, object] = {"index": index, "map": map_of(index), "scenario": scenario.stem}
+    out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
     failures: list[str] = []
-    for spec in episode_runs(scenario, brain_args):
+    for spec in episode_runs(scenario, (*job.condition.brain_args(), *job.brain_args)):
         for observer, result in _run_with_retries(spec, logs, failures).items():
             key = observer if spec.robot == "observe" else "robot"
             out[key] = {
@@ -117,6 +131,7 @@ def _episode(index: int, seed: int, workdir: str, brain_args: tuple[str, ...]) -
                 "ticks_to_goal": result.outcome.ticks_to_goal,
                 "episode_ticks": result.outcome.ticks,
                 "ticks": result.ticks,
+                "help": {p: dataclasses.asdict(h) for p, h in result.help.items()},
             }
     out["failed_runs"] = failures
     return out
@@ -140,89 +155,74 @@ def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[st
     raise AssertionError("unreachable")
 
 
-def _count(value: object) -> int:
-    return len(value) if isinstance(value, list) else 0
-
-
-def aggregate(episodes: list[dict[str, object]], seed: int) -> dict[str, object]:
-    """``metrics.json``'s content from every episode's results (failed episodes are
-    counted in ``episodes_failed`` and left out of the scores)."""
-    failed = [e for e in episodes if "error" in e]
-    episodes = [e for e in episodes if "error" not in e]
-    totals = {observer: Counts() for observer in OBSERVERS}
-    per_episode: dict[str, list[Counts]] = {observer: [] for observer in (*OBSERVERS, MAJORITY)}
-    with_robot = Outcome()
-    without = Outcome()
-    waits: dict[str, list[int]] = {"robot": [], BTOM: []}
-    for episode in episodes:
-        for observer in OBSERVERS:
-            counts = Counts(**episode[observer]["counts"])  # type: ignore[index]
-            totals[observer].add(counts)
-            per_episode[observer].append(counts)
-
-        for outcome, key in ((with_robot, "robot"), (without, BTOM)):
-            run = episode[key]
-            assert isinstance(run, dict)
-            for ok in run["outcome"].values():
-                outcome.people += 1
-                outcome.successes += bool(ok)
-            for tick in run.get("ticks_to_goal", {}).values():  # never reached: the episode's length
-                waits[key].append(tick if tick is not None else run["episode_ticks"])
-    goal = max(totals[BTOM].pref_truth, key=lambda g: (totals[BTOM].pref_truth[g], g), default="")
-    per_episode[MAJORITY] = [majority_counts(c, goal) for c in per_episode[BTOM]]
-    bounds, differences = intervals(per_episode, seed)
-    return {
-        "episodes": len(episodes),
-        "seed": seed,
-        "episodes_failed": len(failed),
-        "failed_runs_retried": sum(_count(e.get("failed_runs")) for e in episodes),
-        "observers": {observer: totals[observer].metrics() for observer in OBSERVERS}
-        | {MAJORITY: totals[BTOM].majority().metrics()},
-        "intervals": bounds,
-        "paired_differences": differences,
-        "robot": {"with": with_robot.rate, "without": without.rate},
-        "ticks_to_goal": {
-            "with": statistics.fmean(waits["robot"]) if waits["robot"] else None,
-            "without": statistics.fmean(waits[BTOM]) if waits[BTOM] else None,
-        },
-    }
-
-
 def evaluate(
     episodes: int,
     seed: int,
     out: Path,
     *,
+    conditions: Sequence[Condition] = (Condition(),),
     workers: int = 2,
     backend: str = "local",
     progress: Callable[[int], None] | None = None,
     brain_args: tuple[str, ...] = (),
-) -> dict[str, object]:
-    """Run every episode and write ``metrics.json`` and ``report.md`` into ``out``
-    (``brain_args``: more options for every brain, e.g. ``--set belief_model=graded``)."""
+    command: str = "",
+) -> dict[str, Any]:
+    """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
+    and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
+    ``--set belief_model=point``; ``command``: the command line, for the report)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
-    results: list[dict[str, object]]
+    jobs = [EpisodeJob(i, seed, workdir, c, brain_args) for c in conditions for i in range(episodes)]
+    results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
+    measured = []
+    for condition, chunk in zip(conditions, _chunks(results, episodes), strict=True):
+        chunk.sort(key=lambda r: int(r["index"]))
+        summary = {**dataclasses.asdict(condition), "name": condition.name}
+        summary |= aggregate(chunk, seed, OBSERVERS)
+        summary["by_map"] = {m: aggregate([r for r in chunk if r["map"] == m], seed, OBSERVERS) for m in MAPS}
+        measured.append(summary)
+    metrics = {
+        "episodes": episodes,
+        "seed": seed,
+        "brain_args": list(brain_args),
+        "command": command,
+        "conditions": measured,
+    }
+    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
+    (out / "episodes.json").write_text(
+        json.dumps(
+            {c.name: chunk for c, chunk in zip(conditions, _chunks(results, episodes), strict=True)}, indent=1
+        )
+        + "\n"
+    )
+    (out / "report.md").write_text(report(metrics, out))
+    return metrics
+
+
+def _chunks(results: list[dict[str, Any]], size: int) -> list[list[dict[str, Any]]]:
+    return [results[i : i + size] for i in range(0, len(results), size)]
+
+
+def _run_jobs(
+    jobs: list[EpisodeJob],
+    workers: int,
+    backend: str,
+    progress: Callable[[int], None] | None,
+    partial: Path,
+) -> list[dict[str, Any]]:
+    """Every job's result, in the order of ``jobs`` (each kept in ``partial`` as it comes
+    back, locally)."""
     if backend == "ray":
         from .raybackend import run_with_ray
 
-        results = run_with_ray(run_episode, episodes, seed, workdir, workers, progress, brain_args)
-    else:
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(run_episode, i, seed, workdir, brain_args) for i in range(episodes)]
-            results = []
-            with (out / "episodes.jsonl").open("w") as partial:  # kept as they finish
-                for future in as_completed(futures):
-                    results.append(future.result())
-                    partial.write(json.dumps(results[-1]) + "\n")
-                    partial.flush()
-                    if progress is not None:
-                        progress(1)
-    results.sort(key=lambda r: int(r["index"]))  # type: ignore[call-overload]
-    metrics = aggregate(results, seed)
-    metrics["brain_args"] = list(brain_args)
-    by_map = {name: aggregate([r for r in results if r["map"] == name], seed) for name in MAPS}
-    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
-    (out / "episodes.json").write_text(json.dumps(results, indent=1) + "\n")
-    (out / "report.md").write_text(report(metrics, by_map, out))
-    return metrics
+        return run_with_ray(run_episode, jobs, workers, progress)
+    results: dict[int, dict[str, Any]] = {}
+    with ThreadPoolExecutor(max_workers=workers) as pool, partial.open("w") as kept:
+        futures = {pool.submit(run_episode, job): n for n, job in enumerate(jobs)}
+        for future in as_completed(futures):
+            results[futures[future]] = future.result()
+            kept.write(json.dumps(results[futures[future]]) + "\n")
+            kept.flush()
+            if progress is not None:
+                progress(1)
+    return [results[n] for n in range(len(jobs))]

@@ -67,3 +67,35 @@ def intervals(
             paired = [_minus(x[m], y[m]) for x, y in zip(draws[model], draws[other], strict=True)]
             differences[other][m] = _interval(_minus(points[model][m], points[other][m]), paired)
     return out, differences
+
+
+def pooled_means(
+    per_episode: Mapping[str, Sequence[tuple[float, int]]], seed: int, resamples: int = RESAMPLES
+) -> tuple[dict[str, dict[str, float | None]], dict[str, dict[str, float | None]]]:
+    """``(intervals, differences)`` of pooled means: per name, each episode's ``(sum, count)``
+    (e.g. ticks to goal summed over its people, and how many), the mean ``sum / count`` over
+    all episodes with a bootstrap 95% interval, and the first name's mean minus each other's,
+    paired by episode (the same resamples)."""
+    names = list(per_episode)
+    n = len(per_episode[names[0]]) if names else 0
+    if n == 0:
+        return {}, {}
+    arrays = {name: np.array(per_episode[name], dtype=np.float64).reshape(n, 2) for name in names}
+    rng = np.random.default_rng(seed)
+    picks = rng.integers(0, n, size=(resamples, n))
+
+    def mean(values: np.ndarray) -> float | None:
+        return float(values[:, 0].sum() / values[:, 1].sum()) if values[:, 1].sum() > 0 else None
+
+    points = {name: mean(arrays[name]) for name in names}
+    draws = {name: [mean(arrays[name][p]) for p in picks] for name in names}
+    out = {name: _interval(points[name], draws[name]) for name in names}
+    first = names[0]
+    differences = {
+        other: _interval(
+            _minus(points[first], points[other]),
+            [_minus(a, b) for a, b in zip(draws[first], draws[other], strict=True)],
+        )
+        for other in names[1:]
+    }
+    return out, differences

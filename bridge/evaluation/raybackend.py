@@ -5,20 +5,19 @@ usage statistics off; on a cluster, set ``RAY_ADDRESS``."""
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
+
+J = TypeVar("J")
 
 
 def run_with_ray(
-    fn: Callable[[int, int, str, tuple[str, ...]], dict[str, Any]],
-    episodes: int,
-    seed: int,
-    workdir: str,
+    fn: Callable[[J], dict[str, Any]],
+    jobs: Sequence[J],
     workers: int,
     progress: Callable[[int], None] | None = None,
-    brain_args: tuple[str, ...] = (),
 ) -> list[dict[str, Any]]:
-    """``fn(index, seed, workdir, brain_args)`` for every episode index, as Ray tasks."""
+    """``fn(job)`` for every job, as Ray tasks; the results in the order of ``jobs``."""
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
     import ray
 
@@ -35,14 +34,13 @@ def run_with_ray(
             )
     try:
         task = ray.remote(num_cpus=1)(fn)
-        pending = [task.remote(index, seed, workdir, brain_args) for index in range(episodes)]
-        results: list[dict[str, Any]] = []
+        refs = [task.remote(job) for job in jobs]
+        pending = list(refs)
         while pending:
             done, pending = ray.wait(pending, num_returns=1)
-            results.extend(ray.get(done))
             if progress is not None:
                 progress(len(done))
-        return results
+        return list(ray.get(refs))
     finally:
         if started_here:
             ray.shutdown()

@@ -25,6 +25,7 @@ from ..processes import (
 )
 from ..pubsub import Received
 from ..session import SessionSettings
+from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
 from .metrics import Counts, Outcome, score_tick
 from .outcome import judge
@@ -52,6 +53,8 @@ class RunResult:
     counts: Counts = field(default_factory=Counts)
     outcome: Outcome = field(default_factory=Outcome)
     ticks: int = 0
+    help: dict[str, PersonHelp] = field(default_factory=dict)
+    """Per person, how much the robot helped (:mod:`bridge.evaluation.helpfulness`)."""
 
 
 @dataclass
@@ -67,6 +70,7 @@ class RunRecord:
     regions: dict[str, str] = field(default_factory=dict)
     reached: list[tuple[int, str, str]] = field(default_factory=list)
     """(tick, person, item played with or region entered), in order: when goals were met."""
+    events: list[Event] = field(default_factory=list)
     lock: threading.Lock = field(default_factory=threading.Lock)
 
     def on_mind(self, mind: Mind, _: Received) -> None:
@@ -84,6 +88,7 @@ class RunRecord:
     def on_event(self, event: Event, _: Received) -> None:
         """Who took what, who plays with what, who is where."""
         with self.lock:
+            self.events.append(event)
             if event.kind is EventKind.TAKE:
                 self.took.setdefault(event.tick, set()).add(event.actor)
             elif event.kind is EventKind.PLAY:
@@ -141,8 +146,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
                 raise RuntimeError(f"{tag}: the engine failed")
             bridge.subscribe(bridge.keys.mind, record.on_mind, expected=Mind)
             bridge.subscribe(bridge.keys.truth, record.on_truth, expected=Truth)
-            if spec.robot == "observe":  # the motion heuristic reads where people walk
-                bridge.subscribe(bridge.keys.state, record.on_state, expected=State)
+            bridge.subscribe(bridge.keys.state, record.on_state, expected=State)
             bridge.subscribe(bridge.keys.events, record.on_event, expected=Event)
             brain = start_node(brain_command(spec, world, settings, shadow_dir), brain_log)
             if brain.wait(timeout=1800) != 0:
@@ -161,6 +165,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
         last = record.truths[max(record.truths)]
         outcome = judge(info.scene, last, record.playing, record.regions, record.reached)
     results = {spec.observer: _score(record.minds, record.truths, record.took, outcome)}
+    results[spec.observer].help = helpfulness(info.scene, record.states, record.truths, record.events)
     if spec.robot == "observe":
         heuristic = MotionHeuristic(info.scene)
         guessed = {

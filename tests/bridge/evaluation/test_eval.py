@@ -28,21 +28,36 @@ def local(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, list[int], Pa
 def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> None:
     metrics, _, out = local
     assert metrics["episodes"] == EPISODES and metrics["seed"] == SEED
-    assert metrics["episodes_failed"] == 0, f"episodes failed: {out / 'episodes.json'}"
-    for observer in ("btom", "truebelief", "perceptonly"):
-        assert set(metrics["observers"][observer]) == {
+    (condition,) = metrics["conditions"]
+    assert (condition["perception"], condition["minds"], condition["kind"]) == (
+        "omniscient",
+        "simple",
+        "everyday",
+    )
+    assert condition["episodes_failed"] == 0, f"episodes failed: {out / 'episodes.json'}"
+    for observer in ("btom", "truebelief", "perceptonly", "motion", "majority"):
+        values = condition["observers"][observer]
+        assert set(values) == {
             "belief_tv",
             "preference_accuracy",
             "false_belief_precision",
             "false_belief_recall",
             "false_belief_f1",
-        }
-    assert set(metrics["robot"]) == {"with", "without"}
-    assert metrics["observers"]["btom"]["belief_tv"] is not None
-    assert (out / "report.md").read_text().startswith(f"# Evaluation: {EPISODES} episodes")
-    episodes = json.loads((out / "episodes.json").read_text())
+        }, observer
+        assert set(values["false_belief_f1"]) == {"mean", "lo", "hi"}, values
+    assert condition["observers"]["btom"]["belief_tv"]["mean"] is not None
+    assert set(condition["robot"]) == {"tom", "none"}
+    for policy in condition["robot"].values():
+        assert set(policy) == {"success", "ticks_to_goal_fb", "wasted_trips", "interruptions"}, policy
+        assert policy["wasted_trips"]["mean"] is not None
+    report = (out / "report.md").read_text()
+    assert report.startswith(f"# Evaluation: {EPISODES} episodes per condition")
+    assert "perceptonly` is an oracle" in report, "the omniscient / simple condition says why"
+    assert (out / "metrics-omniscient-simple-everyday.png").stat().st_size > 0
+    episodes = json.loads((out / "episodes.json").read_text())["omniscient-simple-everyday"]
     assert [e["map"] for e in episodes] == ["paper", "house-a"], episodes
     assert [e["scenario"] for e in episodes] == ["gen-paper-s5000", "gen-house-a-s5001"]
+    assert set(episodes[0]["robot"]["help"]) == {"A1", "A2"}
 
 
 def test_local_eval_progress_advances_per_episode(local: tuple[dict, list[int], Path]) -> None:
@@ -65,7 +80,11 @@ def test_ray_backend_agrees_with_local(local: tuple[dict, list[int], Path], tmp_
     ray = json.loads((tmp_path / "metrics.json").read_text())
     expected = json.loads((local[2] / "metrics.json").read_text())
     # runs retried after a node crashed say something about the machine, not the brain
-    retried = {"local": expected.pop("failed_runs_retried"), "ray": ray.pop("failed_runs_retried")}
+    retried = {
+        "local": [c.pop("failed_runs_retried") for c in expected["conditions"]],
+        "ray": [c.pop("failed_runs_retried") for c in ray["conditions"]],
+    }
+    assert ray.pop("command").startswith("toyroom eval") and expected.pop("command") == ""
     assert ray == expected, f"the Ray backend gave {ray}, the local one {expected} (retried runs: {retried})"
 
 
@@ -73,9 +92,12 @@ def test_brain_settings_reach_every_run(tmp_path: Path) -> None:
     """``toyroom eval --set ...`` hands the setting to each run's brain: the point model
     runs an episode; an unknown setting makes the brain refuse, so the episode fails."""
     point = evaluate(1, SEED, tmp_path / "point", brain_args=("--set", "belief_model=point"))
-    assert point["episodes_failed"] == 0 and point["brain_args"] == ["--set", "belief_model=point"]
-    assert point["observers"]["btom"]["belief_tv"] is not None
+    (condition,) = point["conditions"]
+    assert condition["episodes_failed"] == 0 and point["brain_args"] == ["--set", "belief_model=point"]
+    assert condition["observers"]["btom"]["belief_tv"]["mean"] is not None
     bad = evaluate(1, SEED, tmp_path / "bad", brain_args=("--set", "betta=1"))
-    assert bad["episodes_failed"] == 1, f"an unknown brain setting should fail the episode: {bad}"
+    assert bad["conditions"][0]["episodes_failed"] == 1, (
+        f"an unknown brain setting should fail the episode: {bad}"
+    )
     logs = "".join(p.read_text() for p in (tmp_path / "bad").rglob("*.brain*.log"))
     assert "unknown setting 'betta'" in logs, logs[-2000:]

@@ -1,0 +1,97 @@
+"""From every episode's results to one condition's numbers (pure functions): pooled metrics
+per observer with bootstrap 95% intervals paired by episode, and per robot policy the help
+people got (:mod:`bridge.evaluation.helpfulness`), paired the same way."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from .intervals import METRICS as INTERVAL_METRICS
+from .intervals import intervals, pooled_means
+from .metrics import Counts, Outcome, majority_counts
+
+BTOM = "btom"
+MAJORITY = "majority"
+"""A majority-class baseline scored on the same ticks: always the most common true preference
+(of the episodes scored: it is fitted on them), never a false belief, no belief."""
+POLICIES = {"tom": "robot", "none": BTOM}
+"""Robot policy -> the run of an episode it is measured on (``none``: the robot observing)."""
+HELP = ("ticks_to_goal_fb", "wasted_trips", "interruptions")
+
+
+def _help_sums(run: Mapping[str, Any]) -> dict[str, tuple[float, int]]:
+    """One run's ``(sum, count)`` of each help measure: ticks to goal over the people who had
+    a false belief (the episode's length when never reached), wasted trips and interruptions
+    over every person."""
+    helped = run.get("help", {})
+    waits = run.get("ticks_to_goal", {})
+    fb = [p for p, h in helped.items() if h["false_belief"]]
+    ticks = [waits.get(p) if waits.get(p) is not None else run["episode_ticks"] for p in fb]
+    return {
+        "ticks_to_goal_fb": (float(sum(ticks)), len(ticks)),
+        "wasted_trips": (float(sum(h["wasted_trips"] for h in helped.values())), len(helped)),
+        "interruptions": (float(sum(h["interruptions"] for h in helped.values())), len(helped)),
+    }
+
+
+def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
+    """``(per policy, tom minus each other policy)``: success rate and each of :data:`HELP`
+    as ``{mean, lo, hi}``."""
+    per_policy: dict[str, Any] = {}
+    differences: dict[str, Any] = {p: {} for p in list(POLICIES)[1:]}
+    sums = {policy: [_help_sums(e[key]) for e in episodes] for policy, key in POLICIES.items()}
+    for measure in HELP:
+        bounds, diffs = pooled_means({p: [s[measure] for s in sums[p]] for p in POLICIES}, seed)
+        for policy in POLICIES:
+            per_policy.setdefault(policy, {})[measure] = bounds.get(
+                policy, {"mean": None, "lo": None, "hi": None}
+            )
+        for other, interval in diffs.items():
+            differences[other][measure] = interval
+    for policy, key in POLICIES.items():
+        outcome = Outcome()
+        for episode in episodes:
+            for ok in episode[key]["outcome"].values():
+                outcome.people += 1
+                outcome.successes += bool(ok)
+        per_policy[policy]["success"] = outcome.rate
+    return per_policy, differences
+
+
+def _with_intervals(pooled: Mapping[str, float | None], bounds: Mapping[str, Any]) -> dict[str, Any]:
+    """Each metric of :data:`~bridge.evaluation.intervals.METRICS` as ``{mean, lo, hi}``, the
+    others (precision, recall) as plain numbers."""
+    return {
+        m: bounds.get(m, {"mean": v, "lo": None, "hi": None}) if m in INTERVAL_METRICS else v
+        for m, v in pooled.items()
+    }
+
+
+def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str]) -> dict[str, Any]:
+    """One condition's numbers from its episodes' results (failed episodes are counted in
+    ``episodes_failed`` and left out of the scores)."""
+    failed = [e for e in episodes if "error" in e]
+    episodes = [e for e in episodes if "error" not in e]
+    totals = {observer: Counts() for observer in observers}
+    per_episode: dict[str, list[Counts]] = {observer: [] for observer in (*observers, MAJORITY)}
+    for episode in episodes:
+        for observer in observers:
+            counts = Counts(**episode[observer]["counts"])
+            totals[observer].add(counts)
+            per_episode[observer].append(counts)
+    goal = max(totals[BTOM].pref_truth, key=lambda g: (totals[BTOM].pref_truth[g], g), default="")
+    per_episode[MAJORITY] = [majority_counts(c, goal) for c in per_episode[BTOM]]
+    pooled = {observer: totals[observer].metrics() for observer in observers}
+    pooled[MAJORITY] = majority_counts(totals[BTOM], goal).metrics()
+    bounds, differences = intervals(per_episode, seed)
+    robot, robot_differences = robot_metrics(episodes, seed) if episodes else ({}, {})
+    return {
+        "episodes": len(episodes),
+        "episodes_failed": len(failed),
+        "failed_runs_retried": sum(len(e.get("failed_runs") or []) for e in episodes),
+        "observers": {name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
+        "paired_differences": differences,
+        "robot": robot,
+        "robot_differences": robot_differences,
+    }

@@ -1,0 +1,54 @@
+"""The conditions an evaluation runs under: how the robot perceives, what kind of minds
+the simulated people have, and what kind of episodes they live through.
+
+- ``perception``: ``omniscient`` (the paper's setting: the robot sees every item wherever it
+  is) or ``embodied`` (it sees the item spots the visibility table lists from its own cell,
+  and infers the rest; the brain's ``perception`` setting);
+- ``minds``: ``simple`` (people perceive exactly, remember and keep to themselves, which is
+  what the brain's percept filter assumes: ``perceptonly`` is then an oracle of their
+  beliefs whenever the robot sees everything) or ``rich`` (they forget, overlook, gossip,
+  wander: ``python -m sim2d generate --minds``);
+- ``kind``: ``everyday`` (random episodes).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+PERCEPTIONS = ("omniscient", "embodied")
+MINDS = ("simple", "rich")
+KINDS = ("everyday",)
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One condition of an evaluation."""
+
+    perception: str = "omniscient"
+    minds: str = "simple"
+    kind: str = "everyday"
+
+    def __post_init__(self) -> None:
+        for name, value, known in (
+            ("perception", self.perception, PERCEPTIONS),
+            ("minds", self.minds, MINDS),
+            ("kind", self.kind, KINDS),
+        ):
+            if value not in known:
+                raise ValueError(f"{name} must be one of {', '.join(known)}, not {value!r}")
+
+    @property
+    def name(self) -> str:
+        """``omniscient-simple-everyday``: the condition's folder and key."""
+        return f"{self.perception}-{self.minds}-{self.kind}"
+
+    def brain_args(self) -> tuple[str, ...]:
+        """What every brain of this condition is told (its perception)."""
+        return ("--set", f"perception={self.perception}") if self.perception != "omniscient" else ()
+
+
+def conditions(perceptions: Sequence[str], minds: Sequence[str], kinds: Sequence[str]) -> list[Condition]:
+    """Every combination, in the order given (raises ``ValueError`` naming a bad value)."""
+    return [Condition(p, m, k) for p, m, k in itertools.product(perceptions, minds, kinds)]

@@ -1,0 +1,77 @@
+"""How much a robot helped each simulated person in a run (pure functions over what the
+evaluator heard):
+
+- ``false_belief``: whether the person, at some tick, had a false belief about the item they
+  wanted then (their true belief gave its true location less than
+  :data:`~bridge.evaluation.metrics.FALSE_BELIEF_MASS`): the people help is for;
+- ``wasted_trips``: arrivals at an item location that their true belief, the tick before,
+  gave at least one half of holding the item they wanted, when it did not hold it;
+- ``interruptions``: what the robot said to them or asked of them (``say``, ``request``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+from protocol import Event, EventKind, Scene, State, Truth
+
+from .metrics import FALSE_BELIEF_MASS
+
+TRIP_BELIEF = 0.5
+"""A trip is made for an item when the person gave the place at least this."""
+
+
+@dataclass
+class PersonHelp:
+    """One person's run, as help is measured."""
+
+    false_belief: bool = False
+    wasted_trips: int = 0
+    interruptions: int = 0
+
+
+def helpfulness(
+    scene: Scene, states: Mapping[int, State], truths: Mapping[int, Truth], events: Iterable[Event]
+) -> dict[str, PersonHelp]:
+    """Per person of the truth: :class:`PersonHelp` over the run's ticks."""
+    spot_at = {(loc.cell.col, loc.cell.row): loc.id for loc in scene.locations}
+    robots = {a.id for a in scene.agents if a.kind.value == "robot"}
+    people: dict[str, PersonHelp] = {}
+    ticks = sorted(t for t in truths if t in states)
+    previous: dict[str, tuple[tuple[int, int], Truth]] = {}
+    for tick in ticks:
+        truth, state = truths[tick], states[tick]
+        where = {place.item: place.location for place in truth.items}
+        resting = {place.item: place.location for place in truth.items if place.held_by is None}
+        cells = {a.id: (a.cell.col, a.cell.row) for a in state.agents}
+        for mind in truth.agents:
+            help_ = people.setdefault(mind.agent, PersonHelp())
+            belief = {b.item: {p.id: p.p for p in b.locations} for b in mind.beliefs}
+            wanted = belief.get(mind.preference)
+            true_place = where.get(mind.preference)
+            if (
+                wanted is not None
+                and true_place is not None
+                and wanted.get(true_place, 0.0) < FALSE_BELIEF_MASS
+            ):
+                help_.false_belief = True
+            cell = cells.get(mind.agent)
+            before = previous.get(mind.agent)
+            if cell is not None and before is not None and cell != before[0] and cell in spot_at:
+                spot = spot_at[cell]
+                old = next((a for a in before[1].agents if a.agent == mind.agent), None)
+                old_belief = {b.item: {p.id: p.p for p in b.locations} for b in old.beliefs} if old else {}
+                believed = old_belief.get(mind.preference, {}).get(spot, 0.0)
+                if believed >= TRIP_BELIEF and resting.get(mind.preference) != spot:
+                    help_.wasted_trips += 1
+            if cell is not None:
+                previous[mind.agent] = (cell, truth)
+    for event in events:
+        if (
+            event.actor in robots
+            and event.kind in (EventKind.SAY, EventKind.REQUEST)
+            and event.target in people
+        ):
+            people[event.target].interruptions += 1
+    return people

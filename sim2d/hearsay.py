@@ -1,0 +1,40 @@
+"""Hearsay: simulated people who meet tell each other where things are.
+
+Each tick, for every pair of autonomous people in one region, with probability
+``Autonomy.hearsay`` one of them (at random) tells the other where they believe an item is,
+chosen at random among the items the two place differently (most probable location). The
+listener takes it as the robot's ``inform`` is taken: the belief about that item is replaced
+(so a wrong teller spreads a false belief). Nothing is published: the robot does not hear it.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+
+import numpy as np
+
+from .autonomous import AutonomousPerson
+from .world import World
+
+
+def exchange(people: Sequence[AutonomousPerson], world: World, rng: np.random.Generator, rate: float) -> None:
+    """One tick of hearsay among ``people`` (nothing happens, and nothing is drawn, at rate 0)."""
+    if rate <= 0:
+        return
+    for a, b in itertools.combinations(people, 2):
+        if world.agents[a.id].region != world.agents[b.id].region or rng.random() >= rate:
+            continue
+        teller, listener = (a, b) if rng.random() < 0.5 else (b, a)
+        differ = [
+            item
+            for item in teller.belief.items
+            if teller.belief.most_likely(item) != listener.belief.most_likely(item)
+            and teller.belief.most_likely(item) is not None
+        ]
+        if not differ:
+            continue
+        item = differ[int(rng.integers(len(differ)))]
+        location = teller.belief.most_likely(item)
+        assert location is not None
+        listener.on_informed(world, item, location)

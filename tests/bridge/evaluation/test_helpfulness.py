@@ -1,0 +1,89 @@
+"""Help measures on a tiny episode computed by hand, and their pooled means and intervals."""
+
+from __future__ import annotations
+
+import msgspec
+import pytest
+
+from bridge.evaluation.aggregate import robot_metrics
+from bridge.evaluation.helpfulness import helpfulness
+from bridge.evaluation.intervals import pooled_means
+from protocol import (
+    AgentKind,
+    AgentSpec,
+    Cell,
+    Event,
+    EventKind,
+    ItemBelief,
+    ItemPlace,
+    Prob,
+    TrueMind,
+    Truth,
+)
+from tests.scenes import tiny_scene, tiny_state
+
+
+def truth(tick: int, believes_b: float, ball_at: str = "A") -> Truth:
+    mind = TrueMind(
+        agent="p",
+        beliefs=(ItemBelief(item="ball", locations=(Prob("A", 1 - believes_b), Prob("B", believes_b))),),
+        preference="ball",
+    )
+    return Truth(episode=1, tick=tick, agents=(mind,), items=(ItemPlace(item="ball", location=ball_at),))
+
+
+def test_a_wasted_trip_a_false_belief_and_an_interruption_by_hand() -> None:
+    """p stands in the doorway believing the ball is in B (it is in A: a false belief), walks
+    to B (a wasted trip: B had 1.0 of their belief, the ball is not there), is told by the
+    robot, walks to A (no trip wasted: the ball is there)."""
+    scene = msgspec.structs.replace(
+        tiny_scene(), agents=(*tiny_scene().agents, AgentSpec(id="r", kind=AgentKind.ROBOT, home=Cell(1, 0)))
+    )
+    cells = {1: (3, 0), 2: (2, 0), 3: (1, 0), 4: (0, 0)}
+    states = {t: tiny_state(t, c, "A") for t, c in cells.items()}
+    truths = {1: truth(1, 1.0), 2: truth(2, 1.0), 3: truth(3, 0.0), 4: truth(4, 0.0)}
+    said = Event(
+        episode=1, tick=2, time=1.4, kind=EventKind.SAY, actor="r", target="p", item="ball", location="A"
+    )
+    by_person = Event(
+        episode=1, tick=3, time=2.1, kind=EventKind.SAY, actor="p", target="r", item="ball", location="A"
+    )
+    help_ = helpfulness(scene, states, truths, [said, by_person])["p"]
+    assert (help_.false_belief, help_.wasted_trips, help_.interruptions) == (True, 1, 1), help_
+
+
+def test_no_false_belief_no_trip_wasted() -> None:
+    states = {1: tiny_state(1, (1, 0), "A"), 2: tiny_state(2, (0, 0), "A")}
+    help_ = helpfulness(tiny_scene(), states, {1: truth(1, 0.0), 2: truth(2, 0.0)}, [])["p"]
+    assert (help_.false_belief, help_.wasted_trips, help_.interruptions) == (False, 0, 0), help_
+
+
+def test_pooled_means_and_paired_differences() -> None:
+    per_episode = {"tom": [(10.0, 1), (30.0, 2), (0.0, 0)], "none": [(20.0, 1), (50.0, 2), (0.0, 0)]}
+    bounds, differences = pooled_means(per_episode, seed=1, resamples=200)
+    assert bounds["tom"]["mean"] == pytest.approx(40 / 3) and bounds["none"]["mean"] == pytest.approx(70 / 3)
+    assert differences["none"]["mean"] == pytest.approx(-10.0)
+    assert differences["none"]["hi"] < 0, f"tom is below none in every resample: {differences}"
+
+
+def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() -> None:
+    def run(fb: bool, tick: int | None, trips: int) -> dict:
+        return {
+            "outcome": {"A1": tick is not None},
+            "ticks_to_goal": {"A1": tick},
+            "episode_ticks": 100,
+            "help": {"A1": {"false_belief": fb, "wasted_trips": trips, "interruptions": 0}},
+        }
+
+    episodes = [
+        {"robot": run(True, 40, 0), "btom": run(True, None, 2)},
+        {"robot": run(False, 10, 1), "btom": run(False, 10, 1)},
+    ]
+    policies, differences = robot_metrics(episodes, seed=1)
+    assert (
+        policies["tom"]["ticks_to_goal_fb"]["mean"] == 40
+        and policies["none"]["ticks_to_goal_fb"]["mean"] == 100
+    )
+    assert policies["tom"]["wasted_trips"]["mean"] == 0.5 and policies["none"]["wasted_trips"]["mean"] == 1.5
+    assert policies["tom"]["success"] == 1.0 and policies["none"]["success"] == 0.5
+    assert differences["none"]["ticks_to_goal_fb"]["mean"] == -60
