@@ -164,7 +164,7 @@ class BrainNode:
                 link.heartbeats.beat()
                 self._drain(robot, link.inbox)
             robot.observe(events)
-            for command in robot.tick(state):
+            for command in robot.tick(link.tracker.believed_state(state)):
                 link.commands.put(command)
                 if link.heartbeats is None:
                     self._await_receipt(robot, link.inbox, command.id)

@@ -59,6 +59,10 @@ class ModelSettings:
             expected value under it, as if it resolved after one step) or ``belief`` (value
             iteration over their discretised belief, so going to look has value;
             ``brain/model/lookahead.py``).
+        perception: what the robot sees: ``omniscient`` (every item wherever it is, the
+            paper's setting) or ``embodied`` (the item spots its own cell sees; every person is
+            tracked; the rest is inferred jointly with the people's minds,
+            :mod:`brain.tracking.worldview`).
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
             from its low to its high value (``desire_levels**(K + 1) - 1`` candidates).
     """
@@ -86,6 +90,7 @@ class ModelSettings:
     desire_model: str = "favourite"
     person_planner: str = "qmdp"
     desire_levels: int = 3
+    perception: str = "omniscient"
 
     def __post_init__(self) -> None:
         checks = {
@@ -105,6 +110,7 @@ class ModelSettings:
             "desire_levels": self.desire_levels >= 2,
             "person_planner": self.person_planner in ("qmdp", "belief"),
             "top_worlds": self.top_worlds >= 0,
+            "perception": self.perception in ("omniscient", "embodied"),
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

@@ -4,6 +4,7 @@ preference, the intention and the probability of a false belief about each item.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -129,4 +130,42 @@ def world_text(model: WorldModel, world: int) -> str:
     return ";".join(
         f"{item}@{model.locations[value // 2]}{'+held' if value % 2 else ''}"
         for item, value in zip(model.items, model.worlds[world], strict=True)
+    )
+
+
+def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
+    """The estimate of a mixture: ``weights`` ``(H,)`` (summing to one) over branches that
+    differ in the true world, each estimate read against its own (so ``false_belief`` is the
+    exact mixture). Beliefs, preferences, false beliefs and worlds are averaged; the graded
+    hypotheses are pooled with their weights scaled (read against one world, as ``mind.csv``
+    reads them against the most probable one); the intention and desire summary are the
+    likeliest branch's; the log-evidence is the mixture's, ``log sum_h w_h exp(e_h)`` with
+    each branch's share of the prior."""
+    if len(estimates) == 1:
+        return estimates[0]
+    w = np.asarray(weights, dtype=np.float64)
+    best = estimates[int(np.argmax(w))]
+
+    def average(values: Sequence[FloatArray]) -> FloatArray:
+        return np.tensordot(w, np.stack(values), axes=1)
+
+    worlds = None if any(e.worlds is None for e in estimates) else average([e.worlds for e in estimates])  # type: ignore[misc]
+    hypotheses = None
+    if all(e.hypotheses is not None for e in estimates):
+        parts = [e.hypotheses for e in estimates if e.hypotheses is not None]
+        axis = parts[0][0].ndim - 1  # (G,) weights pool on G; per item (K, P) on P
+        hypotheses = (
+            np.concatenate([h * p[0] for h, p in zip(w, parts, strict=True)], axis=axis),
+            np.concatenate([p[1] for p in parts], axis=axis),
+        )
+    evidence = np.array([e.log_evidence for e in estimates])
+    top = evidence.max()
+    return dataclasses.replace(
+        best,
+        beliefs=average([e.beliefs for e in estimates]),
+        preference=average([e.preference for e in estimates]),
+        false_belief=average([e.false_belief for e in estimates]),
+        worlds=worlds,
+        hypotheses=hypotheses,
+        log_evidence=float(top + np.log(np.exp(evidence - top).mean())) if np.isfinite(top) else float(top),
     )

@@ -14,21 +14,38 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+import msgspec
+import numpy as np
+
 from protocol import Activity, AgentKind, Event, EventKind, Observer, Scene, State
 
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, percept, told, true_values
-from ..model.estimates import Estimate, reread
+from ..model.estimates import Estimate, mix, reread
 from ..model.inference import switch_probability
 from ..model.personmodel import PersonFilter, StepRecord, person_model
 from ..model.planner import TAKE, Move, drop_action, play_action, use_action
 from ..model.world import MOVE_STEPS
 from ..settings import ModelSettings
+from .worldview import WorldView
+
+
+@dataclass
+class Chain:
+    """One person's chain in one branch of the world: its steps and filtered posteriors."""
+
+    percept: Percept | None = None
+    steps: list[StepRecord] = field(default_factory=list)
+    filter: PersonFilter | None = None
+    """The online filter (in the model's form), ``None`` before the first sight."""
+    estimates: list[Estimate] = field(default_factory=list)
+    """Each step's online estimate, its false beliefs read against the branch's world then."""
 
 
 @dataclass
 class PersonTrack:
-    """One person's chain: its steps, filtered posteriors and what was last seen."""
+    """One person: what was last seen of them, their chain in every branch of the world, and
+    the estimates reported (the branches' mixture after each step)."""
 
     agent: str
     cell: int | None = None
@@ -40,10 +57,9 @@ class PersonTrack:
     """Whether the current pause was already counted as a decision to wait."""
     settled: bool = False
     """Whether the person played or left: no decision is due until they act again."""
-    percept: Percept | None = None
+    chains: list[Chain] = field(default_factory=lambda: [Chain()])
     steps: list[StepRecord] = field(default_factory=list)
-    filter: PersonFilter | None = None
-    """The online filter (in the model's form), ``None`` before the first sight."""
+    """The steps of the likeliest branch (every branch steps at the same ticks)."""
     estimates: list[Estimate] = field(default_factory=list)
 
 
@@ -67,12 +83,25 @@ class MindTracker:
         self.exact = self.person_model.exact
         """Whether the exact joint model is used (else the factored one: see ``exact_max_worlds``)."""
         self.people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
-        self.tracks = {p: PersonTrack(p) for p in self.people}
+        self.view: WorldView | None = None
+        """The robot's own knowledge of where items rest (``None``: it sees everything)."""
+        self.robot = next((a.id for a in scene.agents if a.kind is AgentKind.ROBOT), None)
+        if self.settings.perception == "embodied":
+            if self.robot is None:
+                raise ValueError(
+                    f"perception = embodied needs a robot in scene '{scene.name}', which has none"
+                )
+            absent = [k for k, item in enumerate(scene.items) if item.absent]
+            self.view = WorldView(self.model, absent)
+        branches = 1 if self.view is None else len(self.view.rows)
+        self.tracks = {p: PersonTrack(p, chains=[Chain() for _ in range(branches)]) for p in self.people}
         self.ticks: list[int] = []
         self.truth: tuple[int, ...] = ()
-        """The true item values at the last tick observed."""
+        """The true item values at the last tick observed (the likeliest branch's, embodied)."""
         self.truths: dict[int, tuple[int, ...]] = {}
         """The true item values at every tick observed (for reading false beliefs then)."""
+        self.branch_truths: list[tuple[int, ...]] = []
+        """Every branch's item values at the last tick observed."""
         self.labels: dict[tuple[int, str], str] = {}
 
     # ----- feeding --------------------------------------------------------------------
@@ -82,10 +111,18 @@ class MindTracker:
         model = self.model
         cell_of = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in state.agents}
         holders = {i.id: cell_of.get(i.held_by) if i.held_by else None for i in state.items}
-        resting = {i.id: i.location for i in state.items}
-        truth = true_values(model, resting, holders)
-        self.truth = truth
-        self.truths[state.tick] = truth
+        if self.view is None:
+            truths = [true_values(model, {i.id: i.location for i in state.items}, holders)]
+        else:
+            robot_cell = cell_of.get(self.robot or "")
+            if robot_cell is not None:
+                kept = self.view.observe(state, robot_cell, events)
+                for track in self.tracks.values():
+                    track.chains = [track.chains[int(h)] for h in kept]
+            truths = [self.view.truth(h, holders) for h in range(len(self.view.rows))]
+        self.branch_truths = truths
+        self.truth = truths[int(np.argmax(self.branch_weights()))]
+        self.truths[state.tick] = self.truth
         holding = {a.id: a.holding for a in state.agents}
         self.ticks.append(state.tick)
         for event in events:
@@ -95,7 +132,51 @@ class MindTracker:
             cell = cell_of.get(person)
             if cell is None:
                 continue
-            self._observe_person(self.tracks[person], state, cell, holding.get(person), truth, events)
+            self._observe_person(self.tracks[person], state, cell, holding.get(person), truths, events)
+
+    def branch_weights(self) -> FloatArray:
+        """``(H,)`` the posterior of each branch of the unseen world: its prior share times how
+        well it explains every person's decisions so far (one branch when the robot sees all)."""
+        if self.view is None:
+            return np.ones(1)
+        log_w = self.view.log_prior.copy()
+        for track in self.tracks.values():
+            log_w += np.array([c.estimates[-1].log_evidence if c.estimates else 0.0 for c in track.chains])
+        log_w -= log_w.max()
+        w = np.exp(log_w)
+        return w / w.sum()
+
+    def believed_state(self, state: State) -> State:
+        """``state`` with every item resting out of the robot's sight where the likeliest
+        branch puts it (``state`` itself when the robot sees everything): what it acts on."""
+        if self.view is None:
+            return state
+        row = self.view.rows[int(np.argmax(self.branch_weights()))]
+        model = self.model
+        items = tuple(
+            item
+            if item.held_by is not None or item.id not in model.items
+            else msgspec.structs.replace(
+                item, location=model.locations[max(int(row[model.items.index(item.id)]), 0)]
+            )
+            for item in state.items
+        )
+        return msgspec.structs.replace(state, items=items)
+
+    def _percept(
+        self, agent: str, cell: int, held: int, truth: tuple[int, ...], events: Sequence[Event]
+    ) -> Percept:
+        """What ``agent`` perceives in a world of ``truth``: sight, then the robot's speech."""
+        model = self.model
+        seen = percept(model, cell, truth, held - 1 if held else None)
+        for event in events:  # speech: the robot told this person where an item is or who holds it
+            if event.kind is EventKind.SAY and event.target == agent and event.item in model.items:
+                k = model.items.index(event.item)
+                if event.location in model.locations:
+                    seen = told(seen, k, 2 * model.locations.index(event.location))
+                elif event.detail.startswith("occupied by "):
+                    seen = told(seen, k, truth[k] | 1)
+        return seen
 
     def _observe_person(
         self,
@@ -103,22 +184,15 @@ class MindTracker:
         state: State,
         cell: int,
         holding: str | None,
-        truth: tuple[int, ...],
+        truths: list[tuple[int, ...]],
         events: Sequence[Event],
     ) -> None:
         model = self.model
         tick = state.tick
         held = 0 if holding is None else model.items.index(holding) + 1
-        seen = percept(model, cell, truth, held - 1 if held else None)
-        for event in events:  # speech: the robot told this person where an item is or who holds it
-            if event.kind is EventKind.SAY and event.target == track.agent and event.item in model.items:
-                k = model.items.index(event.item)
-                if event.location in model.locations:
-                    seen = told(seen, k, 2 * model.locations.index(event.location))
-                elif event.detail.startswith("occupied by "):
-                    seen = told(seen, k, truth[k] | 1)
+        seen = [self._percept(track.agent, cell, held, truth, events) for truth in truths]
         if track.cell is None:  # first sight of this person: the percept alone
-            self._push(track, tick, seen, None, truth, switch=0.0)
+            self._push(track, tick, seen, None, truths, switch=0.0)
             track.last_decision = state.time
         else:
             action = self._action(track, cell, events)
@@ -134,13 +208,14 @@ class MindTracker:
                 elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
                 switch = switch_probability(self.settings.hazard, elapsed)
                 decision = (track.cell, track.held, action)
-                self._push(track, tick, seen, likelihood, truth, switch=switch, decision=decision)
+                self._push(track, tick, seen, likelihood, truths, switch=switch, decision=decision)
                 track.last_decision = state.time
-            elif seen != track.percept or (
-                self.observer is Observer.TRUEBELIEF and truth != track.steps[-1].truth
+            elif any(s != c.percept for s, c in zip(seen, track.chains, strict=True)) or (
+                self.observer is Observer.TRUEBELIEF
+                and any(t != c.steps[-1].truth for t, c in zip(truths, track.chains, strict=True))
             ):
                 # a new percept; or, to an observer without theory of mind, any change of the world
-                self._push(track, tick, seen, None, truth, switch=0.0)
+                self._push(track, tick, seen, None, truths, switch=0.0)
         if track.cell is not None and cell != track.cell:
             track.moved_from = track.cell
         track.cell, track.held = cell, held
@@ -180,33 +255,49 @@ class MindTracker:
         self,
         track: PersonTrack,
         tick: int,
-        seen: Percept,
+        seen: list[Percept],
         likelihood: FloatArray | None,
-        truth: tuple[int, ...],
+        truths: list[tuple[int, ...]],
         switch: float,
         decision: tuple[int, int, int] | None = None,
     ) -> None:
+        """One step of ``track`` in every branch (``seen`` and ``truths``: one per branch)."""
         if self.observer is Observer.PERCEPTONLY:
             likelihood, decision = None, None
-        record = StepRecord(
-            tick=tick, percept=seen, truth=truth, likelihood=likelihood, switch=switch, decision=decision
-        )
-        if track.filter is None:
-            track.filter = self.person_model.new_filter()
-        track.filter.step(record)
-        track.steps.append(record)
-        track.estimates.append(track.filter.estimate(truth))
-        track.percept = seen
+        for chain, percept_, truth in zip(track.chains, seen, truths, strict=True):
+            record = StepRecord(
+                tick=tick,
+                percept=percept_,
+                truth=truth,
+                likelihood=likelihood,
+                switch=switch,
+                decision=decision,
+            )
+            if chain.filter is None:
+                chain.filter = self.person_model.new_filter()
+            chain.filter.step(record)
+            chain.steps.append(record)
+            chain.estimates.append(chain.filter.estimate(truth))
+            chain.percept = percept_
+        weights = self.branch_weights()
+        track.steps.append(track.chains[int(np.argmax(weights))].steps[-1])
+        track.estimates.append(mix([c.estimates[-1] for c in track.chains], weights))
 
     # ----- reading ----------------------------------------------------------------------
 
     def online(self, person: str) -> Estimate | None:
         """The latest online estimate of ``person`` (``None`` before the first sight), its
-        false beliefs read against the world as it is now."""
+        false beliefs read against the world as it is now (in every branch, embodied)."""
         track = self.tracks[person]
         if not track.estimates:
             return None
-        return reread(track.estimates[-1], self.truth, self.settings.false_belief_mass)
+        mass = self.settings.false_belief_mass
+        if len(track.chains) == 1:
+            return reread(track.estimates[-1], self.truth, mass)
+        read = [
+            reread(c.estimates[-1], t, mass) for c, t in zip(track.chains, self.branch_truths, strict=True)
+        ]
+        return mix(read, self.branch_weights())
 
     def log_evidence(self, person: str) -> float:
         """The marginal log-likelihood of ``person``'s decisions so far under the model (0
@@ -216,6 +307,11 @@ class MindTracker:
 
     def smoothed(self, person: str) -> list[Estimate]:
         """Smoothed estimates after each of ``person``'s steps (the online ones when the
-        factored model is used: it only filters)."""
+        factored model is used: it only filters); embodied, each branch smoothed and the
+        branches mixed by their weights given everything."""
         track = self.tracks[person]
-        return self.person_model.smoothed(track.steps, track.estimates)
+        if len(track.chains) == 1:
+            return self.person_model.smoothed(track.chains[0].steps, track.chains[0].estimates)
+        per_branch = [self.person_model.smoothed(c.steps, c.estimates) for c in track.chains]
+        weights = self.branch_weights()
+        return [mix(list(step), weights) for step in zip(*per_branch, strict=True)]

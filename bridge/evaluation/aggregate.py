@@ -7,11 +7,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from protocol import Observer
+
 from .intervals import METRICS as INTERVAL_METRICS
 from .intervals import intervals, pooled_means
 from .metrics import Counts, Outcome, majority_counts
 
-BTOM = "btom"
+BTOM = Observer.BTOM.value
 MAJORITY = "majority"
 """A majority-class baseline scored on the same ticks: always the most common true preference
 (of the episodes scored: it is fitted on them), never a false belief, no belief."""
