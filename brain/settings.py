@@ -131,6 +131,9 @@ class RobotSettings:
         attempts: how often the robot tries one task before giving up on it.
         navigate_timeout: engine seconds a navigation may take.
         action_timeout: engine seconds a pick, place, give, say or request may take.
+        policy: ``tom`` (the paper's tree, on the people's inferred minds), or a baseline
+            without theory of mind: ``tidy`` (put every moved item back where it was) or
+            ``announce`` (tell everyone about every move).
     """
 
     preference_threshold: float = 0.6
@@ -139,6 +142,17 @@ class RobotSettings:
     attempts: int = 2
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0
+    policy: str = "tom"
+
+    def __post_init__(self) -> None:
+        if self.policy not in ROBOT_POLICIES:
+            raise ValueError(
+                f"invalid robot settings: policy={self.policy!r} (one of {', '.join(ROBOT_POLICIES)})"
+            )
+
+
+ROBOT_POLICIES = ("tom", "tidy", "announce")
+""":attr:`RobotSettings.policy`'s values (:data:`brain.robot.branches.POLICIES`)."""
 
 
 @dataclass(frozen=True)

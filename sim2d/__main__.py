@@ -47,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def generate_parser() -> argparse.ArgumentParser:
     """``python -m sim2d generate``'s options."""
-    from .generate import ITEM_SHAPES, MAPS, MINDS
+    from .generate import ITEM_SHAPES, KINDS, MAPS, MINDS
 
     parser = command_parser(
         "python -m sim2d generate",
@@ -67,6 +67,13 @@ def generate_parser() -> argparse.ArgumentParser:
         help="simple: people perceive exactly and keep to themselves; rich: they forget, overlook, "
         "gossip and wander (drawn from the seed)",
     )
+    parser.add_argument(
+        "--kind",
+        choices=KINDS,
+        default="everyday",
+        help="everyday: random habits; tasks: built around the robot's jobs (an item moved while its "
+        "owner is away, hidden where they will look last, or wanted by both)",
+    )
     parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
     add_log_level(parser, "WARNING")
     return parser
@@ -82,12 +89,14 @@ def generate_main(argv: Sequence[str]) -> int:
     if args.rooms is not None:
         try:
             print(
-                write_house_episode(args.out, args.rooms, args.items, args.seed, args.max_ticks, args.minds)
+                write_house_episode(
+                    args.out, args.rooms, args.items, args.seed, args.max_ticks, args.minds, args.kind
+                )
             )
         except ValueError as err:
             parser.error(str(err))
     else:
-        print(write_episode(args.out, args.map, args.seed, args.max_ticks, args.minds))
+        print(write_episode(args.out, args.map, args.seed, args.max_ticks, args.minds, args.kind))
     return 0
 
 

@@ -70,6 +70,9 @@ class AutonomousPerson:
         self.started = False
         self.attention: dict[str, tuple[str, bool]] = {}
         """Item in view -> (where it is seen, whether the person noticed it there)."""
+        self.errand = setup.errand
+        self.moves = setup.moves
+        """The first jobs of a task episode (``AgentSetup.errand``, ``AgentSetup.moves``)."""
 
     @property
     def finished(self) -> bool:
@@ -202,7 +205,36 @@ class AutonomousPerson:
     def _ticks(self, bounds: tuple[int, int]) -> int:
         return int(self.rng.integers(bounds[0], bounds[1] + 1))
 
+    def _first_jobs(self, world: World) -> bool:
+        """Plan a task episode's first jobs: the move, then the errand (each once)."""
+        if self.moves is not None:
+            item, target = self.moves
+            self.moves = None
+            source = world.item_location(item)
+            if source in world.locations and world.items[item].holder is None and source != target:
+                src, dst = world.locations[source], world.locations[target]
+                self.plan.extend(
+                    [
+                        Primitive("goto", cell=(src.cell.col, src.cell.row)),
+                        Primitive("take", item=item),
+                        Primitive("goto", cell=(dst.cell.col, dst.cell.row)),
+                        Primitive("drop", location=target),
+                    ]
+                )
+                return True
+        if self.errand > 0:
+            ticks, self.errand = self.errand, 0
+            outside = [c for c, r in world.region_of.items() if r in self._outside_regions(world)]
+            if outside:
+                agent = world.agents[self.id]
+                cell = min(outside, key=lambda c: abs(c[0] - agent.cell[0]) + abs(c[1] - agent.cell[1]))
+                self.plan.extend([Primitive("goto", cell=cell), Primitive("wait", ticks=ticks)])
+                return True
+        return False
+
     def _decide(self, world: World) -> None:
+        if self._first_jobs(world):
+            return
         agent = world.agents[self.id]
         want = self.preference
         if agent.holding is None and self.rng.random() < self.autonomy.mischief and self._mischief(world):

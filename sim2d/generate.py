@@ -17,7 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .maps import SCENARIO_DIR, load_map
+from protocol import GridCell
+
+from .maps import SCENARIO_DIR, GameMap, load_map
 
 ITEM_SHAPES = (
     ("ball", "ball"),
@@ -176,6 +178,70 @@ def rich_autonomy(seed: int) -> list[str]:
     ]
 
 
+KINDS = ("everyday", "tasks")
+"""Kinds of episodes: ``everyday`` (people with random habits) or ``tasks`` (built around the
+robot's jobs: :data:`TASKS`)."""
+TASKS = ("moved", "hidden", "contested")
+"""The jobs task episodes are built around, in turn by seed: ``moved`` (while its owner is on
+an errand, someone moves the item they will come back for to a spot out of the owner's view),
+``hidden`` (the same, to the unseen spot farthest from where it was: the last place they would
+look) and ``contested`` (both people want the same item)."""
+
+
+def task_of(seed: int) -> str:
+    """The job a task episode of ``seed`` is built around."""
+    return TASKS[seed % len(TASKS)]
+
+
+def task_agents(game_map: GameMap, placed: dict[str, str], homes: list[GridCell], seed: int) -> list[str]:
+    """The two people of a task episode, as ``[[agents]]`` lines (the first item is the one
+    the task is about; ``homes``: cells to start from when the task does not fix one)."""
+    rng = np.random.default_rng([seed, 2])
+    task, items = task_of(seed), list(placed)
+    wanted = items[0]
+    spot = next(loc for loc in game_map.locations if loc.id == placed[wanted])
+    if task == "contested":
+        return [
+            line
+            for person, home in zip(("A1", "A2"), homes[:2], strict=True)
+            for line in _person(person, home, f'prefers = "{wanted}"')
+        ]
+    region = game_map.region_of[(spot.cell.col, spot.cell.row)]
+    spots = {(loc.cell.col, loc.cell.row) for loc in game_map.locations}
+    cells = sorted(
+        c for c, r in game_map.region_of.items() if r == region and c not in spots and c != homes[2]
+    )
+    owner_home = cells[int(rng.integers(len(cells)))] if cells else homes[0]
+    seen = set(game_map.sees.get(owner_home, ())) | {spot.id}
+    unseen = [loc for loc in game_map.locations if loc.id not in seen] or [
+        loc for loc in game_map.locations if loc.id != spot.id
+    ]
+    if task == "hidden":
+        target = max(
+            unseen, key=lambda loc: abs(loc.cell.col - spot.cell.col) + abs(loc.cell.row - spot.cell.row)
+        )
+    else:
+        target = unseen[int(rng.integers(len(unseen)))]
+    other = items[1] if len(items) > 1 else "out"
+    mover_home = next(h for h in homes if h != owner_home)
+    return [
+        *_person("A1", owner_home, f'prefers = "{wanted}"', f"errand = {int(rng.integers(80, 201))}"),
+        *_person("A2", mover_home, f'prefers = "{other}"', f'move = ["{wanted}", "{target.id}"]'),
+    ]
+
+
+def _person(person: str, home: GridCell, *extra: str) -> list[str]:
+    return [
+        "[[agents]]",
+        f'id = "{person}"',
+        'kind = "person"',
+        "autonomous = true",
+        f"home = [{home[0]}, {home[1]}]",
+        *extra,
+        "",
+    ]
+
+
 def episode(
     name: str,
     map_ref: str,
@@ -185,12 +251,16 @@ def episode(
     *,
     max_ticks: int = 1500,
     minds: str = "simple",
+    kind: str = "everyday",
 ) -> str:
     """The TOML text of a random episode on the map at ``map_path``, which the file names as
     ``map_ref`` (a bundled map's name, or a file name beside the episode: no absolute paths,
-    so a folder of episodes can be moved or shared); ``minds``: one of :data:`MINDS`."""
+    so a folder of episodes can be moved or shared); ``minds``: one of :data:`MINDS`;
+    ``kind``: one of :data:`KINDS`."""
     if minds not in MINDS:
         raise ValueError(f"minds must be one of {', '.join(MINDS)}, not {minds!r}")
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {', '.join(KINDS)}, not {kind!r}")
     rng = np.random.default_rng(seed)
     game_map = load_map(str(map_path))
     spots = [loc.id for loc in game_map.locations]
@@ -220,24 +290,16 @@ def episode(
     ]
     if not 1 <= items <= len(ITEM_SHAPES):
         raise ValueError(f"an episode has 1 to {len(ITEM_SHAPES)} items, not {items}")
+    placed: dict[str, str] = {}
     for k in range(items):
         item, shape = ITEM_SHAPES[k]
-        lines += [
-            "[[items]]",
-            f'id = "{item}"',
-            f'shape = "{shape}"',
-            f'at = "{spots[int(rng.integers(len(spots)))]}"',
-            "",
-        ]
-    for person, home in zip(("A1", "A2"), homes[:2], strict=True):
-        lines += [
-            "[[agents]]",
-            f'id = "{person}"',
-            'kind = "person"',
-            "autonomous = true",
-            f"home = [{home[0]}, {home[1]}]",
-            "",
-        ]
+        placed[item] = spots[int(rng.integers(len(spots)))]
+        lines += ["[[items]]", f'id = "{item}"', f'shape = "{shape}"', f'at = "{placed[item]}"', ""]
+    if kind == "tasks":
+        lines += task_agents(game_map, placed, homes, seed)
+    else:
+        for person, home in zip(("A1", "A2"), homes[:2], strict=True):
+            lines += _person(person, home)
     lines += ["[[agents]]", 'id = "robot"', 'kind = "robot"', f"home = [{homes[2][0]}, {homes[2][1]}]", ""]
     return "\n".join(lines)
 
@@ -270,7 +332,13 @@ def map_of(episode: str) -> str:
 
 
 def write_house_episode(
-    directory: Path, rooms: int, items: int, seed: int, max_ticks: int = 1500, minds: str = "simple"
+    directory: Path,
+    rooms: int,
+    items: int,
+    seed: int,
+    max_ticks: int = 1500,
+    minds: str = "simple",
+    kind: str = "everyday",
 ) -> Path:
     """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
     ``items`` items on it (the scaling family of ``toyroom bench``); return its path."""
@@ -282,12 +350,19 @@ def write_house_episode(
     map_path.write_text(house_map(map_name, rooms, rooms, seed))
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
-    path.write_text(episode(name, map_path.name, map_path, items, seed, max_ticks=max_ticks, minds=minds))
+    path.write_text(
+        episode(name, map_path.name, map_path, items, seed, max_ticks=max_ticks, minds=minds, kind=kind)
+    )
     return path
 
 
 def write_episode(
-    directory: Path, map_name: str, seed: int, max_ticks: int = 1500, minds: str = "simple"
+    directory: Path,
+    map_name: str,
+    seed: int,
+    max_ticks: int = 1500,
+    minds: str = "simple",
+    kind: str = "everyday",
 ) -> Path:
     """Write a random episode (and its generated map) into ``directory``; return its path."""
     directory.mkdir(parents=True, exist_ok=True)
@@ -301,5 +376,7 @@ def write_episode(
             map_path.write_text(house_map(map_name, *spec))
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
-    path.write_text(episode(name, map_ref, map_path, ITEMS[map_name], seed, max_ticks=max_ticks, minds=minds))
+    path.write_text(
+        episode(name, map_ref, map_path, ITEMS[map_name], seed, max_ticks=max_ticks, minds=minds, kind=kind)
+    )
     return path

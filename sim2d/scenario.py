@@ -48,6 +48,10 @@ class AgentSetup:
     """A simulated person with a true mind and a policy of their own (no script)."""
     prefers: str | None = None
     """An autonomous person's first preference (an item or ``out``); ``None``: drawn from the seed."""
+    errand: int = 0
+    """An autonomous person's errand first: this many ticks outside before anything else."""
+    moves: tuple[str, str] | None = None
+    """An autonomous person's first job: move this item to this location (``move = [item, loc]``)."""
 
 
 @dataclass(frozen=True)
@@ -188,6 +192,17 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
     answers = table.get("answers", "no")
     if answers not in ("yes", "no"):
         raise ScenarioError(path, entry, f"expected answers = 'yes' or 'no', got {answers!r}")
+    errand, moves = table.get("errand", 0), table.get("move")
+    if not isinstance(errand, int) or errand < 0:
+        raise ScenarioError(path, entry, f"expected errand = a number of ticks >= 0, got {errand!r}")
+    if moves is not None and not (
+        isinstance(moves, list) and len(moves) == 2 and all(isinstance(m, str) for m in moves)
+    ):
+        raise ScenarioError(path, entry, f"expected move = [item, location], got {moves!r}")
+    if moves is not None and moves[1] not in {loc.id for loc in game_map.locations}:
+        raise ScenarioError(path, entry, f"move: unknown location {moves[1]!r}")
+    if (errand or moves) and not autonomous:
+        raise ScenarioError(path, entry, "errand and move are for autonomous people")
     return AgentSetup(
         id=aid,
         kind=kind,
@@ -198,6 +213,8 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
         script=script,
         autonomous=autonomous,
         prefers=table.get("prefers"),
+        errand=errand,
+        moves=(moves[0], moves[1]) if moves is not None else None,
     )
 
 
@@ -275,6 +292,8 @@ def _check_references(agents: list[AgentSetup], item_ids: set[str], path: Path) 
             raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"wants unknown item {agent.wants!r}")
         if agent.prefers is not None and agent.prefers not in item_ids | {"out"}:
             raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"prefers unknown item {agent.prefers!r}")
+        if agent.moves is not None and agent.moves[0] not in item_ids:
+            raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"move: unknown item {agent.moves[0]!r}")
         for j, step in enumerate(agent.script):
             entry = f"agents[{i}] '{agent.id}'.script[{j}]"
             if isinstance(step, Take) and step.item not in item_ids:

@@ -103,3 +103,64 @@ def lookout_scene() -> Scene:
         agents=(AgentSpec(id="p", kind=AgentKind.PERSON, home=Cell(3, 0)),),
         items=(ItemSpec(id="ball", shape=ItemShape.BALL),),
     )
+
+
+CORRIDOR = tuple(Cell(c, 0) for c in range(2, 9))
+"""O (0,0) | door (1,0) | A (2,0) . . . . . B (8,0): the robot stands outside and sees nothing."""
+
+
+def corridor_scene() -> Scene:
+    return Scene(
+        name="corridor",
+        cell_size=1.0,
+        origin=Vec2(0.0, 0.0),
+        columns=9,
+        rows=1,
+        regions=(
+            Region(id="R", kind=RegionKind.PLAYGROUND, cells=CORRIDOR),
+            Region(id="O", kind=RegionKind.OUTSIDE, cells=(Cell(0, 0),)),
+        ),
+        doors=(Door(id="d", cell=Cell(1, 0), joins=("R", "O")),),
+        locations=(
+            Location(id="A", region="R", cell=Cell(2, 0), play=True),
+            Location(id="B", region="R", cell=Cell(8, 0), play=True),
+        ),
+        visibility=tuple(Visibility(cell=c, locations=("A", "B")) for c in (*CORRIDOR, Cell(1, 0)))
+        + (Visibility(cell=Cell(0, 0), locations=()),),
+        agents=(
+            AgentSpec(id="p", kind=AgentKind.PERSON, home=Cell(5, 0)),
+            AgentSpec(id="r", kind=AgentKind.ROBOT, home=Cell(0, 0)),
+        ),
+        items=(ItemSpec(id="ball", shape=ItemShape.BALL),),
+    )
+
+
+def corridor_state(
+    tick: int, person: int, robot: int = 0, ball_at: str = "B", holding: bool = False
+) -> State:
+    def agent(agent_id: str, col: int, held: str | None = None) -> AgentState:
+        return AgentState(
+            id=agent_id,
+            pose=Pose(col + 0.5, 0.5),
+            velocity=Vec2(0.0, 0.0),
+            cell=Cell(col, 0),
+            region="O" if col == 0 else "R",
+            holding=held,
+        )
+
+    ball_col = person if holding else (2 if ball_at == "A" else 8)
+    ball = ItemState(
+        id="ball",
+        pose=Pose(ball_col + 0.5, 0.5),
+        cell=Cell(ball_col, 0),
+        region="R",
+        location=None if holding else ball_at,
+        held_by="p" if holding else None,
+    )
+    return State(
+        episode=1,
+        tick=tick,
+        time=tick * 0.7,
+        agents=(agent("p", person, "ball" if holding else None), agent("r", robot)),
+        items=(ball,),
+    )

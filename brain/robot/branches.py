@@ -9,10 +9,20 @@ import py_trees
 
 from protocol import Give, GridCell, Pick, Place, Request, Say, SayTopic
 
-from ..settings import RobotSettings
+from ..settings import ROBOT_POLICIES, RobotSettings
 from .behaviours import Act, FindTask, GoHome, TaskBranch
 from .context import RobotContext, Skip, Step
-from .situation import Inform, Occupied, PutBack, inform_tasks, occupied_tasks, put_back_tasks
+from .situation import (
+    Finder,
+    Inform,
+    Occupied,
+    PutBack,
+    announce_tasks,
+    inform_tasks,
+    occupied_tasks,
+    put_back_tasks,
+    tidy_tasks,
+)
 
 
 def navigate_timeout(settings: RobotSettings) -> float:
@@ -61,8 +71,9 @@ def offer_spot(ctx: RobotContext, offer: str) -> Step:
     return ctx.near(ctx.location_cell(location) if location else ctx.cell_of(holder or ""))
 
 
-def inform_branch(ns: str) -> TaskBranch:
-    """A person heads for an item that is not where they believe: tell them where it is."""
+def inform_branch(ns: str, finder: Finder = inform_tasks) -> TaskBranch:
+    """A person heads for an item that is not where they believe: tell them where it is
+    (``finder``: who is told what; the ``announce`` policy tells everyone of every move)."""
     say = Act(
         "say where it is",
         lambda c: Say(
@@ -78,7 +89,7 @@ def inform_branch(ns: str) -> TaskBranch:
         "inform",
         ns,
         [
-            FindTask("false belief?", "inform", inform_tasks, ns),
+            FindTask("false belief?" if finder is inform_tasks else "moved?", "inform", finder, ns),
             go_to("go to the person", lambda c: c.cell_of(_inform(c).person), ns, guarded=True),
             say,
         ],
@@ -177,13 +188,14 @@ def swap_branch(ns: str) -> TaskBranch:
     )
 
 
-def put_back_branch(ns: str) -> TaskBranch:
-    """An item was moved while the person who left it was away: bring it back."""
+def put_back_branch(ns: str, finder: Finder = put_back_tasks) -> TaskBranch:
+    """An item was moved while the person who left it was away: bring it back (``finder``:
+    which items; the ``tidy`` policy puts back every one that was moved)."""
     return TaskBranch(
         "put back",
         ns,
         [
-            FindTask("moved while away?", "put back", put_back_tasks, ns),
+            FindTask("moved while away?" if finder is put_back_tasks else "moved?", "put back", finder, ns),
             go_to("go to the item", lambda c: c.cell_of_item(_put_back(c).item), ns, guarded=True),
             Act("pick it", lambda c: Pick(item=_put_back(c).item), ns),
             go_to("go to its place", lambda c: c.location_cell(_put_back(c).location), ns),
@@ -192,7 +204,18 @@ def put_back_branch(ns: str) -> TaskBranch:
     )
 
 
-def build_tree(namespace: str) -> py_trees.behaviour.Behaviour:
-    """The robot's tree; its behaviours use the context at ``<namespace>/context``."""
-    branches = [inform_branch(namespace), swap_branch(namespace), put_back_branch(namespace)]
+POLICIES = ROBOT_POLICIES
+"""The robot's policies: ``tom`` (the paper's tree, acting on the people's inferred minds),
+and two without theory of mind to measure it against: ``tidy`` (put every moved item back
+where it was) and ``announce`` (tell everyone about every move)."""
+
+
+def build_tree(namespace: str, policy: str = "tom") -> py_trees.behaviour.Behaviour:
+    """The robot's tree for ``policy``; its behaviours use the context at ``<namespace>/context``."""
+    if policy == "tidy":
+        branches = [put_back_branch(namespace, tidy_tasks)]
+    elif policy == "announce":
+        branches = [inform_branch(namespace, announce_tasks)]
+    else:
+        branches = [inform_branch(namespace), swap_branch(namespace), put_back_branch(namespace)]
     return py_trees.composites.Selector("robot", memory=False, children=[*branches, GoHome(namespace)])

@@ -25,8 +25,13 @@ class RobotBrain:
         self.tracker = tracker
         self.robot = robot
         self.tree = RobotTree(robot, (spec.home.col, spec.home.row), settings)
+        """The tree of ``settings.policy`` (:mod:`brain.robot.tree`)."""
         self.owners: dict[str, str] = {}
         self.takers: dict[str, str] = {}
+        self.taken_from: dict[str, str] = {}
+        self.moves: dict[str, tuple[str, str, str]] = {}
+        """Item -> ``(from, to, mover)`` of the last time a person took it from one spot and
+        put it down at another."""
         self.people = {a.id for a in tracker.scene.agents if a.kind is AgentKind.PERSON}
 
     def observe(self, events: Iterable[Event]) -> None:
@@ -37,7 +42,12 @@ class RobotBrain:
                 continue
             if event.kind is EventKind.TAKE:
                 self.takers[event.item] = event.actor
+                if event.location is not None:
+                    self.taken_from[event.item] = event.location
             elif event.kind is EventKind.DROP:
+                source = self.taken_from.pop(event.item, None)
+                if source is not None and event.location is not None and source != event.location:
+                    self.moves[event.item] = (source, event.location, event.actor)
                 owner = self.owners.get(event.item)
                 moved_by_another = (
                     owner is not None and owner != event.actor and self.takers.get(event.item) == event.actor
@@ -55,6 +65,7 @@ class RobotBrain:
             estimates=estimates,
             owners=self.owners,
             moved_from={p: t.moved_from for p, t in self.tracker.tracks.items()},
+            moves=self.moves,
         )
         self.tree.tick(snapshot)
         return self.tree.context.book.drain()

@@ -11,6 +11,7 @@ given up) and :func:`still_needed` checks a task against the world as it is now.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Collection, Iterator, Mapping
 from dataclasses import dataclass
 
@@ -66,6 +67,8 @@ class Snapshot:
     """Item id -> the person who last put it down."""
     moved_from: Mapping[str, int | None]
     """Person id -> the cell index they left on their last move (``None``: not moved yet)."""
+    moves: Mapping[str, tuple[str, str, str]] = dataclasses.field(default_factory=dict)
+    """Item id -> ``(from, to, mover)``: the last time a person moved it from spot to spot."""
 
     @property
     def people(self) -> list[str]:
@@ -161,6 +164,27 @@ def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]
         if est.false_belief[k] < settings.belief_threshold or model.locations[believed] == location:
             continue
         yield PutBack(item=item, location=model.locations[believed], owner=owner)
+
+
+def tidy_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+    """The ``tidy`` policy (no theory of mind): every item a person moved from one spot to
+    another, still resting where they put it, goes back where it was."""
+    for item, (source, target, mover) in snap.moves.items():
+        location, holder = snap.item(item)
+        if holder is None and location == target:
+            yield PutBack(item=item, location=source, owner=mover)
+
+
+def announce_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+    """The ``announce`` policy (no theory of mind): after every move, tell every other person
+    where the item is now."""
+    for item, (_, target, mover) in snap.moves.items():
+        location, holder = snap.item(item)
+        if holder is not None or location != target:
+            continue
+        for person in snap.people:
+            if person != mover:
+                yield Inform(person=person, item=item, location=target)
 
 
 Finder = Callable[[Snapshot, RobotSettings], Iterator[Task]]

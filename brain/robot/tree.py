@@ -44,7 +44,7 @@ class RobotTree:
         self.writer = py_trees.blackboard.Client(name="brain", namespace=self.namespace)
         self.writer.register_key(key="context", access=Access.WRITE)
         self.writer.context = self.context
-        self.root = build_tree(self.namespace)
+        self.root = build_tree(self.namespace, self.context.settings.policy)
         self.root.setup_with_descendants()
 
     def tick(self, snapshot: Snapshot) -> None:

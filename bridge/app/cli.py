@@ -170,7 +170,18 @@ def _eval_command(command: Command) -> None:
         help="simple (people perceive exactly) or rich (they forget, overlook, gossip, wander); "
         "comma-separated for several conditions",
     )
-    evaluation.add_argument("--kind", default="everyday", help="everyday (random episodes)")
+    evaluation.add_argument(
+        "--kind",
+        default="everyday",
+        help="everyday (random episodes) or tasks (built around the robot's jobs); comma-separated",
+    )
+    evaluation.add_argument(
+        "--policies",
+        default="tom",
+        help="the acting robot's policies, one run each, comma-separated: tom (on inferred minds), "
+        "tidy (put every moved item back), announce (tell everyone of every move); "
+        "none (observing) is always run",
+    )
     add_settings_args(evaluation)
 
 

@@ -12,7 +12,7 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..evaluation.conditions import Condition
+from ..evaluation.conditions import POLICIES, Condition
 from ..flags import PROG_ENV, settings_argv
 from ..processes import stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
@@ -56,6 +56,7 @@ def eval_main(
     brain_args: Sequence[str] = (),
     conditions: Sequence[Condition] = (),
     command: str = "",
+    policies: Sequence[str] = ("tom",),
 ) -> int:
     """Run the evaluation with a progress bar and print the metrics."""
     from rich.console import Console
@@ -79,6 +80,7 @@ def eval_main(
             progress=lambda n: bar.advance(task, n),
             brain_args=tuple(brain_args),
             command=command,
+            policies=policies,
         )
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
@@ -196,8 +198,15 @@ def _eval(args: argparse.Namespace) -> int:
     except ValueError as err:
         print(f"toyroom eval: {err}", file=sys.stderr)
         return 2
+    policies = args.policies.split(",")
+    unknown = [p for p in policies if p not in POLICIES]
+    if unknown:
+        print(f"toyroom eval: unknown policies {unknown} (known: {', '.join(POLICIES)})", file=sys.stderr)
+        return 2
     command = shlex.join(["toyroom", *sys.argv[1:]])
-    return eval_main(args.episodes, args.seed, args.workers, args.backend, args.out, brain, chosen, command)
+    return eval_main(
+        args.episodes, args.seed, args.workers, args.backend, args.out, brain, chosen, command, policies
+    )
 
 
 def _conform(args: argparse.Namespace) -> int:

@@ -17,8 +17,9 @@ BTOM = Observer.BTOM.value
 MAJORITY = "majority"
 """A majority-class baseline scored on the same ticks: always the most common true preference
 (of the episodes scored: it is fitted on them), never a false belief, no belief."""
-POLICIES = {"tom": "robot", "none": BTOM}
-"""Robot policy -> the run of an episode it is measured on (``none``: the robot observing)."""
+ROBOT = "robot"
+"""An episode's acting runs are keyed ``robot-<policy>``; ``none`` is the observing run's."""
+NONE = "none"
 HELP = ("ticks_to_goal_fb", "wasted_trips", "interruptions")
 
 
@@ -37,21 +38,31 @@ def _help_sums(run: Mapping[str, Any]) -> dict[str, tuple[float, int]]:
     }
 
 
+def policies_of(episode: Mapping[str, Any]) -> dict[str, str]:
+    """Robot policy -> the key of the run it is measured on, acting policies first (``tom``
+    first of them), then ``none`` (the robot observing)."""
+    acting = sorted(
+        (k[len(ROBOT) + 1 :] for k in episode if k.startswith(f"{ROBOT}-")), key=lambda p: p != "tom"
+    )
+    return {p: f"{ROBOT}-{p}" for p in acting} | {NONE: BTOM}
+
+
 def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
-    """``(per policy, tom minus each other policy)``: success rate and each of :data:`HELP`
-    as ``{mean, lo, hi}``."""
+    """``(per policy, the first policy minus each other)``: success rate and each of
+    :data:`HELP` as ``{mean, lo, hi}``."""
+    policies = policies_of(episodes[0])
     per_policy: dict[str, Any] = {}
-    differences: dict[str, Any] = {p: {} for p in list(POLICIES)[1:]}
-    sums = {policy: [_help_sums(e[key]) for e in episodes] for policy, key in POLICIES.items()}
+    differences: dict[str, Any] = {p: {} for p in list(policies)[1:]}
+    sums = {policy: [_help_sums(e[key]) for e in episodes] for policy, key in policies.items()}
     for measure in HELP:
-        bounds, diffs = pooled_means({p: [s[measure] for s in sums[p]] for p in POLICIES}, seed)
-        for policy in POLICIES:
+        bounds, diffs = pooled_means({p: [s[measure] for s in sums[p]] for p in policies}, seed)
+        for policy in policies:
             per_policy.setdefault(policy, {})[measure] = bounds.get(
                 policy, {"mean": None, "lo": None, "hi": None}
             )
         for other, interval in diffs.items():
             differences[other][measure] = interval
-    for policy, key in POLICIES.items():
+    for policy, key in policies.items():
         outcome = Outcome()
         for episode in episodes:
             for ok in episode[key]["outcome"].values():

@@ -8,7 +8,9 @@ the simulated people have, and what kind of episodes they live through.
   what the brain's percept filter assumes: ``perceptonly`` is then an oracle of their
   beliefs whenever the robot sees everything) or ``rich`` (they forget, overlook, gossip,
   wander: ``python -m sim2d generate --minds``);
-- ``kind``: ``everyday`` (random episodes).
+- ``kind``: ``everyday`` (random episodes) or ``tasks`` (built around the robot's jobs: an item
+  moved while its owner is away, hidden where they will look last, or wanted by both;
+  ``python -m sim2d generate --kind tasks``).
 """
 
 from __future__ import annotations
@@ -19,7 +21,10 @@ from dataclasses import dataclass
 
 PERCEPTIONS = ("omniscient", "embodied")
 MINDS = ("simple", "rich")
-KINDS = ("everyday",)
+KINDS = ("everyday", "tasks")
+POLICIES = ("tom", "tidy", "announce")
+"""The acting robot's policies an evaluation may run (the brain's ``RobotSettings.policy``;
+``none``, the robot observing, is always run)."""
 
 
 @dataclass(frozen=True)

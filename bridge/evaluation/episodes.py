@@ -27,7 +27,7 @@ from typing import Any
 
 from protocol import Observer
 
-from .aggregate import aggregate
+from .aggregate import ROBOT, aggregate
 from .conditions import Condition
 from .report import report
 from .runs import MOTION, RunResult, RunSpec, run_once
@@ -53,6 +53,8 @@ class EpisodeJob:
     workdir: str
     condition: Condition = Condition()
     brain_args: tuple[str, ...] = ()
+    policies: tuple[str, ...] = ("tom",)
+    """The acting robot's policies, one run each (``RobotSettings.policy``)."""
 
 
 def map_of(index: int) -> str:
@@ -60,9 +62,9 @@ def map_of(index: int) -> str:
     return MAPS[index % len(MAPS)]
 
 
-def generate(directory: Path, index: int, seed: int, minds: str = "simple") -> Path:
+def generate(directory: Path, index: int, seed: int, minds: str = "simple", kind: str = "everyday") -> Path:
     """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
-    with simulated people of ``minds``."""
+    with simulated people of ``minds``, of ``kind``."""
     map_name = map_of(index)
     result = subprocess.run(
         [
@@ -78,6 +80,8 @@ def generate(directory: Path, index: int, seed: int, minds: str = "simple") -> P
             "1000",
             "--minds",
             minds,
+            "--kind",
+            kind,
             "--out",
             str(directory),
         ],
@@ -91,13 +95,28 @@ def generate(directory: Path, index: int, seed: int, minds: str = "simple") -> P
     return Path(result.stdout.strip())
 
 
-def episode_runs(scenario: Path, brain_args: tuple[str, ...] = ()) -> list[RunSpec]:
-    """Two runs: the robot observing (BToM live, the baselines as shadows of the same ticks:
-    an observing robot changes nothing, so one run serves every observer), then acting."""
-    return [
-        RunSpec(scenario, BRAIN_OBSERVERS[0], "observe", shadows=BRAIN_OBSERVERS[1:], brain_args=brain_args),
-        RunSpec(scenario, BTOM, "act", brain_args=brain_args),
+def episode_runs(
+    scenario: Path,
+    brain_args: tuple[str, ...] = (),
+    perception: str = "omniscient",
+    policies: Sequence[str] = ("tom",),
+) -> list[RunSpec]:
+    """The robot observing (BToM live, the baselines as shadows of the same ticks: an
+    observing robot changes nothing, so one run serves every observer), then one run with
+    the robot acting per policy."""
+    observe = RunSpec(
+        scenario,
+        BRAIN_OBSERVERS[0],
+        "observe",
+        shadows=BRAIN_OBSERVERS[1:],
+        brain_args=brain_args,
+        perception=perception,
+    )
+    acting = [
+        RunSpec(scenario, BTOM, "act", brain_args=brain_args, policy=policy, perception=perception)
+        for policy in policies
     ]
+    return [observe, *acting]
 
 
 def run_episode(job: EpisodeJob) -> dict[str, Any]:
@@ -117,14 +136,15 @@ def run_episode(job: EpisodeJob) -> dict[str, Any]:
 
 def _episode(job: EpisodeJob) -> dict[str, Any]:
     directory = Path(job.workdir) / job.condition.name
-    scenario = generate(directory / "scenarios", job.index, job.seed, job.condition.minds)
+    scenario = generate(directory / "scenarios", job.index, job.seed, job.condition.minds, job.condition.kind)
     logs = directory / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
     failures: list[str] = []
-    for spec in episode_runs(scenario, (*job.condition.brain_args(), *job.brain_args)):
+    args = (*job.condition.brain_args(), *job.brain_args)
+    for spec in episode_runs(scenario, args, job.condition.perception, job.policies):
         for observer, result in _run_with_retries(spec, logs, failures).items():
-            key = observer if spec.robot == "observe" else "robot"
+            key = observer if spec.robot == "observe" else f"{ROBOT}-{spec.policy}"
             out[key] = {
                 "counts": result.counts.__dict__,
                 "outcome": result.outcome.per_person,
@@ -147,7 +167,7 @@ def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[st
         except (RuntimeError, OSError, subprocess.SubprocessError) as err:
             failures.append(str(err))
             log.warning("%s (attempt %d of %d)", err, attempt, RUN_ATTEMPTS)
-            tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
+            tag = spec.tag
             for path in logs.glob(f"{tag}.*.log"):
                 path.rename(path.with_suffix(f".failed{attempt}.log"))
             if attempt == RUN_ATTEMPTS:
@@ -166,13 +186,18 @@ def evaluate(
     progress: Callable[[int], None] | None = None,
     brain_args: tuple[str, ...] = (),
     command: str = "",
+    policies: Sequence[str] = ("tom",),
 ) -> dict[str, Any]:
     """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
     and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
     ``--set belief_model=point``; ``command``: the command line, for the report)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
-    jobs = [EpisodeJob(i, seed, workdir, c, brain_args) for c in conditions for i in range(episodes)]
+    jobs = [
+        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies))
+        for c in conditions
+        for i in range(episodes)
+    ]
     results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
     measured = []
     for condition, chunk in zip(conditions, _chunks(results, episodes), strict=True):
@@ -185,6 +210,7 @@ def evaluate(
         "episodes": episodes,
         "seed": seed,
         "brain_args": list(brain_args),
+        "policies": [*policies, "none"],
         "command": command,
         "conditions": measured,
     }

@@ -5,7 +5,10 @@ walking distance fell most over the last ``window`` ticks; they want the item tr
 truth (a point at each item's true location), so no false belief is ever flagged.
 
 Built as ``mind`` messages from the states and the truth, so the evaluation scores it like
-every other observer. Pure functions.
+every other observer. With an embodied robot it knows no more of the world than the robot
+does (:class:`RobotSight`): an item's place is where the robot last saw it or saw it put
+down; the belief about an item the robot never saw is uniform over the places out of its view.
+Pure functions.
 """
 
 from __future__ import annotations
@@ -42,11 +45,44 @@ def heading(distances: Mapping[str, Mapping[GridCell, int]], before: GridCell, n
     return best[2] if best is not None else None
 
 
-class MotionHeuristic:
-    """Follows the states of one run and writes a ``mind`` per tick."""
+class RobotSight:
+    """Where an embodied robot knows the items are, from the states alone: it sees the item
+    spots its own cell sees and tracks every person (so a carried item is where its carrier
+    is, and one put down is where it was put down)."""
 
-    def __init__(self, scene: Scene, window: int = WINDOW) -> None:
+    def __init__(self, scene: Scene) -> None:
+        self.sees = {(v.cell.col, v.cell.row): set(v.locations) for v in scene.visibility}
+        self.robot = next((a.id for a in scene.agents if a.kind is AgentKind.ROBOT), None)
+        self.known: dict[str, str | None] = {i.id: None for i in scene.items}
+        self.carried: set[str] = set()
+
+    def places(self, state: State, truth: Truth) -> dict[str, str | None]:
+        """Each item's known place after ``state`` (``None``: never seen); ``truth`` gives a
+        carried item's place (its carrier's, which the robot tracks)."""
+        robot = next((a for a in state.agents if a.id == self.robot), None)
+        visible = self.sees.get((robot.cell.col, robot.cell.row), set()) if robot is not None else set()
+        where = {place.item: place.location for place in truth.items}
+        for item in state.items:
+            if item.id not in self.known:
+                continue
+            if item.held_by is not None:
+                self.known[item.id] = where.get(item.id)
+                self.carried.add(item.id)
+            elif item.location in visible or item.id in self.carried:
+                self.known[item.id] = item.location
+                self.carried.discard(item.id)
+            elif self.known[item.id] in visible:  # it is not where it was last seen
+                self.known[item.id] = None
+        return dict(self.known)
+
+
+class MotionHeuristic:
+    """Follows the states of one run and writes a ``mind`` per tick (``embodied``: knowing
+    the world only as an embodied robot does)."""
+
+    def __init__(self, scene: Scene, window: int = WINDOW, embodied: bool = False) -> None:
         self.scene = scene
+        self.sight = RobotSight(scene) if embodied else None
         self.distances = goal_distances(scene)
         self.items = [i.id for i in scene.items]
         self.locations = [loc.id for loc in scene.locations]
@@ -55,8 +91,12 @@ class MotionHeuristic:
         self.goal: dict[str, str | None] = dict.fromkeys(self.people)
 
     def mind(self, state: State, truth: Truth) -> Mind:
-        """The heuristic's estimates at ``state``'s tick (the truth gives each item's place)."""
-        where = {place.item: place.location for place in truth.items}
+        """The heuristic's estimates at ``state``'s tick (the truth gives each item's place,
+        or what an embodied robot knows of it)."""
+        if self.sight is None:
+            where: dict[str, str | None] = {place.item: place.location for place in truth.items}
+        else:
+            where = self.sight.places(state, truth)
         cells = {a.id: (a.cell.col, a.cell.row) for a in state.agents}
         agents = []
         for person in self.people:
@@ -71,13 +111,7 @@ class MotionHeuristic:
                 AgentMind(
                     agent=person,
                     beliefs=tuple(
-                        ItemBelief(
-                            item,
-                            tuple(
-                                Prob(loc, 1.0 if where.get(item) == loc else 0.0) for loc in self.locations
-                            ),
-                        )
-                        for item in self.items
+                        ItemBelief(item, self._belief(where.get(item), state)) for item in self.items
                     ),
                     preference=tuple(
                         Prob(g, (1.0 if g == wanted else 0.0) if wanted else 1.0 / (len(self.items) + 1))
@@ -86,3 +120,12 @@ class MotionHeuristic:
                 )
             )
         return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents))
+
+    def _belief(self, place: str | None, state: State) -> tuple[Prob, ...]:
+        """A point at ``place``; unknown: uniform over the places the robot does not see."""
+        if place is not None or self.sight is None:
+            return tuple(Prob(loc, 1.0 if place == loc else 0.0) for loc in self.locations)
+        robot = next((a for a in state.agents if a.id == self.sight.robot), None)
+        visible = self.sight.sees.get((robot.cell.col, robot.cell.row), set()) if robot is not None else set()
+        unseen = [loc for loc in self.locations if loc not in visible] or self.locations
+        return tuple(Prob(loc, 1.0 / len(unseen) if loc in unseen else 0.0) for loc in self.locations)

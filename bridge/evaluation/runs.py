@@ -46,6 +46,17 @@ class RunSpec:
     """Observers the same brain runs alongside on the same ticks (``python -m brain --shadow``)."""
     brain_args: tuple[str, ...] = ()
     """More options for the brain, e.g. ``("--set", "belief_model=graded")``."""
+    policy: str = "tom"
+    """The acting robot's policy (``RobotSettings.policy``)."""
+    perception: str = "omniscient"
+    """What the robot sees (the brain is told by ``brain_args``): the motion heuristic then
+    knows no more of the world than the robot does."""
+
+    @property
+    def tag(self) -> str:
+        """``<episode>-<observer>-observe`` or ``<episode>-<observer>-act-<policy>``: its logs' names."""
+        action = self.robot if self.robot == "observe" else f"{self.robot}-{self.policy}"
+        return f"{self.scenario.stem}-{self.observer}-{action}"
 
 
 @dataclass
@@ -118,6 +129,7 @@ def brain_command(spec: RunSpec, world: str, settings: SessionSettings, shadow_d
         *("--timeout", str(spec.timeout), "--log-level", "WARNING"),
         *shadows,
         *spec.brain_args,
+        *(("--set", f"policy={spec.policy}") if spec.robot == "act" else ()),
     )
 
 
@@ -130,7 +142,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     """
     world = f"eval-{uuid.uuid4().hex[:10]}"
     settings = SessionSettings()
-    tag = f"{spec.scenario.stem}-{spec.observer}-{spec.robot}"
+    tag = spec.tag
     engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
     shadow_dir = logs / f"{tag}.shadows"
     engine = start_node(
@@ -167,7 +179,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     results = {spec.observer: _score(record.minds, record.truths, record.took, outcome)}
     results[spec.observer].help = helpfulness(info.scene, record.states, record.truths, record.events)
     if spec.robot == "observe":
-        heuristic = MotionHeuristic(info.scene)
+        heuristic = MotionHeuristic(info.scene, embodied=spec.perception == "embodied")
         guessed = {
             tick: heuristic.mind(record.states[tick], record.truths[tick])
             for tick in sorted(record.states)

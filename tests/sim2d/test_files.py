@@ -134,6 +134,20 @@ def _broken_scenario(tmp_path: Path, old: str, new: str) -> ScenarioError:
         ('at = "A1"', 'at = "attic"', "items[0] 'skate'", "'at' must be a location"),
         ('kind = "robot"', 'kind = "drone"', "agents[2] 'robot'", "expected kind 'person' or 'robot'"),
         ('robot = "observe"', 'robot = "maybe"', "robot", "expected 'act' or 'observe'"),
+        (
+            'id = "A1"',
+            'id = "A1"\nerrand = 10',
+            "agents[0] 'A1'",
+            "errand and move are for autonomous people",
+        ),
+        ('id = "A1"', 'id = "A1"\nerrand = -1', "agents[0] 'A1'", "expected errand = a number of ticks >= 0"),
+        ('id = "A1"', 'id = "A1"\nmove = ["ball"]', "agents[0] 'A1'", "expected move = [item, location]"),
+        (
+            'id = "A1"',
+            'id = "A1"\nmove = ["ball", "attic"]',
+            "agents[0] 'A1'",
+            "move: unknown location 'attic'",
+        ),
     ],
 )
 def test_broken_scenario_names_entry(tmp_path: Path, old: str, new: str, entry: str, problem: str) -> None:

@@ -81,6 +81,28 @@ def test_paper_tidy_puts_the_ball_back_before_a1_returns(tmp_path: Path) -> None
     robot_ends_at_home(out)
 
 
+def test_tidy_policy_puts_back_what_was_moved_and_says_nothing(tmp_path: Path) -> None:
+    """``policy = tidy`` (no theory of mind): the ball A2 moved from S2 to S1 goes back."""
+    out = toyroom_run(tmp_path, "paper-tidy", "--set", "policy=tidy")
+    events = EventsCsv(out / "events.csv")
+    moved = events.first_tick(actor="A2", kind="drop", item="ball", location="S1")
+    placed = events.first_tick(actor="robot", kind="drop", item="ball", location="S2")
+    assert moved < placed, (moved, placed)
+    assert not events.find(actor="robot", kind="say"), "tidying says nothing"
+
+
+def test_announce_policy_tells_the_others_of_every_move(tmp_path: Path) -> None:
+    """``policy = announce`` (no theory of mind): A2 moved the ball, so A1 is told where it is
+    now, and the robot moves nothing."""
+    out = toyroom_run(tmp_path, "paper-tidy", "--set", "policy=announce")
+    events = EventsCsv(out / "events.csv")
+    moved = events.first_tick(actor="A2", kind="drop", item="ball", location="S1")
+    told = events.first_tick(actor="robot", kind="say", item="ball", target="A1", location="S1")
+    assert moved < told, (moved, told)
+    assert not events.find(actor="robot", kind="take"), "announcing moves no item"
+    assert not events.find(actor="robot", kind="say", target="A2"), "the mover is not told"
+
+
 def test_sally_anne_robot_acts_before_sally_reaches_the_basket(tmp_path: Path) -> None:
     out = toyroom_run(tmp_path, "sally-anne")
     events = EventsCsv(out / "events.csv")

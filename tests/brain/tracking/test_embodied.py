@@ -8,84 +8,8 @@ import pytest
 
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
-from protocol import (
-    AgentKind,
-    AgentSpec,
-    AgentState,
-    Cell,
-    Door,
-    Event,
-    EventKind,
-    ItemShape,
-    ItemSpec,
-    ItemState,
-    Location,
-    Pose,
-    Region,
-    RegionKind,
-    Scene,
-    State,
-    Vec2,
-    Visibility,
-)
-
-ROOM = tuple(Cell(c, 0) for c in range(2, 9))
-"""O (0,0) | door (1,0) | A (2,0) . . . . . B (8,0): the robot stands outside and sees nothing."""
-
-
-def corridor() -> Scene:
-    return Scene(
-        name="corridor",
-        cell_size=1.0,
-        origin=Vec2(0.0, 0.0),
-        columns=9,
-        rows=1,
-        regions=(
-            Region(id="R", kind=RegionKind.PLAYGROUND, cells=ROOM),
-            Region(id="O", kind=RegionKind.OUTSIDE, cells=(Cell(0, 0),)),
-        ),
-        doors=(Door(id="d", cell=Cell(1, 0), joins=("R", "O")),),
-        locations=(
-            Location(id="A", region="R", cell=Cell(2, 0), play=True),
-            Location(id="B", region="R", cell=Cell(8, 0), play=True),
-        ),
-        visibility=tuple(Visibility(cell=c, locations=("A", "B")) for c in (*ROOM, Cell(1, 0)))
-        + (Visibility(cell=Cell(0, 0), locations=()),),
-        agents=(
-            AgentSpec(id="p", kind=AgentKind.PERSON, home=Cell(5, 0)),
-            AgentSpec(id="r", kind=AgentKind.ROBOT, home=Cell(0, 0)),
-        ),
-        items=(ItemSpec(id="ball", shape=ItemShape.BALL),),
-    )
-
-
-def state(tick: int, person: int, robot: int = 0, ball_at: str = "B", holding: bool = False) -> State:
-    def agent(agent_id: str, col: int, held: str | None = None) -> AgentState:
-        return AgentState(
-            id=agent_id,
-            pose=Pose(col + 0.5, 0.5),
-            velocity=Vec2(0.0, 0.0),
-            cell=Cell(col, 0),
-            region="O" if col == 0 else "R",
-            holding=held,
-        )
-
-    ball_col = person if holding else (2 if ball_at == "A" else 8)
-    ball = ItemState(
-        id="ball",
-        pose=Pose(ball_col + 0.5, 0.5),
-        cell=Cell(ball_col, 0),
-        region="R",
-        location=None if holding else ball_at,
-        held_by="p" if holding else None,
-    )
-    return State(
-        episode=1,
-        tick=tick,
-        time=tick * 0.7,
-        agents=(agent("p", person, "ball" if holding else None), agent("r", robot)),
-        items=(ball,),
-    )
+from protocol import Event, EventKind, Scene
+from tests.scenes import corridor_scene, corridor_state
 
 
 def branch_of(tracker: MindTracker, location: str) -> float:
@@ -100,11 +24,11 @@ def test_walking_away_from_the_door_says_the_ball_is_at_the_far_end() -> None:
     """The person sees both spots; the robot sees neither. Walking right, away from the door
     and from A, is what someone does who wants the ball and sees it at B: the branch with
     the ball at B gains, before anyone touches it."""
-    tracker = MindTracker(corridor(), ModelSettings(perception="embodied"))
-    tracker.observe(state(0, 5), [])
+    tracker = MindTracker(corridor_scene(), ModelSettings(perception="embodied"))
+    tracker.observe(corridor_state(0, 5), [])
     assert branch_of(tracker, "B") == pytest.approx(0.5), "at first the robot cannot tell"
     for tick, col in enumerate((6, 7), start=1):
-        tracker.observe(state(tick, col), [])
+        tracker.observe(corridor_state(tick, col), [])
     assert branch_of(tracker, "B") > 0.9, (
         f"expected the ball at B after walking right, got {branch_of(tracker, 'B')}"
     )
@@ -116,28 +40,30 @@ def test_walking_away_from_the_door_says_the_ball_is_at_the_far_end() -> None:
 
 
 def test_a_take_reveals_where_it_was_and_sight_settles_the_rest() -> None:
-    tracker = MindTracker(corridor(), ModelSettings(perception="embodied"))
-    tracker.observe(state(0, 5), [])
+    tracker = MindTracker(corridor_scene(), ModelSettings(perception="embodied"))
+    tracker.observe(corridor_state(0, 5), [])
     take = Event(episode=1, tick=1, time=0.7, kind=EventKind.TAKE, actor="p", item="ball", location="A")
-    tracker.observe(state(1, 5, ball_at="A", holding=True), [take])
+    tracker.observe(corridor_state(1, 5, ball_at="A", holding=True), [take])
     assert tracker.view is not None and len(tracker.view.rows) == 1, (
         "only the branch with the ball at A is left"
     )
     assert tracker.truth == (2 * tracker.model.locations.index("A") + 1,), "carried, near A"
-    tracker.observe(state(2, 8, ball_at="B"), [])  # put down at B, out of the robot's view
+    tracker.observe(corridor_state(2, 8, ball_at="B"), [])  # put down at B, out of the robot's view
     assert branch_of(tracker, "B") == 1.0, "the robot saw where it was put down"
-    seen = MindTracker(corridor(), ModelSettings(perception="embodied"))
-    seen.observe(state(0, 5, robot=3, ball_at="A"), [])  # the robot stands in the room: it sees A and B
+    seen = MindTracker(corridor_scene(), ModelSettings(perception="embodied"))
+    seen.observe(
+        corridor_state(0, 5, robot=3, ball_at="A"), []
+    )  # the robot stands in the room: it sees A and B
     assert seen.view is not None and len(seen.view.rows) == 1 and branch_of(seen, "A") == 1.0
-    unseen = state(3, 8, ball_at="A")  # the engine's state: the robot does not see this
+    unseen = corridor_state(3, 8, ball_at="A")  # the engine's state: the robot does not see this
     assert tracker.believed_state(unseen).items[0].location == "B", "the robot acts on what it believes"
 
 
 def test_omniscient_is_one_branch_and_embodied_needs_a_robot() -> None:
-    tracker = MindTracker(corridor(), ModelSettings())
-    tracker.observe(state(0, 5), [])
+    tracker = MindTracker(corridor_scene(), ModelSettings())
+    tracker.observe(corridor_state(0, 5), [])
     assert tracker.view is None and np.allclose(tracker.branch_weights(), [1.0])
-    scene = corridor()
+    scene = corridor_scene()
     no_robot = Scene(
         **{f: getattr(scene, f) for f in scene.__struct_fields__ if f != "agents"}, agents=scene.agents[:1]
     )

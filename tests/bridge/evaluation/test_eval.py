@@ -57,7 +57,7 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
     episodes = json.loads((out / "episodes.json").read_text())["omniscient-simple-everyday"]
     assert [e["map"] for e in episodes] == ["paper", "house-a"], episodes
     assert [e["scenario"] for e in episodes] == ["gen-paper-s5000", "gen-house-a-s5001"]
-    assert set(episodes[0]["robot"]["help"]) == {"A1", "A2"}
+    assert set(episodes[0]["robot-tom"]["help"]) == {"A1", "A2"}
 
 
 def test_local_eval_progress_advances_per_episode(local: tuple[dict, list[int], Path]) -> None:

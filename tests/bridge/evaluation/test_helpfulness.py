@@ -76,8 +76,8 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
         }
 
     episodes = [
-        {"robot": run(True, 40, 0), "btom": run(True, None, 2)},
-        {"robot": run(False, 10, 1), "btom": run(False, 10, 1)},
+        {"robot-tom": run(True, 40, 0), "btom": run(True, None, 2)},
+        {"robot-tom": run(False, 10, 1), "btom": run(False, 10, 1)},
     ]
     policies, differences = robot_metrics(episodes, seed=1)
     assert (
