@@ -128,6 +128,10 @@ class RobotSettings:
         belief_threshold: a false belief (``Estimate.false_belief``: the person's belief gives
             the item's true location less than ``false_belief_mass``) must be at least this
             probable for the robot to act on it.
+        put_back_preference: an item nobody left where it is is put back for someone who
+            does not know it was moved only when they want it at least this probably.
+        put_back_harm: no put-back when someone else who may want the item believes it where
+            it is now (their belief there times their preference at least this).
         attempts: how often the robot tries one task before giving up on it.
         navigate_timeout: engine seconds a navigation may take.
         action_timeout: engine seconds a pick, place, give, say or request may take.
@@ -139,6 +143,8 @@ class RobotSettings:
     preference_threshold: float = 0.6
     intention_threshold: float = 0.5
     belief_threshold: float = 0.6
+    put_back_preference: float = 0.25
+    put_back_harm: float = 0.3
     attempts: int = 2
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0

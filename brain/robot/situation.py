@@ -148,22 +148,47 @@ def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied
 
 
 def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
-    """Items resting where the person who left them probably does not believe (a false belief
-    at least ``belief_threshold`` probable), to be put back at their most probable believed
-    location."""
+    """Items resting where someone who will look for them probably does not believe (a false
+    belief at least ``belief_threshold`` probable), to be put back at their most probable
+    believed location: the person who left the item there, or, for an item nobody left
+    (the scene placed it), anyone but the person who moved it who may want it (preference at
+    least ``put_back_preference``). Not when it would mislead someone else who may want it and
+    believes it where it is now (belief times preference at least ``put_back_harm``)."""
     model = snap.model
     for k, item in enumerate(model.items):
         location, holder = snap.item(item)
+        if holder is not None or location is None:
+            continue
+        mover = snap.moves[item][2] if item in snap.moves else None
         owner = snap.owners.get(item)
-        if holder is not None or location is None or owner is None:
+        looking = [owner] if owner is not None and owner != mover else [p for p in snap.people if p != mover]
+        found = None
+        for person in looking:
+            est = snap.estimates.get(person)
+            if est is None or est.false_belief[k] < settings.belief_threshold:
+                continue
+            believed = int(np.argmax(est.beliefs[k]))
+            if model.locations[believed] == location:
+                continue
+            if person != owner and est.preference[k] < settings.put_back_preference:
+                continue
+            found = (person, model.locations[believed])
+            break
+        if found is None or misled(snap, k, location, found[0]) >= settings.put_back_harm:
             continue
-        est = snap.estimates.get(owner)
-        if est is None:
-            continue
-        believed = int(np.argmax(est.beliefs[k]))
-        if est.false_belief[k] < settings.belief_threshold or model.locations[believed] == location:
-            continue
-        yield PutBack(item=item, location=model.locations[believed], owner=owner)
+        yield PutBack(item=item, location=found[1], owner=found[0])
+
+
+def misled(snap: Snapshot, k: int, location: str, helped: str) -> float:
+    """How much moving item ``k`` away from ``location`` would mislead the others: the most,
+    over people other than ``helped``, of P(they believe it there) x P(they want it)."""
+    where = snap.model.locations.index(location)
+    harms = [
+        float(est.beliefs[k, where] * est.preference[k])
+        for person, est in snap.estimates.items()
+        if person != helped
+    ]
+    return max(harms, default=0.0)
 
 
 def tidy_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
