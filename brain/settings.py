@@ -129,7 +129,8 @@ class RobotSettings:
             the item's true location less than ``false_belief_mass``) must be at least this
             probable for the robot to act on it.
         put_back_preference: an item nobody left where it is is put back for someone who
-            does not know it was moved only when they want it at least this probably.
+            does not know it was moved only when they want it at least this probably (0:
+            for anyone with a false belief about it: the robot walks, nobody is interrupted).
         put_back_harm: no put-back when someone else who may want the item believes it where
             it is now (their belief there times their preference at least this).
         attempts: how often the robot tries one task before giving up on it.
@@ -143,7 +144,7 @@ class RobotSettings:
     preference_threshold: float = 0.6
     intention_threshold: float = 0.5
     belief_threshold: float = 0.6
-    put_back_preference: float = 0.25
+    put_back_preference: float = 0.0
     put_back_harm: float = 0.3
     attempts: int = 2
     navigate_timeout: float = 60.0

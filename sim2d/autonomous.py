@@ -71,6 +71,7 @@ class AutonomousPerson:
         self.attention: dict[str, tuple[str, bool]] = {}
         """Item in view -> (where it is seen, whether the person noticed it there)."""
         self.errand = setup.errand
+        self.errand_after = setup.errand_after
         self.moves = setup.moves
         """The first jobs of a task episode (``AgentSetup.errand``, ``AgentSetup.moves``)."""
 
@@ -228,6 +229,8 @@ class AutonomousPerson:
             if outside:
                 agent = world.agents[self.id]
                 cell = min(outside, key=lambda c: abs(c[0] - agent.cell[0]) + abs(c[1] - agent.cell[1]))
+                if self.errand_after > 0:
+                    self.plan.append(Primitive("wait", ticks=self.errand_after))
                 self.plan.extend([Primitive("goto", cell=cell), Primitive("wait", ticks=ticks)])
                 return True
         return False

@@ -182,11 +182,13 @@ KINDS = ("everyday", "tasks")
 """Kinds of episodes: ``everyday`` (people with random habits) or ``tasks`` (built around the
 robot's jobs, :data:`TASKS`, with people who change their minds five times less often than in
 everyday episodes, so that the job stays the job)."""
-TASKS = ("moved", "hidden", "contested")
+TASKS = ("moved", "hidden", "contested", "seen")
 """The jobs task episodes are built around, in turn by seed: ``moved`` (while its owner is on
 an errand, someone moves the item they will come back for to a spot out of the owner's view),
 ``hidden`` (the same, to the unseen spot farthest from where it was: the last place they would
-look) and ``contested`` (both people want the same item)."""
+look), ``contested`` (both people want the same item) and ``seen`` (Sally-Anne's true-belief
+control: the owner watches the item being moved to a spot in view, then goes on the errand;
+putting it back would mislead them)."""
 
 
 def task_of(seed: int) -> str:
@@ -217,7 +219,12 @@ def task_agents(game_map: GameMap, placed: dict[str, str], homes: list[GridCell]
     unseen = [loc for loc in game_map.locations if loc.id not in seen] or [
         loc for loc in game_map.locations if loc.id != spot.id
     ]
-    if task == "hidden":
+    in_view = [loc for loc in game_map.locations if loc.id in seen and loc.id != spot.id]
+    watch: tuple[str, ...] = ()
+    if task == "seen" and in_view:
+        target = in_view[int(rng.integers(len(in_view)))]
+        watch = (f"errand_after = {int(rng.integers(150, 251))}",)
+    elif task == "hidden":
         target = max(
             unseen, key=lambda loc: abs(loc.cell.col - spot.cell.col) + abs(loc.cell.row - spot.cell.row)
         )
@@ -226,7 +233,7 @@ def task_agents(game_map: GameMap, placed: dict[str, str], homes: list[GridCell]
     other = items[1] if len(items) > 1 else "out"
     mover_home = next(h for h in homes if h != owner_home)
     return [
-        *_person("A1", owner_home, f'prefers = "{wanted}"', f"errand = {int(rng.integers(80, 201))}"),
+        *_person("A1", owner_home, f'prefers = "{wanted}"', f"errand = {int(rng.integers(80, 201))}", *watch),
         *_person("A2", mover_home, f'prefers = "{other}"', f'move = ["{wanted}", "{target.id}"]'),
     ]
 

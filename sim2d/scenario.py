@@ -50,6 +50,8 @@ class AgentSetup:
     """An autonomous person's first preference (an item or ``out``); ``None``: drawn from the seed."""
     errand: int = 0
     """An autonomous person's errand first: this many ticks outside before anything else."""
+    errand_after: int = 0
+    """Ticks the person stays where they are (watching) before the errand."""
     moves: tuple[str, str] | None = None
     """An autonomous person's first job: move this item to this location (``move = [item, loc]``)."""
 
@@ -192,16 +194,17 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
     answers = table.get("answers", "no")
     if answers not in ("yes", "no"):
         raise ScenarioError(path, entry, f"expected answers = 'yes' or 'no', got {answers!r}")
-    errand, moves = table.get("errand", 0), table.get("move")
-    if not isinstance(errand, int) or errand < 0:
-        raise ScenarioError(path, entry, f"expected errand = a number of ticks >= 0, got {errand!r}")
+    errand, after, moves = table.get("errand", 0), table.get("errand_after", 0), table.get("move")
+    for key, value in (("errand", errand), ("errand_after", after)):
+        if not isinstance(value, int) or value < 0:
+            raise ScenarioError(path, entry, f"expected {key} = a number of ticks >= 0, got {value!r}")
     if moves is not None and not (
         isinstance(moves, list) and len(moves) == 2 and all(isinstance(m, str) for m in moves)
     ):
         raise ScenarioError(path, entry, f"expected move = [item, location], got {moves!r}")
     if moves is not None and moves[1] not in {loc.id for loc in game_map.locations}:
         raise ScenarioError(path, entry, f"move: unknown location {moves[1]!r}")
-    if (errand or moves) and not autonomous:
+    if (errand or after or moves) and not autonomous:
         raise ScenarioError(path, entry, "errand and move are for autonomous people")
     return AgentSetup(
         id=aid,
@@ -214,6 +217,7 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
         autonomous=autonomous,
         prefers=table.get("prefers"),
         errand=errand,
+        errand_after=after,
         moves=(moves[0], moves[1]) if moves is not None else None,
     )
 

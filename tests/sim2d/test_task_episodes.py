@@ -56,3 +56,16 @@ def test_everyday_episodes_are_unchanged_by_the_kind_option(tmp_path: Path) -> N
     everyday = write_episode(tmp_path / "a", "paper", 4).read_text()
     again = write_episode(tmp_path / "b", "paper", 4, kind="everyday").read_text()
     assert everyday == again and "errand" not in everyday
+
+
+def test_a_move_the_owner_watched_leaves_no_false_belief(tmp_path: Path) -> None:
+    """Sally-Anne's true-belief control: the owner sees the item moved before the errand."""
+    seed = TASKS.index("seen")
+    path = write_episode(tmp_path, "paper", seed, kind="tasks")
+    scenario = load_scenario(str(path))
+    owner, mover = scenario.people
+    assert owner.errand_after > 0 and mover.moves is not None
+    acts, false = run(path, ticks=400)
+    item, target = mover.moves
+    assert (mover.id, "drop", item, target) in [a[1:] for a in acts], acts
+    assert false == 0, f"the owner watched the move: expected no false belief, got {false} ticks"
