@@ -63,6 +63,12 @@ class ModelSettings:
             paper's setting) or ``embodied`` (the item spots its own cell sees; every person is
             tracked; the rest is inferred jointly with the people's minds,
             :mod:`brain.tracking.worldview`).
+        miss: the chance that a person overlooks an item coming into view (kept while it stays
+            there): each person's filter keeps rows of who overlooked what, weighed by their
+            decisions (:mod:`brain.model.lapses`); 0 (the default) turns lapses off.
+        hearsay: the rate (per second) at which someone in a person's region tells them where
+            they believe an item is, unheard by the robot (rows of who was told what, like
+            ``miss``); 0 (the default) turns it off.
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
             from its low to its high value (``desire_levels**(K + 1) - 1`` candidates).
     """
@@ -91,6 +97,8 @@ class ModelSettings:
     person_planner: str = "qmdp"
     desire_levels: int = 3
     perception: str = "omniscient"
+    miss: float = 0.0
+    hearsay: float = 0.0
 
     def __post_init__(self) -> None:
         checks = {
@@ -111,6 +119,8 @@ class ModelSettings:
             "person_planner": self.person_planner in ("qmdp", "belief"),
             "top_worlds": self.top_worlds >= 0,
             "perception": self.perception in ("omniscient", "embodied"),
+            "miss": 0.0 <= self.miss < 1.0,
+            "hearsay": self.hearsay >= 0.0,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

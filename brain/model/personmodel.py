@@ -70,10 +70,17 @@ class StepRecord:
     likelihood: FloatArray | None
     switch: float
     decision: tuple[int, int, int] | None = None
+    rumours: tuple[tuple[int, int, float], ...] = ()
+    """``(item, value, probability)``: what someone in the person's region believes of an
+    item, and the chance they told it since the last step (``ModelSettings.hearsay``)."""
 
 
 class PersonFilter(Protocol):
     """One person's online filter in some model's form."""
+
+    @property
+    def log_evidence(self) -> float:
+        """The marginal log-likelihood of the decisions so far (:attr:`Estimate.log_evidence`)."""
 
     def step(self, record: StepRecord) -> None:
         """Take in one step."""
@@ -347,6 +354,16 @@ class GradedFilter:
 
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
+    """:func:`base_person_model`, wrapped to allow lapses of attention and hearsay when
+    ``settings.miss`` or ``settings.hearsay`` is above 0 (:mod:`brain.model.lapses`)."""
+    from .lapses import LapseModel
+
+    base = base_person_model(scene, settings, true_world=true_world)
+    lapses = settings.miss > 0 or settings.hearsay > 0
+    return LapseModel(base, settings.miss) if lapses and not true_world else base
+
+
+def base_person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
     """The model ``settings.belief_model`` names, graded (the default) or point: exact while
     the scene's ``W`` worlds are at most ``settings.exact_max_worlds``, factored above it
     (:mod:`brain.model.gradedfactored`, :mod:`brain.model.factored`)."""

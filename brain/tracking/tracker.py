@@ -208,7 +208,8 @@ class MindTracker:
                 elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
                 switch = switch_probability(self.settings.hazard, elapsed)
                 decision = (track.cell, track.held, action)
-                self._push(track, tick, seen, likelihood, truths, switch=switch, decision=decision)
+                rumours = self._rumours(track.agent, state, state.time - (track.last_decision or 0.0))
+                self._push(track, tick, seen, likelihood, truths, switch, decision, rumours)
                 track.last_decision = state.time
             elif any(s != c.percept for s, c in zip(seen, track.chains, strict=True)) or (
                 self.observer is Observer.TRUEBELIEF
@@ -219,6 +220,29 @@ class MindTracker:
         if track.cell is not None and cell != track.cell:
             track.moved_from = track.cell
         track.cell, track.held = cell, held
+
+    def _rumours(self, person: str, state: State, seconds: float) -> tuple[tuple[int, int, float], ...]:
+        """What the others in ``person``'s region probably believe (more likely than not) of
+        each item, and the chance one of them told ``person`` in the last ``seconds``
+        (``ModelSettings.hearsay`` per second per pair; one item and one direction at a time)."""
+        rate = self.settings.hearsay
+        region = next((a.region for a in state.agents if a.id == person), None)
+        if rate <= 0 or region is None:
+            return ()
+        heard = []
+        for other in state.agents:
+            if other.id == person or other.id not in self.tracks or other.region != region:
+                continue
+            est = self.online(other.id)
+            if est is not None:
+                places = np.argmax(est.beliefs, axis=1)
+                heard += [
+                    (k, 2 * int(places[k]))
+                    for k in range(self.model.n_items)
+                    if est.beliefs[k, places[k]] > 0.5
+                ]
+        chance = (1.0 - np.exp(-rate * max(seconds, 0.0))) / (2 * max(len(heard), 1))
+        return tuple((k, value, float(chance)) for k, value in heard)
 
     def _waiting(self, track: PersonTrack, cell: int, now: float) -> bool:
         """Whether the person has just stood still long enough, while a decision was due, to
@@ -260,6 +284,7 @@ class MindTracker:
         truths: list[tuple[int, ...]],
         switch: float,
         decision: tuple[int, int, int] | None = None,
+        rumours: tuple[tuple[int, int, float], ...] = (),
     ) -> None:
         """One step of ``track`` in every branch (``seen`` and ``truths``: one per branch)."""
         if self.observer is Observer.PERCEPTONLY:

@@ -1,0 +1,198 @@
+"""Lapses of attention: a person may fail to notice an item in view (``ModelSettings.miss``).
+
+People in the model see every item in view; real people (and ``--minds rich`` simulated
+ones) sometimes overlook one, and then act on a belief their percepts no longer explain.
+:class:`LapseFilter` wraps any person filter in a small mixture of *rows*, each a copy of
+the filter that assumes a different set of items was overlooked: when an item comes into
+view that the row's person believes more likely than not to be elsewhere (a sight whose
+lapse leaves a false belief), the row splits in two, "noticed" (weight ``1 - miss``) and
+"missed" (weight ``miss``), and the missed row keeps the item out of its percepts for as
+long as it stays in view there (the person's belief about it stays as it was: they "see"
+what they expected, where they believe it if that spot is in view, else nothing). Each
+row's weight then follows the evidence of the person's decisions, so a person who walks
+back to where the item used to be makes the missed row the likely one: a false belief the
+percepts alone cannot show. Hearsay (``ModelSettings.hearsay``) splits rows the same way:
+when someone in the person's region believes an item to be where the row's person does not
+(``StepRecord.rumours``, from the tracker), a "told" row takes it in as the robot's speech
+is taken (weight: the chance it was said since the last step). Rows
+with the same overlooked items and (nearly) the same beliefs are merged, and at most
+``LAPSE_ROWS`` are kept. The estimate is the rows' mixture; the log-evidence is the mixture's
+(the log of the summed weights, which start at one). Smoothing returns the online estimates
+(the rows do not have a backward pass).
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .belief import NOT_IN_VIEW, Percept
+from .estimates import Estimate, mix
+from .world import WorldModel
+
+if TYPE_CHECKING:
+    from .personmodel import PersonFilter, PersonModel, StepRecord
+
+LAPSE_ROWS = 8
+"""The most rows a person's mixture keeps (the lightest are dropped)."""
+MERGE_TV = 1e-3
+"""Rows whose beliefs differ by less than this (total variation, per item) are merged."""
+
+
+@dataclass
+class Row:
+    """One hypothesis of which items the person has overlooked."""
+
+    log_weight: float
+    filter: PersonFilter
+    missed: frozenset[int] = frozenset()
+    beliefs: np.ndarray | None = None
+    """``(K, L)`` the row's believed locations after its last step."""
+    told: tuple[int, int] | None = None
+    """``(item, value)`` the row's person is told at this step (hearsay), then ``None``."""
+
+
+@dataclass
+class LapseFilter:
+    """A person's filter as a mixture of rows (see the module docstring)."""
+
+    model: WorldModel
+    miss: float
+    rows: list[Row]
+    last: Percept | None = None
+    steps: int = field(default=0)
+
+    @property
+    def log_evidence(self) -> float:
+        weights = np.array([r.log_weight for r in self.rows])
+        top = weights.max()
+        return float(top + np.log(np.exp(weights - top).sum()))
+
+    def step(self, record: StepRecord) -> None:
+        rows: list[Row] = []
+        for row in self.rows:
+            if row.beliefs is None:  # the person's prior, before their first percept
+                row.beliefs = row.filter.estimate(record.truth).beliefs
+            missed = frozenset(
+                k for k in row.missed if self.last is not None and record.percept.seen[k] == self.last.seen[k]
+            )
+            split = self._surprises(row, record.percept) if self.miss > 0 else []
+            if split:
+                lost = Row(
+                    row.log_weight + float(np.log(self.miss)),
+                    copy.deepcopy(row.filter),
+                    missed | frozenset(split),
+                    row.beliefs,
+                )
+                rows.append(lost)
+                row.log_weight += float(np.log1p(-self.miss))
+            row.missed = missed
+            rows.append(row)
+            rows.extend(self._told(row, record))
+        for row in rows:
+            before = row.filter.log_evidence
+            row.filter.step(dataclasses.replace(record, percept=self._as_seen(row, record.percept)))
+            row.log_weight += row.filter.log_evidence - before
+            row.beliefs = row.filter.estimate(record.truth).beliefs
+        self.rows = _merged(rows)
+        self.last = record.percept
+        self.steps += 1
+
+    def _surprises(self, row: Row, p: Percept) -> list[int]:
+        """Items just come into view (or moved in view), not their own, that the row's person
+        believes more likely than not to be somewhere else: the sights whose lapse would
+        leave a false belief (overlooking an item one had no idea about changes little)."""
+        out = []
+        assert row.beliefs is not None
+        for k, value in enumerate(p.seen):
+            if value < 0 or value % 2 == 1 or k in row.missed:
+                continue
+            if self.last is not None and self.last.seen[k] == value:
+                continue
+            believed = int(np.argmax(row.beliefs[k]))
+            if believed != value // 2 and row.beliefs[k, believed] > 0.5:
+                out.append(k)
+        return out
+
+    def _told(self, row: Row, record: StepRecord) -> list[Row]:
+        """A "told" row for each rumour the row's person does not already believe."""
+        out = []
+        assert row.beliefs is not None
+        for k, value, chance in record.rumours:
+            if chance <= 0 or int(np.argmax(row.beliefs[k])) == value // 2:
+                continue
+            told_row = Row(
+                row.log_weight + float(np.log(chance)), copy.deepcopy(row.filter), row.missed, row.beliefs
+            )
+            told_row.told = (k, value)
+            row.log_weight += float(np.log1p(-chance))
+            out.append(told_row)
+        return out
+
+    def _as_seen(self, row: Row, p: Percept) -> Percept:
+        """``p`` with each overlooked item replaced by what the row's person expects there:
+        where they believe it, if that is in view, else not in view."""
+        seen = list(p.seen)
+        beliefs = row.beliefs
+        for k in row.missed if beliefs is not None else ():
+            assert beliefs is not None
+            believed = int(np.argmax(beliefs[k]))
+            seen[k] = 2 * believed if self.model.sees[p.cell, believed] else NOT_IN_VIEW
+        if row.told is not None:  # hearsay: taken in as speech is
+            seen[row.told[0]] = row.told[1]
+            row.told = None
+        return Percept(cell=p.cell, seen=tuple(seen))
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        weights = np.array([r.log_weight for r in self.rows])
+        weights = np.exp(weights - weights.max())
+        weights /= weights.sum()
+        est = mix([r.filter.estimate(truth) for r in self.rows], weights)
+        return dataclasses.replace(est, log_evidence=self.log_evidence)
+
+
+def _merged(rows: list[Row]) -> list[Row]:
+    """Rows with the same overlooked items and (nearly) the same beliefs merged (their
+    weights summed, the heavier filter kept); at most :data:`LAPSE_ROWS`, heaviest first."""
+    kept: list[Row] = []
+    for row in sorted(rows, key=lambda r: -r.log_weight):
+        twin = next(
+            (
+                k
+                for k in kept
+                if k.missed == row.missed
+                and k.beliefs is not None
+                and row.beliefs is not None
+                and 0.5 * np.abs(k.beliefs - row.beliefs).sum(axis=1).max() < MERGE_TV
+            ),
+            None,
+        )
+        if twin is None:
+            kept.append(row)
+        else:
+            twin.log_weight = float(np.logaddexp(twin.log_weight, row.log_weight))
+    return kept[:LAPSE_ROWS]
+
+
+class LapseModel:
+    """A person model whose filters allow lapses (:class:`LapseFilter`) around ``inner``."""
+
+    def __init__(self, inner: PersonModel, miss: float) -> None:
+        self.inner = inner
+        self.model = inner.model
+        self.exact = inner.exact
+        self.miss = miss
+
+    def new_filter(self) -> LapseFilter:
+        return LapseFilter(self.model, self.miss, [Row(0.0, self.inner.new_filter())])
+
+    def likelihood(self, cell: int, held: int, action: int) -> np.ndarray:
+        return self.inner.likelihood(cell, held, action)
+
+    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
+        return list(online)

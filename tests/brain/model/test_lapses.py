@@ -1,0 +1,86 @@
+"""Lapses of attention (``ModelSettings.miss``): a person who walks back to where an item
+used to be, after it was moved in plain view, probably overlooked the move."""
+
+from __future__ import annotations
+
+from brain.settings import ModelSettings
+from brain.tracking.tracker import MindTracker, Observer
+from tests.scenes import corridor_scene, corridor_state
+
+
+def false_belief_after_walking_to_the_old_spot(miss: float, observer: Observer = Observer.BTOM) -> float:
+    """The ball rests at B, in the person's view; it is moved to A, in view too; the person
+    then walks right, towards B (away from A and from the door). The robot sees everything."""
+    tracker = MindTracker(corridor_scene(), ModelSettings(miss=miss), observer)
+    tracker.observe(corridor_state(0, 5, robot=3, ball_at="B"), [])
+    tracker.observe(corridor_state(1, 5, robot=3, ball_at="A"), [])
+    for tick, col in enumerate((6, 7), start=2):
+        tracker.observe(corridor_state(tick, col, robot=3, ball_at="A"), [])
+    estimate = tracker.online("p")
+    assert estimate is not None
+    return float(estimate.false_belief[0])
+
+
+def test_walking_to_where_it_was_reveals_the_overlooked_move() -> None:
+    with_lapses = false_belief_after_walking_to_the_old_spot(0.2)
+    assert with_lapses > 0.5, f"expected a likely false belief with lapses allowed, got {with_lapses:.3f}"
+    without = false_belief_after_walking_to_the_old_spot(0.0)
+    assert without < 0.1, f"without lapses the person saw the move, got {without:.3f}"
+
+
+def test_percepts_alone_cannot_tell_a_lapse() -> None:
+    """``perceptonly`` has no action likelihood: its rows keep their prior weights."""
+    alone = false_belief_after_walking_to_the_old_spot(0.2, Observer.PERCEPTONLY)
+    assert 0.05 < alone < 0.5, f"expected about the prior chance of a lapse, got {alone:.3f}"
+
+
+def test_log_evidence_is_the_mixtures() -> None:
+    """A lapse makes the walk likelier, so the evidence of the same moves is higher with lapses."""
+    scores = {}
+    for miss in (0.0, 0.2):
+        tracker = MindTracker(corridor_scene(), ModelSettings(miss=miss))
+        tracker.observe(corridor_state(0, 5, robot=3, ball_at="B"), [])
+        tracker.observe(corridor_state(1, 5, robot=3, ball_at="A"), [])
+        for tick, col in enumerate((6, 7), start=2):
+            tracker.observe(corridor_state(tick, col, robot=3, ball_at="A"), [])
+        scores[miss] = tracker.log_evidence("p")
+    assert scores[0.2] > scores[0.0], scores
+
+
+def test_a_rumour_splits_off_a_told_row_with_its_chance() -> None:
+    """Outside, the person has no idea where the ball is (half A, half B); someone in their
+    region believes it is at B, and told them since the last step with chance 0.25: a told
+    row (certain of B) of weight 0.25 beside the untold one."""
+    import numpy as np
+
+    from brain.model.belief import NOT_IN_VIEW, Percept
+    from brain.model.lapses import LapseModel
+    from brain.model.personmodel import StepRecord, base_person_model
+
+    settings = ModelSettings(hearsay=1.0)
+    scene = corridor_scene()
+    model = LapseModel(base_person_model(scene, settings), miss=0.0)
+    world = model.model
+    outside = world.cell_index[(0, 0)]
+    b = world.locations.index("B")
+    filt = model.new_filter()
+    truth = (2 * b,)
+    filt.step(
+        StepRecord(tick=0, percept=Percept(outside, (NOT_IN_VIEW,)), truth=truth, likelihood=None, switch=0.0)
+    )
+    assert len(filt.rows) == 1
+    rumour = ((0, 2 * b, 0.25),)
+    filt.step(
+        StepRecord(
+            tick=1,
+            percept=Percept(outside, (NOT_IN_VIEW,)),
+            truth=truth,
+            likelihood=None,
+            switch=0.0,
+            rumours=rumour,
+        )
+    )
+    weights = np.exp([r.log_weight for r in filt.rows])
+    assert sorted(np.round(weights, 6)) == [0.25, 0.75], weights
+    believed = filt.estimate(truth).beliefs[0, b]
+    assert abs(believed - (0.25 + 0.75 * 0.5)) < 0.01, believed
