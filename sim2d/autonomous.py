@@ -51,6 +51,8 @@ class Primitive:
     item: str | None = None
     location: str | None = None
     ticks: int = 0
+    errand: bool = False
+    """Part of an errand: carried through even when told where the wanted item is."""
 
 
 class AutonomousPerson:
@@ -126,6 +128,7 @@ class AutonomousPerson:
             self.autonomy.replan > 0
             and self.current is not None
             and self.current.do == "goto"
+            and not self.current.errand
             and self.rng.random() < self.autonomy.replan
         ):
             self.current = None
@@ -230,8 +233,10 @@ class AutonomousPerson:
                 agent = world.agents[self.id]
                 cell = min(outside, key=lambda c: abs(c[0] - agent.cell[0]) + abs(c[1] - agent.cell[1]))
                 if self.errand_after > 0:
-                    self.plan.append(Primitive("wait", ticks=self.errand_after))
-                self.plan.extend([Primitive("goto", cell=cell), Primitive("wait", ticks=ticks)])
+                    self.plan.append(Primitive("wait", ticks=self.errand_after, errand=True))
+                self.plan.extend(
+                    [Primitive("goto", cell=cell, errand=True), Primitive("wait", ticks=ticks, errand=True)]
+                )
                 return True
         return False
 
@@ -333,8 +338,10 @@ class AutonomousPerson:
         self._stop(world)
 
     def on_informed(self, world: World, item: str, location: str) -> None:
+        """Take it in; go for it at once if it is what they want (after an errand under way)."""
         self.belief.told(item, location)
-        if item == self.preference and world.agents[self.id].holding is None:
+        busy = (self.current is not None and self.current.errand) or any(p.errand for p in self.plan)
+        if item == self.preference and world.agents[self.id].holding is None and not busy:
             self._stop(world)
 
     def answer(self, world: World, item: str, offer: str | None = None) -> bool:

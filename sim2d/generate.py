@@ -180,8 +180,8 @@ def rich_autonomy(seed: int) -> list[str]:
 
 KINDS = ("everyday", "tasks")
 """Kinds of episodes: ``everyday`` (people with random habits) or ``tasks`` (built around the
-robot's jobs, :data:`TASKS`, with people who never change their minds and move nothing but
-what the task says, so that the job stays the job)."""
+robot's jobs, :data:`TASKS`, with people who never change their minds, put nothing away and
+move nothing but what the task says, so that the job stays the job)."""
 TASKS = ("moved", "hidden", "contested", "seen")
 """The jobs task episodes are built around, in turn by seed: ``moved`` (while its owner is on
 an errand, someone moves the item they will come back for to a spot out of the owner's view),
@@ -290,7 +290,7 @@ def episode(
         "[autonomy]",
         f"switch = {rng.uniform(0.0005, 0.002) * (kind != 'tasks'):.5f}",
         f"mischief = {rng.uniform(0.05, 0.3) * (kind != 'tasks'):.3f}",
-        f"put_away = {rng.uniform(0.3, 0.8):.3f}",
+        f"put_away = {rng.uniform(0.3, 0.8) * (kind != 'tasks'):.3f}",
         "play_ticks = [60, 200]",
         "wait_ticks = [20, 60]",
         *(rich_autonomy(seed) if minds == "rich" else []),

@@ -25,12 +25,11 @@ HELP = ("ticks_to_goal_fb", "wasted_trips", "interruptions")
 
 def _help_sums(run: Mapping[str, Any]) -> dict[str, tuple[float, int]]:
     """One run's ``(sum, count)`` of each help measure: ticks to goal over the people who had
-    a false belief (the episode's length when never reached), wasted trips and interruptions
-    over every person."""
+    a false belief (until they first played with the item it was about, from then on; the
+    episode's length when never), wasted trips and interruptions over every person."""
     helped = run.get("help", {})
-    waits = run.get("ticks_to_goal", {})
-    fb = [p for p, h in helped.items() if h["false_belief"]]
-    ticks = [waits.get(p) if waits.get(p) is not None else run["episode_ticks"] for p in fb]
+    fb = [h for h in helped.values() if h["false_belief"]]
+    ticks = [h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"] for h in fb]
     return {
         "ticks_to_goal_fb": (float(sum(ticks)), len(ticks)),
         "wasted_trips": (float(sum(h["wasted_trips"] for h in helped.values())), len(helped)),

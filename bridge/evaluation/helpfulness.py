@@ -4,6 +4,7 @@ evaluator heard):
 - ``false_belief``: whether the person, at some tick, had a false belief about the item they
   wanted then (their true belief gave its true location less than
   :data:`~bridge.evaluation.metrics.FALSE_BELIEF_MASS`): the people help is for;
+  ``goal_tick``: the first tick, from then on, they played with that item (``None``: never);
 - ``wasted_trips``: arrivals at an item location that their true belief, the tick before,
   gave at least one half of holding the item they wanted, when it did not hold it;
 - ``interruptions``: what the robot said to them or asked of them (``say``, ``request``).
@@ -27,6 +28,9 @@ class PersonHelp:
     """One person's run, as help is measured."""
 
     false_belief: bool = False
+    goal_tick: int | None = None
+    """The first tick from the first false belief on that the person played with the item
+    the false belief was about (``None``: never, or no false belief)."""
     wasted_trips: int = 0
     interruptions: int = 0
 
@@ -38,6 +42,8 @@ def helpfulness(
     spot_at = {(loc.cell.col, loc.cell.row): loc.id for loc in scene.locations}
     robots = {a.id for a in scene.agents if a.kind.value == "robot"}
     people: dict[str, PersonHelp] = {}
+    onset: dict[str, tuple[int, str]] = {}
+    """Person -> (tick, item) of their first false belief about what they wanted."""
     ticks = sorted(t for t in truths if t in states)
     previous: dict[str, tuple[tuple[int, int], Truth]] = {}
     for tick in ticks:
@@ -56,6 +62,7 @@ def helpfulness(
                 and wanted.get(true_place, 0.0) < FALSE_BELIEF_MASS
             ):
                 help_.false_belief = True
+                onset.setdefault(mind.agent, (tick, mind.preference))
             cell = cells.get(mind.agent)
             before = previous.get(mind.agent)
             if cell is not None and before is not None and cell != before[0] and cell in spot_at:
@@ -67,11 +74,20 @@ def helpfulness(
                     help_.wasted_trips += 1
             if cell is not None:
                 previous[mind.agent] = (cell, truth)
-    for event in events:
+    for event in sorted(events, key=lambda e: e.tick):
         if (
             event.actor in robots
             and event.kind in (EventKind.SAY, EventKind.REQUEST)
             and event.target in people
         ):
             people[event.target].interruptions += 1
+        start = onset.get(event.actor)
+        if (
+            event.kind is EventKind.PLAY
+            and start is not None
+            and event.tick >= start[0]
+            and event.item == start[1]
+        ):
+            if people[event.actor].goal_tick is None:
+                people[event.actor].goal_tick = event.tick
     return people

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from sim2d.autonomous import AutonomousPerson
 from sim2d.engine import Engine
 from sim2d.generate import TASKS, task_of, write_episode
 from sim2d.scenario import load_scenario
@@ -69,3 +70,18 @@ def test_a_move_the_owner_watched_leaves_no_false_belief(tmp_path: Path) -> None
     item, target = mover.moves
     assert (mover.id, "drop", item, target) in [a[1:] for a in acts], acts
     assert false == 0, f"the owner watched the move: expected no false belief, got {false} ticks"
+
+
+def test_an_errand_is_carried_through_when_told(tmp_path: Path) -> None:
+    """Told where the item they want is while on an errand, the owner finishes the errand."""
+    path = write_episode(tmp_path, "paper", 0, kind="tasks")
+    engine = Engine(load_scenario(str(path)), seed=1)
+    owner = engine.people["A1"]
+    for _ in range(5):
+        engine.step()
+    assert isinstance(owner, AutonomousPerson) and owner.current is not None and owner.current.errand
+    owner.on_informed(engine.world, owner.preference, engine.world.map.locations[0].id)
+    assert owner.current is not None and owner.current.errand, "still on the errand"
+    assert owner.belief.most_likely(owner.preference) == engine.world.map.locations[0].id, (
+        "but it was taken in"
+    )

@@ -48,8 +48,10 @@ def test_a_wasted_trip_a_false_belief_and_an_interruption_by_hand() -> None:
     by_person = Event(
         episode=1, tick=3, time=2.1, kind=EventKind.SAY, actor="p", target="r", item="ball", location="A"
     )
-    help_ = helpfulness(scene, states, truths, [said, by_person])["p"]
+    played = Event(episode=1, tick=4, time=2.8, kind=EventKind.PLAY, actor="p", item="ball", location="A")
+    help_ = helpfulness(scene, states, truths, [said, by_person, played])["p"]
     assert (help_.false_belief, help_.wasted_trips, help_.interruptions) == (True, 1, 1), help_
+    assert help_.goal_tick == 4, "the first play with the ball after the false belief began"
 
 
 def test_no_false_belief_no_trip_wasted() -> None:
@@ -72,7 +74,14 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
             "outcome": {"A1": tick is not None},
             "ticks_to_goal": {"A1": tick},
             "episode_ticks": 100,
-            "help": {"A1": {"false_belief": fb, "wasted_trips": trips, "interruptions": 0}},
+            "help": {
+                "A1": {
+                    "false_belief": fb,
+                    "goal_tick": tick if fb else None,
+                    "wasted_trips": trips,
+                    "interruptions": 0,
+                }
+            },
         }
 
     episodes = [
