@@ -125,7 +125,8 @@ def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
 
 def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied]:
     """People with empty hands who most likely want an item another person holds, and are
-    heading for where they believe it is."""
+    heading for where they believe it is; the swap offers the holder the free item they most
+    probably want (their inferred desire, not the order of the items)."""
     model = snap.model
     people = set(snap.people)
     for person in snap.people:
@@ -141,10 +142,11 @@ def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied
             continue
         if not snap.approaching(person, int(np.argmax(est.beliefs[d]))):
             continue  # they are not looking for it (yet)
-        offer = next(
-            (i for i in model.items if i != item and snap.item(i)[1] is None and snap.item(i)[0]), None
-        )
-        yield Occupied(person=person, item=item, holder=holder, offer=offer)
+        free = [i for i in model.items if i != item and snap.item(i)[1] is None and snap.item(i)[0]]
+        holder_est = snap.estimates.get(holder)
+        if holder_est is not None:  # offer what the holder most probably wants of what is free
+            free.sort(key=lambda i: -float(holder_est.preference[model.items.index(i)]))
+        yield Occupied(person=person, item=item, holder=holder, offer=free[0] if free else None)
 
 
 def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
