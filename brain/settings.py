@@ -69,6 +69,9 @@ class ModelSettings:
         hearsay: the rate (per second) at which someone in a person's region tells them where
             they believe an item is, unheard by the robot (rows of who was told what, like
             ``miss``); 0 (the default) turns it off.
+        forget: the rate (per second) at which a person's belief about each item drifts
+            toward uniform over the locations (graded beliefs in the exact model; what is in
+            view is put right by the next percept); 0 (the default): people never forget.
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
             from its low to its high value (``desire_levels**(K + 1) - 1`` candidates).
     """
@@ -99,6 +102,7 @@ class ModelSettings:
     perception: str = "omniscient"
     miss: float = 0.0
     hearsay: float = 0.0
+    forget: float = 0.0
 
     def __post_init__(self) -> None:
         checks = {
@@ -121,6 +125,7 @@ class ModelSettings:
             "perception": self.perception in ("omniscient", "embodied"),
             "miss": 0.0 <= self.miss < 1.0,
             "hearsay": self.hearsay >= 0.0,
+            "forget": self.forget >= 0.0,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:

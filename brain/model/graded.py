@@ -76,6 +76,24 @@ def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: st
     return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
 
 
+def drift(beliefs: FloatArray, n_items: int, n_values: int, mass: float) -> FloatArray:
+    """``(G, W)`` beliefs after forgetting: each item believed resting moves to a resting
+    location drawn uniformly with probability ``mass`` (``p <- (1 - mass) p + mass / L`` on
+    each item's marginal, as ``--minds rich`` people forget); a carried item stays carried.
+    One ``(V, V)`` product per item axis, never a ``(W, W)`` matrix."""
+    if mass <= 0:
+        return beliefs
+    V, K = n_values, n_items
+    resting = np.arange(0, V, 2)
+    move = np.eye(V)
+    move[:, resting] *= 1.0 - mass
+    move[np.ix_(resting, resting)] += mass / len(resting)  # move[i, j]: from value j to i
+    tensor = beliefs.reshape(len(beliefs), *([V] * K))
+    for k in range(K):
+        tensor = np.moveaxis(np.tensordot(tensor, move, axes=([1 + k], [1])), -1, 1 + k)
+    return tensor.reshape(len(beliefs), -1)
+
+
 def qmdp_likelihood(
     beliefs: FloatArray, q: FloatArray, action: int, beta: float, epsilon: float
 ) -> FloatArray:

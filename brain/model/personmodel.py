@@ -39,7 +39,7 @@ from .factored import (
     factored_prior,
     factored_step,
 )
-from .graded import expected_joint, prior_beliefs, qmdp_likelihood, update_beliefs
+from .graded import drift, expected_joint, prior_beliefs, qmdp_likelihood, update_beliefs
 from .gradedfactored import GradedFactoredModel
 from .inference import HmmStep, forward_step, hazard_matrix, smooth
 from .lookahead import cached_lookahead
@@ -70,6 +70,9 @@ class StepRecord:
     likelihood: FloatArray | None
     switch: float
     decision: tuple[int, int, int] | None = None
+    forget: float = 0.0
+    """The mass of each item's belief that drifted to uniform since the person's last step
+    (``ModelSettings.forget``; graded beliefs only)."""
     rumours: tuple[tuple[int, int, float], ...] = ()
     """``(item, value, probability)``: what someone in the person's region believes of an
     item, and the chance they told it since the last step (``ModelSettings.hearsay``)."""
@@ -275,6 +278,10 @@ class GradedModel:
         """Every hypothesis's belief after the record's percept."""
         if self.true_world:
             return beliefs @ self.beliefs.true_world(record.truth, record.percept).T
+        if record.forget > 0:
+            model = self.model
+            beliefs = drift(beliefs, model.n_items, model.n_values, record.forget) * model.allowed[None, :]
+            beliefs = beliefs / beliefs.sum(axis=1, keepdims=True)
         return update_beliefs(beliefs, self.beliefs, record.percept, self.settings.belief_update)
 
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:

@@ -53,6 +53,8 @@ class PersonTrack:
     """The cell the person left on their last move."""
     held: int = 0
     last_decision: float | None = None
+    last_step: float | None = None
+    """The engine time of the person's last step (for forgetting since)."""
     waited: bool = False
     """Whether the current pause was already counted as a decision to wait."""
     settled: bool = False
@@ -192,7 +194,7 @@ class MindTracker:
         held = 0 if holding is None else model.items.index(holding) + 1
         seen = [self._percept(track.agent, cell, held, truth, events) for truth in truths]
         if track.cell is None:  # first sight of this person: the percept alone
-            self._push(track, tick, seen, None, truths, switch=0.0)
+            self._push(track, tick, seen, None, truths, switch=0.0, now=state.time)
             track.last_decision = state.time
         else:
             action = self._action(track, cell, events)
@@ -209,14 +211,14 @@ class MindTracker:
                 switch = switch_probability(self.settings.hazard, elapsed)
                 decision = (track.cell, track.held, action)
                 rumours = self._rumours(track.agent, state, state.time - (track.last_decision or 0.0))
-                self._push(track, tick, seen, likelihood, truths, switch, decision, rumours)
+                self._push(track, tick, seen, likelihood, truths, switch, decision, rumours, state.time)
                 track.last_decision = state.time
             elif any(s != c.percept for s, c in zip(seen, track.chains, strict=True)) or (
                 self.observer is Observer.TRUEBELIEF
                 and any(t != c.steps[-1].truth for t, c in zip(truths, track.chains, strict=True))
             ):
                 # a new percept; or, to an observer without theory of mind, any change of the world
-                self._push(track, tick, seen, None, truths, switch=0.0)
+                self._push(track, tick, seen, None, truths, switch=0.0, now=state.time)
         if track.cell is not None and cell != track.cell:
             track.moved_from = track.cell
         track.cell, track.held = cell, held
@@ -285,10 +287,15 @@ class MindTracker:
         switch: float,
         decision: tuple[int, int, int] | None = None,
         rumours: tuple[tuple[int, int, float], ...] = (),
+        now: float | None = None,
     ) -> None:
-        """One step of ``track`` in every branch (``seen`` and ``truths``: one per branch)."""
+        """One step of ``track`` in every branch (``seen`` and ``truths``: one per branch) at
+        engine time ``now`` (for forgetting since the last step)."""
         if self.observer is Observer.PERCEPTONLY:
             likelihood, decision = None, None
+        seconds = 0.0 if now is None or track.last_step is None else max(now - track.last_step, 0.0)
+        forget = float(1.0 - np.exp(-self.settings.forget * seconds))
+        track.last_step = now if now is not None else track.last_step
         for chain, percept_, truth in zip(track.chains, seen, truths, strict=True):
             record = StepRecord(
                 tick=tick,
@@ -297,6 +304,8 @@ class MindTracker:
                 likelihood=likelihood,
                 switch=switch,
                 decision=decision,
+                forget=forget,
+                rumours=rumours,
             )
             if chain.filter is None:
                 chain.filter = self.person_model.new_filter()

@@ -84,3 +84,68 @@ def test_a_rumour_splits_off_a_told_row_with_its_chance() -> None:
     assert sorted(np.round(weights, 6)) == [0.25, 0.75], weights
     believed = filt.estimate(truth).beliefs[0, b]
     assert abs(believed - (0.25 + 0.75 * 0.5)) < 0.01, believed
+
+
+def test_forgetting_drifts_each_item_toward_uniform() -> None:
+    import numpy as np
+
+    from brain.model.graded import drift
+
+    # one item, two locations: values 0 (A), 1 (A, held), 2 (B), 3 (B, held)
+    certain_b = np.array([[0.0, 0.0, 1.0, 0.0]])
+    assert np.allclose(drift(certain_b, 1, 4, 0.2), [[0.1, 0.0, 0.9, 0.0]])
+    carried = np.array([[0.0, 1.0, 0.0, 0.0]])
+    assert np.allclose(drift(carried, 1, 4, 0.2), carried), "a carried item stays carried"
+
+
+def test_a_forgetful_person_outside_grows_unsure() -> None:
+    """The person sees the ball at B, then, outside, takes a step whose record says 0.3 of
+    each belief drifted: the robot expects them to give B 0.7 + 0.3 / 2."""
+    from brain.model.belief import NOT_IN_VIEW, Percept
+    from brain.model.personmodel import StepRecord, base_person_model
+
+    scene = corridor_scene()
+    model = base_person_model(scene, ModelSettings())
+    world = model.model
+    b = world.locations.index("B")
+    truth = (2 * b,)
+    filt = model.new_filter()
+    filt.step(
+        StepRecord(
+            tick=0,
+            percept=Percept(world.cell_index[(5, 0)], (2 * b,)),
+            truth=truth,
+            likelihood=None,
+            switch=0.0,
+        )
+    )
+    outside = Percept(world.cell_index[(0, 0)], (NOT_IN_VIEW,))
+    filt.step(StepRecord(tick=1, percept=outside, truth=truth, likelihood=None, switch=0.0, forget=0.3))
+    believed = float(filt.estimate(truth).beliefs[0, b])
+    assert abs(believed - 0.85) < 0.01, believed
+
+
+def test_rumours_come_from_the_others_in_the_region() -> None:
+    """A second person in the room believes the ball at B; ``hearsay`` makes it a rumour
+    for the first, with the chance it was told in the time since their last decision."""
+    import math
+
+    import msgspec
+
+    from protocol import AgentKind, AgentSpec, Cell
+
+    scene = corridor_scene()
+    scene = msgspec.structs.replace(
+        scene, agents=(*scene.agents, AgentSpec(id="q", kind=AgentKind.PERSON, home=Cell(6, 0)))
+    )
+
+    def state(tick: int, col: int) -> object:
+        base = corridor_state(tick, col, robot=3, ball_at="B")
+        q = msgspec.structs.replace(base.agents[0], id="q", cell=Cell(6, 0), holding=None)
+        return msgspec.structs.replace(base, agents=(*base.agents, q))
+
+    tracker = MindTracker(scene, ModelSettings(hearsay=0.5))
+    tracker.observe(state(0, 4), [])
+    rumours = tracker._rumours("p", state(1, 5), 2.0)
+    b = tracker.model.locations.index("B")
+    assert rumours == ((0, 2 * b, (1 - math.exp(-0.5 * 2.0)) / 2),), rumours
