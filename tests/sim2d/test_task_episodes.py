@@ -8,8 +8,9 @@ import pytest
 
 from sim2d.autonomous import AutonomousPerson
 from sim2d.engine import Engine
-from sim2d.generate import TASKS, task_of, write_episode
+from sim2d.generate import write_episode
 from sim2d.scenario import load_scenario
+from sim2d.tasks import TASKS, task_of
 
 
 def run(path: Path, ticks: int = 700) -> tuple[list[tuple[int, str, str, str | None, str | None]], int]:
