@@ -213,15 +213,27 @@ class MindTracker:
                 rumours = self._rumours(track.agent, state, state.time - (track.last_decision or 0.0))
                 self._push(track, tick, seen, likelihood, truths, switch, decision, rumours, state.time)
                 track.last_decision = state.time
-            elif any(s != c.percept for s, c in zip(seen, track.chains, strict=True)) or (
-                self.observer is Observer.TRUEBELIEF
-                and any(t != c.steps[-1].truth for t, c in zip(truths, track.chains, strict=True))
+            elif (
+                any(s != c.percept for s, c in zip(seen, track.chains, strict=True))
+                or (
+                    self.observer is Observer.TRUEBELIEF
+                    and any(t != c.steps[-1].truth for t, c in zip(truths, track.chains, strict=True))
+                )
+                or self._forgetting_due(track, state.time)
             ):
-                # a new percept; or, to an observer without theory of mind, any change of the world
+                # a new percept; to an observer without theory of mind, any change of the world;
+                # or, for people who forget, a decision time without a step
                 self._push(track, tick, seen, None, truths, switch=0.0, now=state.time)
         if track.cell is not None and cell != track.cell:
             track.moved_from = track.cell
         track.cell, track.held = cell, held
+
+    def _forgetting_due(self, track: PersonTrack, now: float) -> bool:
+        """Whether a person who forgets has gone a decision time without a step (a percept
+        step then lets their beliefs drift, so a long game of play is not a frozen mind)."""
+        if self.settings.forget <= 0 or track.last_step is None:
+            return False
+        return now - track.last_step >= self.settings.decision_seconds
 
     def _rumours(self, person: str, state: State, seconds: float) -> tuple[tuple[int, int, float], ...]:
         """What the others in ``person``'s region probably believe (more likely than not) of

@@ -149,3 +149,15 @@ def test_rumours_come_from_the_others_in_the_region() -> None:
     rumours = tracker._rumours("p", state(1, 5), 2.0)
     b = tracker.model.locations.index("B")
     assert rumours == ((0, 2 * b, (1 - math.exp(-0.5 * 2.0)) / 2),), rumours
+
+
+def test_a_forgetful_person_standing_still_still_steps() -> None:
+    """With ``forget`` a person who stands still gets a percept step every decision time,
+    so their beliefs drift while they play or wait (not only when they next move)."""
+    counts = {}
+    for rate in (0.0, 0.1):
+        tracker = MindTracker(corridor_scene(), ModelSettings(forget=rate))
+        for tick in range(12):  # 0.7 s a tick: 7.7 s standing at the same cell
+            tracker.observe(corridor_state(tick, 5, robot=3, ball_at="B"), [])
+        counts[rate] = len(tracker.tracks["p"].steps)
+    assert counts[0.1] >= counts[0.0] + 5, counts
