@@ -26,7 +26,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -53,6 +53,8 @@ class Row:
     missed: frozenset[int] = frozenset()
     beliefs: np.ndarray | None = None
     """``(K, L)`` the row's believed locations after its last step."""
+    estimate: Estimate | None = None
+    """The row's estimate after its last step, read against that step's truth."""
     told: tuple[int, int] | None = None
     """``(item, value)`` the row's person is told at this step (hearsay), then ``None``."""
 
@@ -65,7 +67,9 @@ class LapseFilter:
     miss: float
     rows: list[Row]
     last: Percept | None = None
-    steps: int = field(default=0)
+    read: tuple[tuple[int, ...], list[Estimate]] | None = None
+    """The truth the rows' estimates were last read against, and those estimates (the
+    tracker reads the estimate right after each step, against the step's truth)."""
 
     @property
     def log_evidence(self) -> float:
@@ -98,10 +102,11 @@ class LapseFilter:
             before = row.filter.log_evidence
             row.filter.step(dataclasses.replace(record, percept=self._as_seen(row, record.percept)))
             row.log_weight += row.filter.log_evidence - before
-            row.beliefs = row.filter.estimate(record.truth).beliefs
+            row.estimate = row.filter.estimate(record.truth)
+            row.beliefs = row.estimate.beliefs
         self.rows = _merged(rows)
         self.last = record.percept
-        self.steps += 1
+        self.read = (record.truth, [r.estimate for r in self.rows if r.estimate is not None])
 
     def _surprises(self, row: Row, p: Percept) -> list[int]:
         """Items just come into view (or moved in view), not their own, that the row's person
@@ -152,7 +157,11 @@ class LapseFilter:
         weights = np.array([r.log_weight for r in self.rows])
         weights = np.exp(weights - weights.max())
         weights /= weights.sum()
-        est = mix([r.filter.estimate(truth) for r in self.rows], weights)
+        if self.read is not None and self.read[0] == truth and len(self.read[1]) == len(self.rows):
+            estimates = self.read[1]
+        else:
+            estimates = [r.filter.estimate(truth) for r in self.rows]
+        est = mix(estimates, weights)
         return dataclasses.replace(est, log_evidence=self.log_evidence)
 
 
