@@ -48,6 +48,9 @@ class ModelSettings:
             person is certain of one world, the robot unsure which (the paper's reading).
         prior_resolution: graded model: the grid over each item's initial belief has the
             probabilities ``c / prior_resolution`` (1: the person is sure of some location).
+        ignorance: graded model: the prior probability, per item, that a person starts not
+            knowing where it is (their initial belief uniform over its resting locations);
+            the grid's points share the rest. 0: the grid alone.
         belief_update: graded model: ``predict`` (a change of world is predicted with weight
             ``r``, then the percept corrects it) or ``paper`` (the paper's single normalisation
             after summing over the previous worlds).
@@ -94,6 +97,7 @@ class ModelSettings:
     top_worlds: int = 3
     belief_model: str = "graded"
     prior_resolution: int = 2
+    ignorance: float = 0.5
     belief_update: str = "predict"
     false_belief_mass: float = 0.1
     desire_model: str = "favourite"
@@ -116,6 +120,7 @@ class ModelSettings:
             "discount": 0.0 < self.discount < 1.0,
             "belief_model": self.belief_model in ("point", "graded"),
             "prior_resolution": self.prior_resolution >= 1,
+            "ignorance": 0.0 <= self.ignorance <= 1.0,
             "belief_update": self.belief_update in ("predict", "paper"),
             "false_belief_mass": 0.0 < self.false_belief_mass <= 1.0,
             "desire_model": self.desire_model in ("favourite", "graded"),

@@ -76,7 +76,9 @@ class Engine:
         for index, setup in enumerate(scenario.people):
             if setup.autonomous:
                 rng = np.random.default_rng([seed, index])
-                self.people[setup.id] = AutonomousPerson(setup, self.world, rng, scenario.autonomy)
+                person = AutonomousPerson(setup, self.world, rng, scenario.autonomy)
+                self._start_belief(person, np.random.default_rng([seed, index, 2]))
+                self.people[setup.id] = person
             else:
                 self.people[setup.id] = ScriptedPerson(setup)
         acts = (self.robot_override or scenario.robot) == "act"
@@ -85,6 +87,14 @@ class Engine:
         """Draws of hearsay (:mod:`sim2d.hearsay`), apart from every person's own."""
         self.settled = 0
         self.done = False
+
+    def _start_belief(self, person: AutonomousPerson, rng: np.random.Generator) -> None:
+        """What ``person`` knows before the episode (``Autonomy.knows`` and ``stale``; their
+        own draws, so people who start not knowing draw exactly as before)."""
+        autonomy = self.scenario.autonomy
+        if autonomy.knows > 0 or autonomy.stale > 0:
+            truth = {i.id: i.location for i in self.world.items.values() if i.location is not None}
+            person.belief.start(truth, autonomy.knows, autonomy.stale, rng)
 
     # ----- description ----------------------------------------------------------------
 

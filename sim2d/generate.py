@@ -174,6 +174,8 @@ def rich_autonomy(seed: int) -> list[str]:
         f'search = "{("likely", "nearest")[int(rng.integers(2))]}"',
         f"wander = {rng.uniform(0.0, 0.15):.3f}",
         f"replan = {rng.uniform(0.0, 0.02):.4f}",
+        f"knows = {rng.uniform(0.3, 0.7):.3f}",
+        f"stale = {rng.uniform(0.1, 0.3):.3f}",
     ]
 
 

@@ -2,9 +2,11 @@
 
 Each tick, for every pair of autonomous people in one region, with probability
 ``Autonomy.hearsay`` one of them (at random) tells the other where they believe an item is,
-chosen at random among the items the two place differently (most probable location). The
-listener takes it as the robot's ``inform`` is taken: the belief about that item is replaced
-(so a wrong teller spreads a false belief). Nothing is published: the robot does not hear it.
+chosen at random among the items the two place differently (most probable location) that
+the teller is sure of (at least :data:`SURE` there) and surer of than the listener is of
+their own most probable place. The listener takes it as the robot's ``inform`` is taken:
+the belief about that item is replaced (so a teller sure of a wrong place spreads a false
+belief). Nothing is published: the robot does not hear it.
 """
 
 from __future__ import annotations
@@ -16,6 +18,9 @@ import numpy as np
 
 from .autonomous import AutonomousPerson
 from .world import World
+
+SURE = 0.5
+"""How sure a teller must be of where an item is to tell it."""
 
 
 def exchange(people: Sequence[AutonomousPerson], world: World, rng: np.random.Generator, rate: float) -> None:
@@ -30,7 +35,7 @@ def exchange(people: Sequence[AutonomousPerson], world: World, rng: np.random.Ge
             item
             for item in teller.belief.items
             if teller.belief.most_likely(item) != listener.belief.most_likely(item)
-            and teller.belief.most_likely(item) is not None
+            and teller.belief.sureness(item) >= max(SURE, listener.belief.sureness(item) + 1e-9)
         ]
         if not differ:
             continue

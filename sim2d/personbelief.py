@@ -10,6 +10,8 @@ what they had. Speech replaces the belief about the item it names.
 Rich minds (``Autonomy.forget``, ``Autonomy.miss``) add two imperfections: an item the person
 failed to notice is left out of the percept (its belief stays as it was), and beliefs drift
 toward uniform over the locations, which perception then corrects for what is in view.
+They may also start knowing where things are, or sure of a place an item has left
+(``Autonomy.knows``, ``Autonomy.stale``: :meth:`PersonBelief.start`).
 """
 
 from __future__ import annotations
@@ -49,6 +51,25 @@ class PersonBelief:
                 self.p[k] = row / total
             elif (~mask).any():  # it was believed in view but is gone: anywhere out of view
                 self.p[k] = np.where(mask, 0.0, 1.0) / (~mask).sum()
+
+    def start(self, truth: Mapping[str, str], knows: float, stale: float, rng: np.random.Generator) -> None:
+        """Draw what the person knows before the episode (``Autonomy.knows``,
+        ``Autonomy.stale``): per item, sure of ``truth[item]`` with probability ``knows``, sure
+        of another location (uniformly) with ``stale``, else uniform as before."""
+        for item in self.items:
+            draw, other = rng.random(), rng.random()
+            where = truth.get(item)
+            if where is None or draw >= knows + stale:
+                continue
+            others = [loc for loc in self.locations if loc != where]
+            if draw < knows or not others:
+                self.told(item, where)
+            else:
+                self.told(item, others[int(other * len(others))])
+
+    def sureness(self, item: str) -> float:
+        """The probability of the most probable location of ``item``."""
+        return float(self.of(item).max())
 
     def forget(self, rate: float) -> None:
         """Every belief drifts toward uniform: ``p <- (1 - rate) p + rate / L`` (what is in

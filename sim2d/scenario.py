@@ -84,17 +84,25 @@ class Autonomy:
     """Chance, when setting off for what they want, of first walking to a random cell."""
     replan: float = 0.0
     """Chance per tick of dropping a walk under way and deciding again."""
+    knows: float = 0.0
+    """Chance, per person and item, of starting sure of where the item is."""
+    stale: float = 0.0
+    """Chance, per person and item, of starting sure the item is at another of the item
+    locations (drawn uniformly): a false belief from before the episode. Otherwise (and at
+    ``knows = stale = 0``) a person starts not knowing: uniform over the locations."""
 
     def __post_init__(self) -> None:
         rates = {name: getattr(self, name) for name in RATES}
         bad = [f"{name} = {value}" for name, value in rates.items() if not 0.0 <= value <= 1.0]
         if bad:
             raise ValueError(f"probabilities must be in [0, 1]: {', '.join(bad)}")
+        if self.knows + self.stale > 1.0:
+            raise ValueError(f"knows + stale must be at most 1, not {self.knows} + {self.stale}")
         if self.search not in SEARCH_ORDERS:
             raise ValueError(f"search must be one of {', '.join(SEARCH_ORDERS)}, not {self.search!r}")
 
 
-RATES = ("switch", "mischief", "put_away", "forget", "miss", "hearsay", "wander", "replan")
+RATES = ("switch", "mischief", "put_away", "forget", "miss", "hearsay", "wander", "replan", "knows", "stale")
 """The probabilities of :class:`Autonomy`."""
 SEARCH_ORDERS = ("likely", "nearest")
 

@@ -47,24 +47,49 @@ def simplex_grid(size: int, resolution: int) -> FloatArray:
     return np.array(points, dtype=np.float64)
 
 
-def prior_beliefs(worlds: np.ndarray, n_locations: int, resolution: int) -> FloatArray:
-    """``(G, W)`` the hypotheses of a person's initial belief: per item a grid point over its
-    resting locations (never held by someone else), independent across items.
+def initial_points(n_locations: int, resolution: int, ignorance: float) -> tuple[FloatArray, FloatArray]:
+    """``(P, L)`` the hypotheses of a person's initial belief about one item and ``(P,)``
+    their prior weights: the grid points (:func:`simplex_grid`) sharing ``1 - ignorance``,
+    and the uniform belief (not knowing where it is) with ``ignorance`` (the grid's point
+    when the grid holds it)."""
+    points = simplex_grid(n_locations, resolution)
+    uniform = np.full(n_locations, 1.0 / max(n_locations, 1))
+    at = np.flatnonzero(np.abs(points - uniform).max(axis=1) < 1e-12)
+    if ignorance > 0 and not len(at):
+        points, at = np.vstack([points, uniform]), np.array([len(points)])
+    weights = np.zeros(len(points))
+    rest = np.ones(len(points), dtype=bool)
+    if ignorance > 0:
+        weights[at] = ignorance
+        rest[at] = False
+    weights[rest] = (1.0 - ignorance if ignorance > 0 else 1.0) / max(int(rest.sum()), 1)
+    return points, weights
+
+
+def prior_beliefs(
+    worlds: np.ndarray, n_locations: int, resolution: int, ignorance: float = 0.0
+) -> tuple[FloatArray, FloatArray]:
+    """``(G, W)`` the hypotheses of a person's initial belief and ``(G,)`` their prior
+    weights: per item a point of :func:`initial_points` over its resting locations (never
+    held by someone else), independent across items.
 
     Args:
         worlds: ``(W, K)`` every world's item values ``2 l + held``.
         n_locations: ``L``, the number of item locations.
         resolution: the grid's resolution ``n``.
+        ignorance: the prior weight, per item, of the uniform belief.
     """
-    points = simplex_grid(n_locations, resolution)  # (P, L)
+    points, point_weights = initial_points(n_locations, resolution, ignorance)  # (P, L), (P,)
     per_value = np.zeros((len(points), 2 * n_locations))
     per_value[:, 0::2] = points  # resting at l has value 2 l
     n_items = worlds.shape[1]
     combos = np.array(list(itertools.product(range(len(points)), repeat=n_items)), dtype=np.int64)
     beliefs = np.ones((len(combos), len(worlds)))
+    weights = np.ones(len(combos))
     for k in range(n_items):
         beliefs *= per_value[combos[:, k]][:, worlds[:, k]]
-    return beliefs
+        weights *= point_weights[combos[:, k]]
+    return beliefs, weights
 
 
 def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: str = "predict") -> FloatArray:

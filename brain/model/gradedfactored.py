@@ -30,7 +30,7 @@ from .belief import Percept
 from .desires import Desires, favourite_utilities
 from .estimates import Estimate, reread
 from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy
-from .graded import choice_likelihood, expected_q, simplex_grid
+from .graded import choice_likelihood, expected_q, initial_points
 from .inference import hazard_matrix
 
 if TYPE_CHECKING:
@@ -49,7 +49,9 @@ class GradedFactoredModel:
         self.true_world = true_world
         self.beliefs = FactoredBeliefs(self.model, settings.r, settings.delta)
         self.desires = Desires(favourite_utilities(settings, self.model.n_items))
-        points = simplex_grid(self.model.n_locations, settings.prior_resolution)  # (P, L)
+        points, self.point_weights = initial_points(
+            self.model.n_locations, settings.prior_resolution, settings.ignorance
+        )  # (P, L), (P,)
         self.initial = np.zeros((len(points), self.model.n_values))
         self.initial[:, 0::2] = points  # resting at l has value 2 l
 
@@ -59,7 +61,7 @@ class GradedFactoredModel:
         return GradedFactoredFilter(
             owner=self,
             alpha=np.full(D, 1.0 / D),
-            weights=np.full((D, K, P), 1.0 / P),
+            weights=np.broadcast_to(self.point_weights, (D, K, P)).copy(),
             beliefs=np.repeat(self.initial[None], K, axis=0),
         )
 

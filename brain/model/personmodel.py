@@ -233,10 +233,15 @@ class GradedModel:
         self.settings = settings
         self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
         self.true_world = true_world
-        initial = prior_beliefs(self.model.worlds, self.model.n_locations, settings.prior_resolution)
+        initial, weights = prior_beliefs(
+            self.model.worlds, self.model.n_locations, settings.prior_resolution, settings.ignorance
+        )
         initial = initial * self.model.allowed[None, :]  # no belief in a world a capacity rules out
         total = initial.sum(axis=1, keepdims=True)
-        self.initial = initial[total[:, 0] > 0] / total[total[:, 0] > 0]
+        keep = (total[:, 0] > 0) & (weights > 0)
+        self.initial = initial[keep] / total[keep]
+        self.initial_weights = weights[keep] / weights[keep].sum()
+        """``(G,)`` the prior weight of each hypothesis of the initial belief."""
         self.place_of = (
             self.model.place[:, :, None] == np.arange(self.model.n_locations)[None, None, :]
         ).astype(np.float64)
@@ -250,9 +255,9 @@ class GradedModel:
         self.lookahead = cached_lookahead(scene, settings) if settings.person_planner == "belief" else None
 
     def prior(self) -> FloatArray:
-        """``(G, U)`` uniform over hypotheses and candidate desires."""
-        G, U = len(self.initial), len(self.policy.utilities)
-        return np.full((G, U), 1.0 / (G * U))
+        """``(G, U)``: the hypotheses' prior weights, uniform over candidate desires."""
+        U = len(self.policy.utilities)
+        return np.repeat(self.initial_weights[:, None] / U, U, axis=1)
 
     def new_filter(self) -> GradedFilter:
         return GradedFilter(self, self.initial.copy(), self.prior())

@@ -1,4 +1,5 @@
-"""Rich simulated minds (``Autonomy.forget / miss / hearsay / search / wander / replan``), each
+"""Rich simulated minds (``Autonomy.forget / miss / hearsay / search / wander / replan /
+knows / stale``), each
 knob on a hand-built case, and the guarantee that simple minds are unchanged."""
 
 from __future__ import annotations
@@ -93,12 +94,44 @@ def test_hearsay_replaces_the_listeners_belief_with_the_tellers() -> None:
     world = engine.world
     world.agents["A2"].region = world.agents["A1"].region
     a1.belief.told("ball", "P1")
-    a2.belief.told("ball", "P2")
+    a2.belief.p[a2.belief.items.index("ball")] = [0.0, 0.4, 0.6, 0.0]  # unsure: S2 or S1
     a1.belief.told("skate", "S1")
     a2.belief.told("skate", "S1")
     exchange([a1, a2], world, np.random.default_rng(3), rate=1.0)
-    assert a1.belief.most_likely("ball") == a2.belief.most_likely("ball"), "one told the other about the ball"
+    assert a2.belief.most_likely("ball") == "P1", "the sure one should have told the unsure one"
+    assert a1.belief.most_likely("ball") == "P1", "the unsure one has nothing to tell"
     assert a1.belief.most_likely("skate") == "S1" == a2.belief.most_likely("skate")
+
+
+def test_hearsay_needs_a_teller_surer_than_the_listener() -> None:
+    engine = engine_with()
+    a1, a2 = person(engine, "A1"), person(engine, "A2")
+    world = engine.world
+    world.agents["A2"].region = world.agents["A1"].region
+    a1.belief.told("ball", "P1")
+    a2.belief.told("ball", "P2")  # both sure, of different places: nobody takes the other's word
+    a1.belief.p[a1.belief.items.index("skate")] = [0.3, 0.3, 0.4, 0.0]  # too unsure to tell
+    exchange([a1, a2], world, np.random.default_rng(3), rate=1.0)
+    assert (a1.belief.most_likely("ball"), a2.belief.most_likely("ball")) == ("P1", "P2")
+    skate = a2.belief.of("skate")
+    assert a2.belief.sureness("skate") == 0.25, f"a teller unsure of S2 should tell nothing, got {skate}"
+
+
+def test_people_may_start_knowing_or_sure_of_a_place_the_item_left() -> None:
+    knowing = engine_with(knows=1.0)
+    for agent in ("A1", "A2"):
+        for item in ("ball", "skate"):
+            where = knowing.world.items[item].location
+            assert person(knowing, agent).belief.of(item)[LOCS.index(where)] == 1.0, (agent, item)
+    stale = engine_with(stale=1.0)
+    for item in ("ball", "skate"):
+        where = stale.world.items[item].location
+        belief = person(stale, "A1").belief
+        assert belief.sureness(item) == 1.0 and belief.most_likely(item) != where, belief.of(item)
+    ignorant = engine_with()
+    assert np.allclose(person(ignorant, "A1").belief.p, 0.25), "by default people start not knowing"
+    with pytest.raises(ValueError, match="knows \\+ stale"):
+        Autonomy(knows=0.7, stale=0.5)
 
 
 def test_no_hearsay_across_rooms_or_at_rate_zero() -> None:

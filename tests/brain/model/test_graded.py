@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from brain.model.belief import NOT_IN_VIEW, BeliefModel, Percept
-from brain.model.graded import prior_beliefs, qmdp_likelihood, simplex_grid, update_beliefs
+from brain.model.graded import initial_points, prior_beliefs, qmdp_likelihood, simplex_grid, update_beliefs
 from brain.model.planner import Move, cached_policy
 from brain.model.world import build_world_model
 from brain.settings import ModelSettings
@@ -50,11 +50,21 @@ def test_the_grid_covers_the_simplex() -> None:
 
 def test_prior_beliefs_are_distributions_over_resting_worlds(paper) -> None:
     _, model, *_ = paper
-    beliefs = prior_beliefs(model.worlds, model.n_locations, 2)
+    beliefs, weights = prior_beliefs(model.worlds, model.n_locations, 2)
     assert beliefs.shape == (10**model.n_items, model.n_worlds)
-    assert np.allclose(beliefs.sum(axis=1), 1.0)
+    assert np.allclose(beliefs.sum(axis=1), 1.0) and np.allclose(weights, 1.0 / len(weights))
     held = np.any(model.worlds % 2 == 1, axis=1)
     assert np.all(beliefs[:, held] == 0), "a prior should never have an item held by someone else"
+
+
+def test_ignorance_adds_the_uniform_belief_with_its_prior_weight() -> None:
+    points, weights = initial_points(4, 2, 0.5)
+    assert points.shape == (11, 4), f"expected the 10 grid points and the uniform one, got {points.shape}"
+    assert np.allclose(points[-1], 0.25) and weights[-1] == 0.5, (points[-1], weights[-1])
+    assert np.allclose(weights[:-1], 0.05) and np.isclose(weights.sum(), 1.0)
+    on_grid, w = initial_points(2, 2, 0.3)  # (0.5, 0.5) is already a grid point
+    assert on_grid.shape == (3, 2) and np.allclose(w, [0.35, 0.3, 0.35]), w
+    assert np.allclose(initial_points(4, 2, 0.0)[1], 0.1), "without ignorance the grid is uniform"
 
 
 def test_looked_in_one_of_two_places_and_found_nothing_believes_the_other(paper) -> None:

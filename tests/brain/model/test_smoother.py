@@ -127,7 +127,7 @@ def test_graded_smoothing_equals_enumeration() -> None:
     want = np.zeros((T, G, D))
     for start in range(D):
         for path in itertools.product(range(D), repeat=T):  # d_t after step t's switch
-            weight = np.full(G, 1.0 / (G * D))
+            weight = graded.prior()[:, start].copy()  # P(g, d_0 = start)
             before = start
             for t, record in enumerate(records):
                 weight = weight * likelihoods[t][:, before] * hazard_matrix(D, record.switch)[before, path[t]]
