@@ -15,7 +15,7 @@ import numpy as np
 from .metrics import Counts
 
 RESAMPLES = 1000
-METRICS = ("belief_tv", "preference_accuracy", "false_belief_f1")
+METRICS = ("belief_tv", "preference_accuracy", "false_belief_f1", "goal_false_belief_f1")
 
 
 def _pooled(counts: Sequence[Counts], picks: np.ndarray) -> dict[str, float | None]:

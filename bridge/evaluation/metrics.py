@@ -11,7 +11,11 @@ Per tick, person and item, from the brain's online ``mind`` and the engine's ``t
   places that include the truth is ignorance, not a false belief; no tie is broken by the
   order of locations), as precision, recall and F1 (pooled over everything);
 - the true preferences seen, so that a majority-class observer (always the most common
-  preference, never a false belief) can be scored from the same counts.
+  preference, never a false belief) can be scored from the same counts;
+- ``goal_false_belief_f1``: the same F1 over the beliefs about the item each person wants
+  now (their true preference, when it is an item): the false beliefs behaviour can reveal
+  and the robot's help depends on. A false belief about an item nobody is after shows in
+  no action, so no observer can do better there than its prior.
 """
 
 from __future__ import annotations
@@ -37,11 +41,16 @@ class Counts:
     fp: int = 0
     fn: int = 0
     tn: int = 0
+    goal_tp: int = 0
+    goal_fp: int = 0
+    goal_fn: int = 0
+    goal_tn: int = 0
+    """The false-belief counts restricted to the item each person wants."""
     pref_truth: dict[str, int] = field(default_factory=dict)
     """How often each preference was the true one, over the ticks ``pref_n`` counts."""
 
     def add(self, other: Counts) -> None:
-        for name in ("tv_sum", "tv_n", "pref_hits", "pref_n", "tp", "fp", "fn", "tn"):
+        for name in SUMS:
             setattr(self, name, getattr(self, name) + getattr(other, name))
         for goal, n in other.pref_truth.items():
             self.pref_truth[goal] = self.pref_truth.get(goal, 0) + n
@@ -52,28 +61,58 @@ class Counts:
         return majority_counts(self, goal)
 
     def metrics(self) -> dict[str, float | None]:
-        precision = self.tp / (self.tp + self.fp) if self.tp + self.fp else None
-        recall = self.tp / (self.tp + self.fn) if self.tp + self.fn else None
-        if recall is not None and self.tp == 0:
-            f1: float | None = 0.0  # false beliefs happened and none was caught (or flagged)
-        elif precision is not None and recall is not None:
-            f1 = 2 * precision * recall / (precision + recall)
-        else:
-            f1 = None
+        precision, recall, f1 = _f1(self.tp, self.fp, self.fn)
         return {
             "belief_tv": self.tv_sum / self.tv_n if self.tv_n else None,
             "preference_accuracy": self.pref_hits / self.pref_n if self.pref_n else None,
             "false_belief_precision": precision,
             "false_belief_recall": recall,
             "false_belief_f1": f1,
+            "goal_false_belief_f1": _f1(self.goal_tp, self.goal_fp, self.goal_fn)[2],
         }
+
+
+SUMS = (
+    "tv_sum",
+    "tv_n",
+    "pref_hits",
+    "pref_n",
+    "tp",
+    "fp",
+    "fn",
+    "tn",
+    "goal_tp",
+    "goal_fp",
+    "goal_fn",
+    "goal_tn",
+)
+"""The fields of :class:`Counts` that add up."""
+
+
+def _f1(tp: int, fp: int, fn: int) -> tuple[float | None, float | None, float | None]:
+    """``(precision, recall, F1)``; F1 is 0 when false beliefs happened and none was caught
+    (or flagged), ``None`` when there was nothing to catch and nothing was flagged."""
+    precision = tp / (tp + fp) if tp + fp else None
+    recall = tp / (tp + fn) if tp + fn else None
+    if recall is not None and tp == 0:
+        return precision, recall, 0.0
+    if precision is not None and recall is not None:
+        return precision, recall, 2 * precision * recall / (precision + recall)
+    return precision, recall, None
 
 
 def majority_counts(counts: Counts, goal: str) -> Counts:
     """The counts of a majority-class observer on the ticks of ``counts``: always ``goal``
     (the most common true preference), never a false belief, no belief (``belief_tv``: none)."""
     positives, negatives = counts.tp + counts.fn, counts.fp + counts.tn
-    return Counts(pref_hits=counts.pref_truth.get(goal, 0), pref_n=counts.pref_n, fn=positives, tn=negatives)
+    return Counts(
+        pref_hits=counts.pref_truth.get(goal, 0),
+        pref_n=counts.pref_n,
+        fn=positives,
+        tn=negatives,
+        goal_fn=counts.goal_tp + counts.goal_fn,
+        goal_tn=counts.goal_fp + counts.goal_tn,
+    )
 
 
 def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: set[str]) -> Counts:
@@ -106,6 +145,11 @@ def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: se
             counts.fp += (not actual) and flagged
             counts.fn += actual and not flagged
             counts.tn += (not actual) and not flagged
+            if belief.item == person.preference:
+                counts.goal_tp += actual and flagged
+                counts.goal_fp += (not actual) and flagged
+                counts.goal_fn += actual and not flagged
+                counts.goal_tn += (not actual) and not flagged
         if person.agent in took and est.preference:
             best = max(est.preference, key=lambda p: p.p).id
             counts.pref_n += 1

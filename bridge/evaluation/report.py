@@ -14,6 +14,7 @@ METRICS = (
     "false_belief_precision",
     "false_belief_recall",
     "false_belief_f1",
+    "goal_false_belief_f1",
 )
 HELP = ("success", "ticks_to_goal_fb", "wasted_trips", "interruptions")
 ORACLE = (
@@ -82,7 +83,7 @@ def plot(condition: Mapping[str, Any], path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    shown = ("belief_tv", "preference_accuracy", "false_belief_f1")
+    shown = ("belief_tv", "preference_accuracy", "false_belief_f1", "goal_false_belief_f1")
     observers = list(condition["observers"])
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 3.6), gridspec_kw={"width_ratios": [3, 1]})
     width = 0.8 / len(observers)

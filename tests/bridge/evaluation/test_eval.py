@@ -43,8 +43,9 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
             "false_belief_precision",
             "false_belief_recall",
             "false_belief_f1",
+            "goal_false_belief_f1",
         }, observer
-        assert set(values["false_belief_f1"]) == {"mean", "lo", "hi"}, values
+        assert set(values["false_belief_f1"]) == set(values["goal_false_belief_f1"]) == {"mean", "lo", "hi"}
     assert condition["observers"]["btom"]["belief_tv"]["mean"] is not None
     assert set(condition["robot"]) == {"tom", "none"}
     for policy in condition["robot"].values():

@@ -65,6 +65,21 @@ def test_a_three_tick_episode_by_hand() -> None:
     assert (total.pref_hits, total.pref_n) == (0, 1) and m["preference_accuracy"] == 0.0
 
 
+def test_goal_false_beliefs_count_only_the_wanted_item() -> None:
+    """The same three ticks, but Sally wants to leave at tick 3: her false belief about the
+    marble then counts for the overall F1 and not for the goal F1."""
+    total = Counts()
+    total.add(score_tick(mind(1, 0.9, False, "marble"), truth(1, 1.0, "marble"), {"marble": "basket"}, set()))
+    total.add(score_tick(mind(2, 0.8, True, "marble"), truth(2, 1.0, "marble"), {"marble": "box"}, set()))
+    total.add(score_tick(mind(3, 0.3, False, "out"), truth(3, 1.0, "out"), {"marble": "box"}, {"sally"}))
+    assert (total.goal_tp, total.goal_fp, total.goal_fn, total.goal_tn) == (1, 0, 0, 1), total
+    assert (total.tp, total.fn) == (1, 1)
+    m = total.metrics()
+    assert m["goal_false_belief_f1"] == 1.0 and m["false_belief_f1"] == pytest.approx(2 / 3), m
+    majority = total.majority().metrics()
+    assert majority["goal_false_belief_f1"] == 0.0, "the majority observer never flags: it misses tick 2"
+
+
 def test_no_flags_at_all_has_no_precision() -> None:
     counts = score_tick(mind(1, 1.0, False, "marble"), truth(1, 1.0, "marble"), {"marble": "box"}, set())
     m = counts.metrics()
