@@ -4,6 +4,8 @@
   the live brain node, in lock-step with the world's engine, until the episode ends.
 - ``python -m brain infer TRACE --out DIR [--observer O]``: the same outputs from a
   recorded ``trace.jsonl``, with no engine.
+- ``python -m brain fit RECORDINGS... --params beta,hazard --out DIR``: parameters fitted to
+  recordings, cross-validated, and models compared (:mod:`brain.fitting`).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from protocol import Error as ProtocolError
 from protocol import Observer
 
 from .errors import BrainError
+from .fitting.command import fit_main, fit_parser
 from .node import BrainNode
 from .outputs.results import write_outputs
 from .robot.tree import RobotTree
@@ -113,11 +116,15 @@ def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Sett
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    infer = bool(argv) and argv[0] == "infer"
-    args = (infer_parser() if infer else run_parser()).parse_args(argv[1:] if infer else argv)
+    sub = argv[0] if argv and argv[0] in ("infer", "fit") else None
+    parser = {"infer": infer_parser, "fit": fit_parser}.get(sub or "", run_parser)()
+    args = parser.parse_args(argv[1:] if sub else argv)
+    infer = sub == "infer"
     configure_logging(args.log_level)
     try:
         settings = load_settings(args.settings, args.overrides)
+        if sub == "fit":
+            return fit_main(args, settings, ["toyroom", *argv])
         if infer:
             return infer_main(args.trace, args.out, Observer(args.observer), settings)
         if args.print_tree:

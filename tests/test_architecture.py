@@ -97,7 +97,8 @@ ROOMS = {
         "tracking": {"<base>", "model"},
         "robot": {"<base>", "model", "tracking"},
         "outputs": {"<base>", "model", "tracking"},
-        "<shell>": {"<base>", "model", "tracking", "robot", "outputs"},
+        "fitting": {"<base>", "model", "tracking"},
+        "<shell>": {"<base>", "model", "tracking", "robot", "outputs", "fitting"},
     },
 }
 """Inside a package, the rooms each room may import: the bridge core imports none of its

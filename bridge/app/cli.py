@@ -31,6 +31,8 @@ NODE_HELP = {
     "brain": "run the brain node (inference and robot) against any engine of the world",
     "view": "the meshcat live view of a world (prints its URL; --screenshot FILE.png)",
     "generate": "write a random episode (and its map): --map M --seed S --out DIR, or --rooms R --items K",
+    "fit": "fit the model's parameters to recorded runs (RECORDINGS... --params beta,hazard --out DIR), "
+    "cross-validated by episode, and compare models by held-out log-likelihood",
 }
 
 
@@ -181,6 +183,11 @@ def _eval_command(command: Command) -> None:
         help="the acting robot's policies, one run each, comma-separated: tom (on inferred minds), "
         "tidy (put every moved item back), announce (tell everyone of every move); "
         "none (observing) is always run",
+    )
+    evaluation.add_argument(
+        "--record",
+        action="store_true",
+        help="keep every run's MCAP recording in OUT/recordings/CONDITION/ (for toyroom fit and infer)",
     )
     add_settings_args(evaluation)
 

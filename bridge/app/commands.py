@@ -57,6 +57,7 @@ def eval_main(
     conditions: Sequence[Condition] = (),
     command: str = "",
     policies: Sequence[str] = ("tom",),
+    record: bool = False,
 ) -> int:
     """Run the evaluation with a progress bar and print the metrics."""
     from rich.console import Console
@@ -81,6 +82,7 @@ def eval_main(
             brain_args=tuple(brain_args),
             command=command,
             policies=policies,
+            record=record,
         )
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
@@ -128,6 +130,7 @@ NODES = {
     "brain": ("brain", ()),
     "view": ("bridge.view", ()),
     "generate": ("sim2d", ("generate",)),
+    "fit": ("brain", ("fit",)),
 }
 """Commands that run a node package as its own process (``toyroom sim`` -> ``python -m
 sim2d``, ``toyroom generate`` -> ``python -m sim2d generate``), with their options."""
@@ -205,7 +208,16 @@ def _eval(args: argparse.Namespace) -> int:
         return 2
     command = shlex.join(["toyroom", *sys.argv[1:]])
     return eval_main(
-        args.episodes, args.seed, args.workers, args.backend, args.out, brain, chosen, command, policies
+        args.episodes,
+        args.seed,
+        args.workers,
+        args.backend,
+        args.out,
+        brain,
+        chosen,
+        command,
+        policies,
+        args.record,
     )
 
 

@@ -55,6 +55,8 @@ class EpisodeJob:
     brain_args: tuple[str, ...] = ()
     policies: tuple[str, ...] = ("tom",)
     """The acting robot's policies, one run each (``RobotSettings.policy``)."""
+    record: bool = False
+    """Keep every run's MCAP recording in ``recordings/<condition>/`` of the output folder."""
 
 
 def map_of(index: int) -> str:
@@ -143,6 +145,8 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
     failures: list[str] = []
     args = (*job.condition.brain_args(), *job.brain_args)
     for spec in episode_runs(scenario, args, job.condition.perception, job.policies):
+        if job.record:
+            spec = _recorded(spec, Path(job.workdir).parent / "recordings" / job.condition.name)
         for observer, result in _run_with_retries(spec, logs, failures).items():
             key = observer if spec.robot == "observe" else f"{ROBOT}-{spec.policy}"
             out[key] = {
@@ -155,6 +159,14 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
             }
     out["failed_runs"] = failures
     return out
+
+
+def _recorded(spec: RunSpec, directory: Path) -> RunSpec:
+    """``spec`` with its brain recording the run to ``directory/<tag>.mcap``."""
+    directory.mkdir(parents=True, exist_ok=True)
+    return dataclasses.replace(
+        spec, brain_args=(*spec.brain_args, "--record", str(directory / f"{spec.tag}.mcap"))
+    )
 
 
 def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[str, RunResult]:
@@ -187,14 +199,16 @@ def evaluate(
     brain_args: tuple[str, ...] = (),
     command: str = "",
     policies: Sequence[str] = ("tom",),
+    record: bool = False,
 ) -> dict[str, Any]:
     """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
     and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
-    ``--set belief_model=point``; ``command``: the command line, for the report)."""
+    ``--set belief_model=point``; ``command``: the command line, for the report;
+    ``record``: keep every run's MCAP recording under ``out/recordings/``)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
     jobs = [
-        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies))
+        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record)
         for c in conditions
         for i in range(episodes)
     ]

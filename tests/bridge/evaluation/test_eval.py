@@ -21,8 +21,26 @@ def local(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, list[int], Pa
     """The local backend's metrics, every progress call, and its output folder."""
     out = tmp_path_factory.mktemp("eval-local")
     calls: list[int] = []
-    metrics = evaluate(EPISODES, SEED, out, workers=2, backend="local", progress=calls.append)
+    metrics = evaluate(EPISODES, SEED, out, workers=2, backend="local", progress=calls.append, record=True)
     return metrics, calls, out
+
+
+def test_eval_record_keeps_every_run(local: tuple[dict, list[int], Path], tmp_path: Path) -> None:
+    """``--record``: each run's MCAP in ``recordings/<condition>/``, readable as a trace."""
+    from bridge.recording.mcap import mcap_to_trace
+    from bridge.recording.trace import read_trace
+
+    _, _, out = local
+    folder = out / "recordings" / "omniscient-simple-everyday"
+    names = sorted(p.name for p in folder.glob("*.mcap"))
+    want = sorted(
+        f"gen-{m}-s{5000 + i}-btom-{a}.mcap"
+        for i, m in enumerate(("paper", "house-a"))
+        for a in ("observe", "act-tom")
+    )
+    assert names == want, f"expected {want}, got {names}"
+    mcap_to_trace(folder / want[-1], tmp_path / "trace.jsonl")
+    assert len(read_trace(tmp_path / "trace.jsonl").ticks) > 100
 
 
 def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> None:

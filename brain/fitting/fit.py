@@ -1,0 +1,200 @@
+"""``toyroom fit``: parameters by maximum marginal likelihood over recorded episodes,
+cross-validated by episode, and the models compared by held-out log-likelihood per action.
+
+Writes into the output folder: ``settings.toml`` (the first model fitted on every
+recording), ``fit.json`` (grids, every fold, every model's held-out score with a bootstrap
+95% interval, paired against the best), ``folds.csv`` and ``report.md``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import shlex
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from bridge.evaluation.intervals import pooled_means
+from bridge.recording.trace import TraceError, read_trace
+
+from ..errors import SettingsError
+from ..settings import Settings, settings_toml
+from .crossval import Fold, best_point, cross_validate, folds, held_out_per_action
+from .search import MODELS, NO_ACTION_MODEL, Table, model_settings, search
+
+
+@dataclass(frozen=True)
+class ModelFit:
+    """One model's cross-validated fit."""
+
+    table: Table
+    folds: list[Fold]
+    fitted: dict[str, float]
+    """The point fitted on every recording."""
+
+    @property
+    def held_out(self) -> float:
+        return held_out_per_action(self.folds)
+
+    def per_episode(self) -> list[tuple[float, int]]:
+        """Each episode's held-out ``(log-likelihood, actions)`` (at its fold's point)."""
+        out: list[tuple[float, int]] = [(0.0, 0)] * self.table.ll.shape[1]
+        for fold in self.folds:
+            for e in fold.held_out:
+                out[e] = (float(self.table.ll[fold.best, e]), int(self.table.actions[e]))
+        return out
+
+
+def check_recordings(paths: Sequence[Path], k: int) -> None:
+    """Every recording readable, and enough of them for ``k`` folds.
+
+    Raises:
+        SettingsError: naming the recording that cannot be read and why, or the count."""
+    for path in paths:
+        try:
+            read_trace(path)
+        except TraceError as err:
+            raise SettingsError(str(err)) from None
+    if len(paths) < k:
+        raise SettingsError(f"{k}-fold cross-validation needs at least {k} recordings, got {len(paths)}")
+
+
+def fit(
+    traces: Sequence[Path],
+    grid: Mapping[str, Sequence[float]],
+    models: Sequence[str],
+    settings: Settings,
+    k: int = 5,
+    seed: int = 0,
+    workers: int = 2,
+    progress: bool = True,
+) -> list[ModelFit]:
+    """Search, then cross-validate each model (folds shared by every model)."""
+    unknown = [m for m in models if m not in MODELS]
+    if unknown or not models:
+        raise SettingsError(f"unknown models {unknown}; known: {', '.join(MODELS)}")
+    check_recordings(traces, k)
+    tables = search(traces, models, grid, settings.model, workers, progress)
+    parts = folds(len(traces), k, seed)
+    return [ModelFit(t, cross_validate(t.ll, t.actions, parts), t.points[best_point(t.ll)]) for t in tables]
+
+
+def write_fit(
+    out: Path,
+    fits: list[ModelFit],
+    traces: Sequence[Path],
+    grid: Mapping[str, Sequence[float]],
+    settings: Settings,
+    seed: int,
+    command: Sequence[str],
+) -> dict[str, Any]:
+    """The outputs (see the module docstring); returns ``fit.json``'s content."""
+    out.mkdir(parents=True, exist_ok=True)
+    first = fits[0]
+    fitted = Settings(
+        model=model_settings(first.table.model, settings.model, first.fitted), robot=settings.robot
+    )
+    (out / "settings.toml").write_text(settings_toml(fitted), encoding="utf-8")
+    ranked = sorted(fits, key=lambda f: -f.held_out)
+    intervals, differences = pooled_means({f.table.model: f.per_episode() for f in ranked}, seed)
+    summary = {
+        "command": shlex.join(command),
+        "recordings": [str(p) for p in traces],
+        "grid": {k: list(v) for k, v in grid.items()},
+        "models": {
+            f.table.model: {
+                "fitted": f.fitted,
+                "held_out_per_action": intervals[f.table.model],
+                "minus_best": _negated(differences.get(f.table.model)),
+                "folds": [
+                    {
+                        "held_out": list(d.held_out),
+                        "point": f.table.points[d.best],
+                        "log_likelihood": d.log_likelihood,
+                        "actions": d.actions,
+                        "per_action": d.per_action,
+                    }
+                    for d in f.folds
+                ],
+            }
+            for f in fits
+        },
+        "ranking": [f.table.model for f in ranked],
+    }
+    (out / "fit.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
+    _write_folds(out / "folds.csv", fits, traces)
+    (out / "report.md").write_text(report(summary), encoding="utf-8")
+    return summary
+
+
+def _write_folds(path: Path, fits: list[ModelFit], traces: Sequence[Path]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["model", "fold", "held_out", "point", "log_likelihood", "actions", "per_action"])
+        for f in fits:
+            for i, d in enumerate(f.folds):
+                names = ";".join(str(traces[e]) for e in d.held_out)
+                point = ";".join(f"{k}={v:g}" for k, v in f.table.points[d.best].items())
+                writer.writerow(
+                    [
+                        f.table.model,
+                        i,
+                        names,
+                        point,
+                        f"{d.log_likelihood:.4f}",
+                        d.actions,
+                        f"{d.per_action:.5f}",
+                    ]
+                )
+
+
+def report(summary: Mapping[str, Any]) -> str:
+    """``report.md``: the command, the grid and the model comparison."""
+    best = summary["ranking"][0]
+    lines = [
+        "# Fit",
+        "",
+        f"`{summary['command']}`",
+        "",
+        f"{len(summary['recordings'])} recordings; grid: "
+        + ", ".join(f"{k} in {{{', '.join(f'{v:g}' for v in vs)}}}" for k, vs in summary["grid"].items()),
+        "",
+        "Held-out log-likelihood per action (natural log; higher is better), each episode scored at",
+        "the point fitted without its fold; bootstrap 95% intervals over episodes; differences paired",
+        "by episode.",
+        "",
+        f"| model | held-out log-lik. per action | minus {best} | fitted on all recordings |",
+        "|---|---|---|---|",
+    ]
+    for name in summary["ranking"]:
+        m = summary["models"][name]
+        diff = m["minus_best"]
+        lines.append(
+            f"| {name} | {_interval(m['held_out_per_action'])} | "
+            f"{_interval(diff) if diff else '-'} | "
+            + ", ".join(f"{k}={v:g}" for k, v in m["fitted"].items())
+            + " |"
+        )
+    lines += [
+        "",
+        f"Observers without a model of actions ({', '.join(NO_ACTION_MODEL)}) give decisions no likelihood.",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _negated(d: Mapping[str, float | None] | None) -> dict[str, float | None] | None:
+    """``best - model`` as ``model - best``."""
+    if d is None:
+        return None
+    flip = {"mean": "mean", "lo": "hi", "hi": "lo"}
+    return {k: (-v if (v := d[flip[k]]) is not None else None) for k in ("mean", "lo", "hi")}
+
+
+def _interval(value: Mapping[str, Any]) -> str:
+    mean, lo, hi = value.get("mean"), value.get("lo"), value.get("hi")
+    if mean is None:
+        return "-"
+    return f"{mean:.4f}" if lo is None else f"{mean:.4f} [{lo:.4f}, {hi:.4f}]"

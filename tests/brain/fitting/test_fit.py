@@ -1,0 +1,73 @@
+"""``toyroom fit`` on real recordings (engine and brain over loopback Zenoh): a fitted
+``settings.toml``, the folds and the model comparison; bad input named."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+from support import toyroom_run
+
+SCENARIOS = ("sally-anne", "paper-1", "paper-2")
+
+
+@pytest.fixture(scope="module")
+def recordings(tmp_path_factory: pytest.TempPathFactory) -> list[Path]:
+    root = tmp_path_factory.mktemp("recordings")
+    return [toyroom_run(root / s, s, "--no-live", "--robot", "observe") / "trace.jsonl" for s in SCENARIOS]
+
+
+def fit(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "bridge", "fit", *map(str, args), "--no-progress"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+
+
+def test_fit_writes_settings_folds_and_the_comparison(recordings: list[Path], tmp_path: Path) -> None:
+    out = tmp_path / "fit"
+    result = fit(
+        *recordings,
+        "--params",
+        "beta",
+        "--grid",
+        "beta=0.5,2",
+        "--models",
+        "graded,truebelief",
+        "--folds",
+        "3",
+        "--out",
+        out,
+    )
+    assert result.returncode == 0, result.stderr
+    summary = json.loads((out / "fit.json").read_text())
+    assert set(summary["ranking"]) == {"graded", "truebelief"}
+    graded = summary["models"]["graded"]
+    assert len(graded["folds"]) == 3 and all(f["actions"] > 0 for f in graded["folds"]), graded["folds"]
+    assert graded["fitted"]["beta"] in (0.5, 2.0)
+    per_action = graded["held_out_per_action"]
+    assert per_action["lo"] <= per_action["mean"] <= per_action["hi"] < 0, per_action
+    fitted = tomllib.loads((out / "settings.toml").read_text())
+    assert fitted["model"]["beta"] == graded["fitted"]["beta"], "settings.toml holds the first model's fit"
+    report = (out / "report.md").read_text()
+    assert "| graded |" in report and "| truebelief |" in report and "toyroom fit" in report
+    assert (out / "folds.csv").read_text().count("\n") == 1 + 2 * 3
+
+
+def test_fit_names_bad_input(recordings: list[Path], tmp_path: Path) -> None:
+    unknown = fit(*recordings, "--params", "gamma", "--out", tmp_path / "a")
+    assert unknown.returncode == 2 and "'gamma'" in unknown.stderr, unknown.stderr
+    broken = tmp_path / "broken.jsonl"
+    broken.write_text("not json\n")
+    bad = fit(recordings[0], broken, "--params", "beta", "--folds", "2", "--out", tmp_path / "b")
+    assert bad.returncode == 2 and "broken.jsonl:1" in bad.stderr, bad.stderr
+    missing = fit(recordings[0], tmp_path / "nope.jsonl", "--folds", "2", "--out", tmp_path / "c")
+    assert missing.returncode == 2 and "nope.jsonl: no such recording" in missing.stderr, missing.stderr
+    model = fit(*recordings, "--models", "graded,oracle", "--folds", "2", "--out", tmp_path / "d")
+    assert model.returncode == 2 and "oracle" in model.stderr, model.stderr
