@@ -119,13 +119,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     sub = argv[0] if argv and argv[0] in ("infer", "fit") else None
     parser = {"infer": infer_parser, "fit": fit_parser}.get(sub or "", run_parser)()
     args = parser.parse_args(argv[1:] if sub else argv)
-    infer = sub == "infer"
     configure_logging(args.log_level)
     try:
         settings = load_settings(args.settings, args.overrides)
         if sub == "fit":
             return fit_main(args, settings, ["toyroom", *argv])
-        if infer:
+        if sub == "infer":
             return infer_main(args.trace, args.out, Observer(args.observer), settings)
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())

@@ -89,17 +89,17 @@ def search(
                 jobs.append((str(path), observer.value, settings))
                 index.append((name, p, e))
     results = _run(jobs, workers, progress)
-    tables = []
-    for name in models:
-        grid_points = points(model_grid(name, grid))
-        ll = np.zeros((len(grid_points), len(traces)))
-        actions = np.zeros(len(traces), dtype=np.int64)
-        for (model, p, e), evidence in zip(index, results, strict=True):
-            if model == name:
-                ll[p, e] = evidence.log_likelihood
-                actions[e] = evidence.actions
-        tables.append(Table(name, grid_points, ll, actions))
-    return tables
+    tables = {name: _empty_table(name, points(model_grid(name, grid)), len(traces)) for name in models}
+    for (name, p, e), evidence in zip(index, results, strict=True):
+        tables[name].ll[p, e] = evidence.log_likelihood
+        tables[name].actions[e] = evidence.actions
+    return [tables[name] for name in models]
+
+
+def _empty_table(name: str, grid_points: list[Point], episodes: int) -> Table:
+    return Table(
+        name, grid_points, np.zeros((len(grid_points), episodes)), np.zeros(episodes, dtype=np.int64)
+    )
 
 
 def _run(jobs: list[tuple[str, str, ModelSettings]], workers: int, progress: bool) -> list[Evidence]:

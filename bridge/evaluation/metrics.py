@@ -141,15 +141,9 @@ def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: se
             where = true_location.get(belief.item)
             actual = where is not None and true.get(where, 0.0) < FALSE_BELIEF_MASS
             flagged = belief.item in est.false_beliefs
-            counts.tp += actual and flagged
-            counts.fp += (not actual) and flagged
-            counts.fn += actual and not flagged
-            counts.tn += (not actual) and not flagged
-            if belief.item == person.preference:
-                counts.goal_tp += actual and flagged
-                counts.goal_fp += (not actual) and flagged
-                counts.goal_fn += actual and not flagged
-                counts.goal_tn += (not actual) and not flagged
+            cell = ("tp" if flagged else "fn") if actual else ("fp" if flagged else "tn")
+            for name in (cell, f"goal_{cell}") if belief.item == person.preference else (cell,):
+                setattr(counts, name, getattr(counts, name) + 1)
         if person.agent in took and est.preference:
             best = max(est.preference, key=lambda p: p.p).id
             counts.pref_n += 1

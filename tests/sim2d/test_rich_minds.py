@@ -16,6 +16,7 @@ from sim2d.hearsay import exchange
 from sim2d.maps import SCENARIO_DIR
 from sim2d.personbelief import PersonBelief
 from sim2d.scenario import Autonomy, Scenario, load_scenario
+from sim2d.world import World
 
 LOCS = ["P1", "S1", "S2", "P2"]
 
@@ -88,11 +89,16 @@ def test_miss_is_drawn_per_sight(miss: float, certain: bool) -> None:
     assert person(engine, "A1").attention == kept
 
 
-def test_hearsay_replaces_the_listeners_belief_with_the_tellers() -> None:
+def met() -> tuple[AutonomousPerson, AutonomousPerson, World]:
+    """``paper-auto``'s two people, put in one region."""
     engine = engine_with()
-    a1, a2 = person(engine, "A1"), person(engine, "A2")
     world = engine.world
     world.agents["A2"].region = world.agents["A1"].region
+    return person(engine, "A1"), person(engine, "A2"), world
+
+
+def test_hearsay_replaces_the_listeners_belief_with_the_tellers() -> None:
+    a1, a2, world = met()
     a1.belief.told("ball", "P1")
     a2.belief.p[a2.belief.items.index("ball")] = [0.0, 0.4, 0.6, 0.0]  # unsure: S2 or S1
     a1.belief.told("skate", "S1")
@@ -104,10 +110,7 @@ def test_hearsay_replaces_the_listeners_belief_with_the_tellers() -> None:
 
 
 def test_hearsay_needs_a_teller_surer_than_the_listener() -> None:
-    engine = engine_with()
-    a1, a2 = person(engine, "A1"), person(engine, "A2")
-    world = engine.world
-    world.agents["A2"].region = world.agents["A1"].region
+    a1, a2, world = met()
     a1.belief.told("ball", "P1")
     a2.belief.told("ball", "P2")  # both sure, of different places: nobody takes the other's word
     a1.belief.p[a1.belief.items.index("skate")] = [0.3, 0.3, 0.4, 0.0]  # too unsure to tell
