@@ -6,6 +6,8 @@
   recorded ``trace.jsonl``, with no engine.
 - ``python -m brain fit RECORDINGS... --params beta,hazard --out DIR``: parameters fitted to
   recordings, cross-validated, and models compared (:mod:`brain.fitting`).
+- ``python -m brain plan --scene SCENE.json --out FILE.npz``: the planner's Q-values of a
+  scene, for simulated people who act by the brain's planner (:mod:`brain.outputs.policytable`).
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ import sys
 from collections.abc import Sequence
 from contextlib import nullcontext
 from pathlib import Path
+
+import msgspec
 
 from bridge import Bridge, BridgeError
 from bridge.flags import (
@@ -27,11 +31,12 @@ from bridge.recording.mcap import McapRecorder
 from bridge.recording.trace import read_trace
 from bridge.session import add_network_args, settings_from_args
 from protocol import Error as ProtocolError
-from protocol import Observer
+from protocol import Observer, Scene
 
 from .errors import BrainError
 from .fitting.command import fit_main, fit_parser
 from .node import BrainNode
+from .outputs.policytable import write_policy_table
 from .outputs.results import write_outputs
 from .robot.tree import RobotTree
 from .settings import Settings, load_settings, settings_toml
@@ -114,14 +119,43 @@ def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Sett
     return path
 
 
+def plan_parser() -> argparse.ArgumentParser:
+    parser = command_parser(
+        "python -m brain plan",
+        "Write the planner's Q-values of a scene, for simulated people who act by them.",
+    )
+    parser.add_argument(
+        "--scene", type=Path, required=True, help="the scene as JSON (`python -m sim2d scene`)"
+    )
+    parser.add_argument("--out", type=Path, required=True, help="the table to write (.npz)")
+    add_settings_args(parser)
+    add_log_level(parser, "WARNING")
+    return parser
+
+
+def plan_main(scene_path: Path, out: Path, settings: Settings) -> int:
+    """Read a scene and write its policy table."""
+    try:
+        scene = msgspec.json.decode(scene_path.read_bytes(), type=Scene)
+    except (OSError, msgspec.ValidationError, msgspec.DecodeError) as err:
+        raise BrainError(f"scene {scene_path}: {err}") from err
+    print(f"brain: wrote {write_policy_table(out, scene, settings.model)}")
+    return 0
+
+
+SUBCOMMANDS = {"infer": infer_parser, "fit": fit_parser, "plan": plan_parser}
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    sub = argv[0] if argv and argv[0] in ("infer", "fit") else None
-    parser = {"infer": infer_parser, "fit": fit_parser}.get(sub or "", run_parser)()
+    sub = argv[0] if argv and argv[0] in SUBCOMMANDS else None
+    parser = SUBCOMMANDS.get(sub or "", run_parser)()
     args = parser.parse_args(argv[1:] if sub else argv)
     configure_logging(args.log_level)
     try:
         settings = load_settings(args.settings, args.overrides)
+        if sub == "plan":
+            return plan_main(args.scene, args.out, settings)
         if sub == "fit":
             return fit_main(args, settings, ["toyroom", *argv])
         if sub == "infer":

@@ -1,6 +1,7 @@
 """``python -m sim2d --scenario NAME [--world W] [--lockstep | --realtime RATE]``: run the
 engine node until interrupted (``toyroom sim`` starts this as a process); ``python -m sim2d
-generate ...`` (``toyroom generate``) writes a random episode."""
+generate ...`` (``toyroom generate``) writes a random episode; ``python -m sim2d scene
+--scenario NAME`` prints its protocol scene (what ``python -m brain plan`` reads)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+
+import msgspec
 
 from bridge import Bridge, BridgeError
 from bridge.flags import (
@@ -23,6 +26,7 @@ from protocol import ClockMode
 from .engine import Engine
 from .errors import Sim2dError
 from .node import EngineNode
+from .policytable import load_policy_table
 from .scenario import scenario_names
 
 
@@ -40,9 +44,34 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
     )
+    parser.add_argument(
+        "--policy",
+        type=Path,
+        metavar="FILE.npz",
+        help='the brain\'s planner table (`python -m brain plan`) for people with planner = "model"',
+    )
     add_log_level(parser)
     add_network_args(parser)
     return parser
+
+
+def scene_parser() -> argparse.ArgumentParser:
+    parser = command_parser("python -m sim2d scene", "Print a scenario's protocol scene as JSON.")
+    parser.add_argument("--scenario", required=True, help="scenario name or .toml path")
+    parser.add_argument("--seed", type=int, default=0, help="episode seed (default: %(default)s)")
+    return parser
+
+
+def scene_main(argv: Sequence[str]) -> int:
+    """``python -m sim2d scene --scenario S``: the scene ``engine/info`` would carry, on stdout."""
+    args = scene_parser().parse_args(argv)
+    try:
+        scene = Engine(args.scenario, seed=args.seed, check_policy=False).scene()
+    except Sim2dError as err:
+        print(f"sim2d: {err}", file=sys.stderr)
+        return 2
+    print(msgspec.json.encode(scene).decode())
+    return 0
 
 
 def generate_parser() -> argparse.ArgumentParser:
@@ -65,7 +94,8 @@ def generate_parser() -> argparse.ArgumentParser:
         choices=MINDS,
         default="simple",
         help="simple: people perceive exactly and keep to themselves; rich: they forget, overlook, "
-        "gossip and wander (drawn from the seed)",
+        "gossip and wander (drawn from the seed); model: they act by the brain's planner "
+        "(the engine then needs --policy)",
     )
     parser.add_argument(
         "--kind",
@@ -104,6 +134,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] == "generate":
         return generate_main(argv[1:])
+    if argv and argv[0] == "scene":
+        return scene_main(argv[1:])
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level)
     if args.list:
@@ -113,7 +145,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("sim2d: --realtime RATE must be > 0", file=sys.stderr)
         return 2
     try:
-        engine = Engine(args.scenario, seed=args.seed, robot=args.robot)
+        policy = load_policy_table(args.policy) if args.policy else None
+        engine = Engine(args.scenario, seed=args.seed, robot=args.robot, policy=policy)
         clock = ClockMode.REALTIME if args.realtime is not None else ClockMode.LOCKSTEP
         node = EngineNode(
             engine, Bridge(args.world, settings_from_args(args)), clock=clock, rate=args.realtime or 1.0

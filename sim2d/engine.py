@@ -27,11 +27,14 @@ from protocol import (
 )
 
 from .autonomous import AutonomousPerson
+from .errors import ScenarioError
 from .hearsay import exchange
 from .maps import agent_spec
 from .people import Person, ScriptedPerson
+from .planned import PlannedPerson
+from .policytable import PolicyTable
 from .robot import RobotBody
-from .scenario import RobotMode, Scenario, load_scenario
+from .scenario import AgentSetup, RobotMode, Scenario, load_scenario
 from .world import World
 
 ENGINE_NAME = "sim2d 0.1.0"
@@ -59,10 +62,20 @@ class Engine:
     """
 
     def __init__(
-        self, scenario: Scenario | str, *, seed: int = 0, substeps: int = 5, robot: RobotMode | None = None
+        self,
+        scenario: Scenario | str,
+        *,
+        seed: int = 0,
+        substeps: int = 5,
+        robot: RobotMode | None = None,
+        policy: PolicyTable | None = None,
+        check_policy: bool = True,
     ) -> None:
         self.substeps = substeps
         self.robot_override = robot
+        self.policy = policy
+        """The brain's planner table, for people with ``planner = "model"`` (:mod:`sim2d.planned`)."""
+        self.check_policy = check_policy
         self.episode = 0
         self._load(scenario if isinstance(scenario, Scenario) else load_scenario(scenario), seed)
 
@@ -76,7 +89,7 @@ class Engine:
         for index, setup in enumerate(scenario.people):
             if setup.autonomous:
                 rng = np.random.default_rng([seed, index])
-                person = AutonomousPerson(setup, self.world, rng, scenario.autonomy)
+                person = self._autonomous(setup, rng)
                 self._start_belief(person, np.random.default_rng([seed, index, 2]))
                 self.people[setup.id] = person
             else:
@@ -87,6 +100,22 @@ class Engine:
         """Draws of hearsay (:mod:`sim2d.hearsay`), apart from every person's own."""
         self.settled = 0
         self.done = False
+
+    def _autonomous(self, setup: AgentSetup, rng: np.random.Generator) -> AutonomousPerson:
+        """An autonomous person: by their own habits, or by the planner's table."""
+        autonomy = self.scenario.autonomy
+        if autonomy.planner != "model" or not self.check_policy:
+            return AutonomousPerson(setup, self.world, rng, autonomy)
+        if self.policy is None:
+            raise ScenarioError(
+                self.scenario.path,
+                "autonomy",
+                'planner = "model": people act by the brain\'s planner, so the engine needs its '
+                "table (--policy FILE.npz, written by `python -m brain plan`)",
+            )
+        world = self.world
+        self.policy.check(list(world.items), [loc.id for loc in world.map.locations], list(world.walkable))
+        return PlannedPerson(setup, world, rng, autonomy, self.policy)
 
     def _start_belief(self, person: AutonomousPerson, rng: np.random.Generator) -> None:
         """What ``person`` knows before the episode (``Autonomy.knows`` and ``stale``; their

@@ -156,10 +156,12 @@ def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
     return "\n".join(lines + _visibility_lines(rng, rooms, doors))
 
 
-MINDS = ("simple", "rich")
+MINDS = ("simple", "rich", "model")
 """Kinds of simulated minds: ``simple`` people perceive exactly, remember, keep to themselves
 and go where they believe their item most likely is (what the brain's percept filter
-assumes); ``rich`` ones get the knobs :func:`rich_autonomy` draws."""
+assumes); ``rich`` ones get the knobs :func:`rich_autonomy` draws; ``model`` ones perceive as
+simple ones do and act by the brain's planner (``planner = "model"``: the engine needs the
+table ``python -m brain plan`` writes)."""
 
 
 def rich_autonomy(seed: int) -> list[str]:
@@ -229,6 +231,7 @@ def episode(
         "play_ticks = [60, 200]",
         "wait_ticks = [20, 60]",
         *(rich_autonomy(seed) if minds == "rich" else []),
+        *(['planner = "model"'] if minds == "model" else []),
         "",
     ]
     if not 1 <= items <= len(ITEM_SHAPES):

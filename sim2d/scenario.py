@@ -90,6 +90,8 @@ class Autonomy:
     """Chance, per person and item, of starting sure the item is at another of the item
     locations (drawn uniformly): a false belief from before the episode. Otherwise (and at
     ``knows = stale = 0``) a person starts not knowing: uniform over the locations."""
+    planner: str = "own"
+    """``own`` habits (:mod:`sim2d.autonomous`) or the brain's planner (``model``: :mod:`sim2d.planned`)."""
 
     def __post_init__(self) -> None:
         rates = {name: getattr(self, name) for name in RATES}
@@ -98,13 +100,15 @@ class Autonomy:
             raise ValueError(f"probabilities must be in [0, 1]: {', '.join(bad)}")
         if self.knows + self.stale > 1.0:
             raise ValueError(f"knows + stale must be at most 1, not {self.knows} + {self.stale}")
-        if self.search not in SEARCH_ORDERS:
-            raise ValueError(f"search must be one of {', '.join(SEARCH_ORDERS)}, not {self.search!r}")
+        for name, known in (("search", SEARCH_ORDERS), ("planner", PLANNERS)):
+            if getattr(self, name) not in known:
+                raise ValueError(f"{name} must be one of {', '.join(known)}, not {getattr(self, name)!r}")
 
 
 RATES = ("switch", "mischief", "put_away", "forget", "miss", "hearsay", "wander", "replan", "knows", "stale")
 """The probabilities of :class:`Autonomy`."""
 SEARCH_ORDERS = ("likely", "nearest")
+PLANNERS = ("own", "model")
 
 
 @dataclass(frozen=True)
@@ -342,7 +346,7 @@ def _tick_range(value: Any, default: tuple[int, int]) -> tuple[int, int]:
 def _autonomy(data: dict[str, Any], path: Path) -> Autonomy:
     """How autonomous people behave (``[autonomy]``)."""
     table = data.get("autonomy", {})
-    known = {*RATES, "play_ticks", "wait_ticks", "search"}
+    known = {*RATES, "play_ticks", "wait_ticks", "search", "planner"}
     unknown = sorted(set(table) - known)
     if unknown:
         raise ScenarioError(path, "autonomy", f"unknown settings {unknown} (known: {sorted(known)})")
@@ -350,6 +354,7 @@ def _autonomy(data: dict[str, Any], path: Path) -> Autonomy:
         return Autonomy(
             **{name: float(table[name]) for name in RATES if name in table},
             search=str(table.get("search", Autonomy.search)),
+            planner=str(table.get("planner", Autonomy.planner)),
             play_ticks=_tick_range(table.get("play_ticks"), Autonomy.play_ticks),
             wait_ticks=_tick_range(table.get("wait_ticks"), Autonomy.wait_ticks),
         )

@@ -1,5 +1,7 @@
 """The grid search of ``toyroom fit``: every (model, grid point, recording) evaluated once,
-in worker processes, with a progress bar; then each model's table cross-validated.
+in worker processes, with a progress bar; then each model's table cross-validated. The
+points of one model that differ only in ``beta``, ``epsilon`` and ``hazard`` share one pass
+over each recording (:mod:`brain.fitting.replay`).
 
 A *model* is an observer and settings overrides (:data:`MODELS`): the graded default, the
 paper's point beliefs, belief-space planning, ``truebelief`` and a no-cost model (every
@@ -25,6 +27,7 @@ from ..settings import ModelSettings
 from .crossval import FloatArray, IntArray
 from .evidence import Evidence, episode_evidence
 from .grid import Point, apply, points
+from .replay import CHEAP, evidence_at_points
 
 MODELS: dict[str, tuple[Observer, dict[str, object]]] = {
     "graded": (Observer.BTOM, {}),
@@ -66,9 +69,28 @@ def _trace(path: str) -> Trace:
     return read_trace(Path(path))
 
 
-def _evaluate(job: tuple[str, str, ModelSettings]) -> Evidence:
-    path, observer, settings = job
-    return episode_evidence(_trace(path), settings, Observer(observer))
+Job = tuple[str, str, ModelSettings, tuple[Point, ...]]
+"""One recording under one model's settings, at several values of the cheap parameters."""
+
+
+def _evaluate(job: Job) -> list[Evidence]:
+    """The evidence at each cheap point: one replayed pass when the model allows it
+    (:mod:`brain.fitting.replay`), else one pass per point."""
+    path, observer, settings, cheap = job
+    trace = _trace(path)
+    fast = evidence_at_points(trace, settings, Observer(observer), cheap)
+    if fast is not None:
+        return fast
+    return [episode_evidence(trace, apply(settings, point), Observer(observer)) for point in cheap]
+
+
+def _grouped(grid_points: list[Point]) -> dict[tuple[tuple[str, float], ...], list[int]]:
+    """The indices of ``grid_points`` by their values of the parameters that are not cheap."""
+    groups: dict[tuple[tuple[str, float], ...], list[int]] = {}
+    for p, point in enumerate(grid_points):
+        key = tuple(sorted((k, v) for k, v in point.items() if k not in CHEAP))
+        groups.setdefault(key, []).append(p)
+    return groups
 
 
 def search(
@@ -79,20 +101,25 @@ def search(
     workers: int = 2,
     progress: bool = True,
 ) -> list[Table]:
-    """Evaluate every model at every point of its grid on every recording."""
-    jobs, index = [], []
-    for name in models:
-        observer, _ = MODELS[name]
-        for p, point in enumerate(points(model_grid(name, grid))):
-            settings = model_settings(name, base, point)
-            for e, path in enumerate(traces):
-                jobs.append((str(path), observer.value, settings))
-                index.append((name, p, e))
+    """Evaluate every model at every point of its grid on every recording (the points that
+    differ only in :data:`~brain.fitting.replay.CHEAP` parameters in one job)."""
+    jobs: list[Job] = []
+    index: list[tuple[str, list[int], int]] = []
+    for e, path in enumerate(traces):
+        for name in models:
+            observer, _ = MODELS[name]
+            grid_points = points(model_grid(name, grid))
+            for key, members in _grouped(grid_points).items():
+                settings = model_settings(name, base, dict(key))
+                cheap = tuple({k: v for k, v in grid_points[p].items() if k in CHEAP} for p in members)
+                jobs.append((str(path), observer.value, settings, cheap))
+                index.append((name, members, e))
     results = _run(jobs, workers, progress)
     tables = {name: _empty_table(name, points(model_grid(name, grid)), len(traces)) for name in models}
-    for (name, p, e), evidence in zip(index, results, strict=True):
-        tables[name].ll[p, e] = evidence.log_likelihood
-        tables[name].actions[e] = evidence.actions
+    for (name, members, e), evidence in zip(index, results, strict=True):
+        for p, ev in zip(members, evidence, strict=True):
+            tables[name].ll[p, e] = ev.log_likelihood
+            tables[name].actions[e] = ev.actions
     return [tables[name] for name in models]
 
 
@@ -102,19 +129,20 @@ def _empty_table(name: str, grid_points: list[Point], episodes: int) -> Table:
     )
 
 
-def _run(jobs: list[tuple[str, str, ModelSettings]], workers: int, progress: bool) -> list[Evidence]:
+def _run(jobs: list[Job], workers: int, progress: bool) -> list[list[Evidence]]:
+    """Every job's evidence, in order, with a progress bar over (model, point, recording) runs."""
     from rich.progress import Progress
 
-    results: list[Evidence] = []
+    results: list[list[Evidence]] = []
     with Progress(disable=not progress, transient=False) as bar:
-        task = bar.add_task("fitting", total=len(jobs))
+        task = bar.add_task("fitting", total=sum(len(job[3]) for job in jobs))
         if workers <= 1:
             for job in jobs:
                 results.append(_evaluate(job))
-                bar.advance(task)
+                bar.advance(task, len(job[3]))
             return results
         with ProcessPoolExecutor(max_workers=workers) as pool:
-            for evidence in pool.map(_evaluate, jobs, chunksize=1):
+            for job, evidence in zip(jobs, pool.map(_evaluate, jobs, chunksize=1), strict=True):
                 results.append(evidence)
-                bar.advance(task)
+                bar.advance(task, len(job[3]))
     return results

@@ -149,7 +149,9 @@ def expected_q(beliefs: FloatArray, q: FloatArray) -> FloatArray:
     return np.where(possible, expected, -np.inf)
 
 
-def choice_likelihood(q: FloatArray, action: int, beta: float, epsilon: float) -> FloatArray:
+def choice_likelihood(
+    q: FloatArray, action: int, beta: float | FloatArray, epsilon: float | FloatArray
+) -> FloatArray:
     """``q.shape[:-1]`` the Boltzmann probability of ``action`` over the last axis of ``q``
     (``-inf``: impossible), with the floor ``epsilon`` spread over every action."""
     scaled = beta * q

@@ -76,6 +76,9 @@ class StepRecord:
     rumours: tuple[tuple[int, int, float], ...] = ()
     """``(item, value, probability)``: what someone in the person's region believes of an
     item, and the chance they told it since the last step (``ModelSettings.hearsay``)."""
+    elapsed: float = 0.0
+    """Decision times since the person's previous decision (``switch`` is the hazard over
+    them; 0 for a percept alone)."""
 
 
 class PersonFilter(Protocol):

@@ -12,11 +12,13 @@ and a max over an ``(S, A)`` array.
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
+import msgspec
 import numpy as np
 import numpy.typing as npt
 
@@ -228,8 +230,8 @@ class Policy:
         return self.likelihood[:, self.state_slice(cell, held), action].T
 
 
-def plan(model: WorldModel, settings: ModelSettings) -> Policy:
-    """Solve the MDP of every candidate desire (no cache; see :func:`cached_policy`)."""
+def solve(model: WorldModel, settings: ModelSettings) -> tuple[FloatArray, FloatArray]:
+    """``(U, D)`` the candidate desires and ``(U, S, A)`` their Q-values (no cache)."""
     trans = transitions(model)
     u = utilities(settings, model.n_items)
     qs = np.stack(
@@ -240,11 +242,38 @@ def plan(model: WorldModel, settings: ModelSettings) -> Policy:
             for row in u
         ]
     )
+    return u, qs
+
+
+def plan(model: WorldModel, settings: ModelSettings) -> Policy:
+    """Solve the MDP of every candidate desire (no cache; see :func:`cached_policy`)."""
+    u, qs = solve(model, settings)
+    return _policy(model, u, qs, settings)
+
+
+def _policy(model: WorldModel, u: FloatArray, qs: FloatArray, settings: ModelSettings) -> Policy:
     likelihood = np.stack([boltzmann(q, settings.beta, settings.epsilon) for q in qs])
     return Policy(model=model, utilities=u, q=qs, likelihood=likelihood)
 
 
+CHOICE_ONLY = ("beta", "epsilon", "hazard")
+"""Settings value iteration never reads: policies that differ only in them share Q-values."""
+
+
+@lru_cache(maxsize=8)
+def _cached_values(scene: Scene, settings: ModelSettings) -> tuple[WorldModel, FloatArray, FloatArray]:
+    model = build_world_model(scene)
+    return (model, *solve(model, settings))
+
+
 @lru_cache(maxsize=8)
 def cached_policy(scene: Scene, settings: ModelSettings) -> Policy:
-    """The policy of a scene, computed once per (scene, settings) in this process."""
-    return plan(build_world_model(scene), settings)
+    """The policy of a scene, computed once per (scene, settings) in this process; value
+    iteration once per (scene, settings but :data:`CHOICE_ONLY`), so a fit over ``beta``
+    solves each map once."""
+    defaults = ModelSettings()
+    key = dataclasses.replace(settings, **{name: getattr(defaults, name) for name in CHOICE_ONLY})
+    model, u, qs = _cached_values(
+        msgspec.structs.replace(scene, agents=()), key
+    )  # who lives there: no matter
+    return _policy(model, u, qs, settings)

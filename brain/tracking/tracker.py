@@ -211,7 +211,9 @@ class MindTracker:
                 switch = switch_probability(self.settings.hazard, elapsed)
                 decision = (track.cell, track.held, action)
                 rumours = self._rumours(track.agent, state, state.time - (track.last_decision or 0.0))
-                self._push(track, tick, seen, likelihood, truths, switch, decision, rumours, state.time)
+                self._push(
+                    track, tick, seen, likelihood, truths, switch, decision, rumours, state.time, elapsed
+                )
                 track.last_decision = state.time
             elif (
                 any(s != c.percept for s, c in zip(seen, track.chains, strict=True))
@@ -300,6 +302,7 @@ class MindTracker:
         decision: tuple[int, int, int] | None = None,
         rumours: tuple[tuple[int, int, float], ...] = (),
         now: float | None = None,
+        elapsed: float = 0.0,
     ) -> None:
         """One step of ``track`` in every branch (``seen`` and ``truths``: one per branch) at
         engine time ``now`` (for forgetting since the last step)."""
@@ -318,6 +321,7 @@ class MindTracker:
                 decision=decision,
                 forget=forget,
                 rumours=rumours,
+                elapsed=elapsed,
             )
             if chain.filter is None:
                 chain.filter = self.person_model.new_filter()

@@ -169,8 +169,8 @@ def _eval_command(command: Command) -> None:
     evaluation.add_argument(
         "--minds",
         default="simple",
-        help="simple (people perceive exactly) or rich (they forget, overlook, gossip, wander); "
-        "comma-separated for several conditions",
+        help="simple (people perceive exactly), rich (they forget, overlook, gossip, wander) or "
+        "model (they act by the brain's planner under --set's settings); comma-separated",
     )
     evaluation.add_argument(
         "--kind",
@@ -182,7 +182,10 @@ def _eval_command(command: Command) -> None:
         default="tom",
         help="the acting robot's policies, one run each, comma-separated: tom (on inferred minds), "
         "tidy (put every moved item back), announce (tell everyone of every move); "
-        "none (observing) is always run",
+        "none (observing) is always run: --policies none runs it alone",
+    )
+    evaluation.add_argument(
+        "--max-ticks", type=int, default=1000, help="ticks per episode (default: %(default)s)"
     )
     evaluation.add_argument(
         "--record",

@@ -58,6 +58,7 @@ def eval_main(
     command: str = "",
     policies: Sequence[str] = ("tom",),
     record: bool = False,
+    max_ticks: int = 1000,
 ) -> int:
     """Run the evaluation with a progress bar and print the metrics."""
     from rich.console import Console
@@ -83,6 +84,7 @@ def eval_main(
             command=command,
             policies=policies,
             record=record,
+            max_ticks=max_ticks,
         )
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
@@ -201,7 +203,7 @@ def _eval(args: argparse.Namespace) -> int:
     except ValueError as err:
         print(f"toyroom eval: {err}", file=sys.stderr)
         return 2
-    policies = args.policies.split(",")
+    policies = [p for p in args.policies.split(",") if p != "none"]  # none: always run
     unknown = [p for p in policies if p not in POLICIES]
     if unknown:
         print(f"toyroom eval: unknown policies {unknown} (known: {', '.join(POLICIES)})", file=sys.stderr)
@@ -218,6 +220,7 @@ def _eval(args: argparse.Namespace) -> int:
         command,
         policies,
         args.record,
+        max_ticks=args.max_ticks,
     )
 
 

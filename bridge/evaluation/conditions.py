@@ -7,7 +7,9 @@ the simulated people have, and what kind of episodes they live through.
 - ``minds``: ``simple`` (people perceive exactly, remember and keep to themselves, which is
   what the brain's percept filter assumes: ``perceptonly`` is then an oracle of their
   beliefs whenever the robot sees everything) or ``rich`` (they forget, overlook, gossip,
-  wander: ``python -m sim2d generate --minds``);
+  wander: ``python -m sim2d generate --minds``) or ``model`` (they perceive as simple ones do
+  and act by the brain's planner under the evaluation's settings, so their parameters are
+  known: :mod:`bridge.evaluation.planned`);
 - ``kind``: ``everyday`` (random episodes) or ``tasks`` (built around the robot's jobs: an item
   moved while its owner is away, hidden where they will look last, or wanted by both;
   ``python -m sim2d generate --kind tasks``).
@@ -20,7 +22,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 PERCEPTIONS = ("omniscient", "embodied")
-MINDS = ("simple", "rich")
+MINDS = ("simple", "rich", "model")
 KINDS = ("everyday", "tasks")
 POLICIES = ("tom", "tidy", "announce")
 """The acting robot's policies an evaluation may run (the brain's ``RobotSettings.policy``;

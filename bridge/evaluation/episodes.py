@@ -29,6 +29,7 @@ from protocol import Observer
 
 from .aggregate import ROBOT, aggregate
 from .conditions import Condition
+from .planned import policy_table
 from .report import report
 from .runs import MOTION, RunResult, RunSpec, run_once
 
@@ -57,6 +58,8 @@ class EpisodeJob:
     """The acting robot's policies, one run each (``RobotSettings.policy``)."""
     record: bool = False
     """Keep every run's MCAP recording in ``recordings/<condition>/`` of the output folder."""
+    max_ticks: int = 1000
+    """The episode's length."""
 
 
 def map_of(index: int) -> str:
@@ -64,9 +67,16 @@ def map_of(index: int) -> str:
     return MAPS[index % len(MAPS)]
 
 
-def generate(directory: Path, index: int, seed: int, minds: str = "simple", kind: str = "everyday") -> Path:
+def generate(
+    directory: Path,
+    index: int,
+    seed: int,
+    minds: str = "simple",
+    kind: str = "everyday",
+    max_ticks: int = 1000,
+) -> Path:
     """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
-    with simulated people of ``minds``, of ``kind``."""
+    with simulated people of ``minds``, of ``kind``, ``max_ticks`` long."""
     map_name = map_of(index)
     result = subprocess.run(
         [
@@ -79,7 +89,7 @@ def generate(directory: Path, index: int, seed: int, minds: str = "simple", kind
             "--seed",
             str(seed * 1000 + index),
             "--max-ticks",
-            "1000",
+            str(max_ticks),
             "--minds",
             minds,
             "--kind",
@@ -138,13 +148,20 @@ def run_episode(job: EpisodeJob) -> dict[str, Any]:
 
 def _episode(job: EpisodeJob) -> dict[str, Any]:
     directory = Path(job.workdir) / job.condition.name
-    scenario = generate(directory / "scenarios", job.index, job.seed, job.condition.minds, job.condition.kind)
+    condition = job.condition
+    scenario = generate(
+        directory / "scenarios", job.index, job.seed, condition.minds, condition.kind, job.max_ticks
+    )
     logs = directory / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
     failures: list[str] = []
     args = (*job.condition.brain_args(), *job.brain_args)
+    engine_args: tuple[str, ...] = ()
+    if job.condition.minds == "model":  # people act by the planner under the run's settings
+        engine_args = ("--policy", str(policy_table(scenario, job.brain_args, directory / "policies")))
     for spec in episode_runs(scenario, args, job.condition.perception, job.policies):
+        spec = dataclasses.replace(spec, engine_args=engine_args)
         if job.record:
             spec = _recorded(spec, Path(job.workdir).parent / "recordings" / job.condition.name)
         for observer, result in _run_with_retries(spec, logs, failures).items():
@@ -200,15 +217,17 @@ def evaluate(
     command: str = "",
     policies: Sequence[str] = ("tom",),
     record: bool = False,
+    max_ticks: int = 1000,
 ) -> dict[str, Any]:
     """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
     and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
     ``--set belief_model=point``; ``command``: the command line, for the report;
-    ``record``: keep every run's MCAP recording under ``out/recordings/``)."""
+    ``record``: keep every run's MCAP recording under ``out/recordings/``; ``max_ticks``: each
+    episode's length)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
     jobs = [
-        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record)
+        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record, max_ticks)
         for c in conditions
         for i in range(episodes)
     ]

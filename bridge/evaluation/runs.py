@@ -51,6 +51,8 @@ class RunSpec:
     perception: str = "omniscient"
     """What the robot sees (the brain is told by ``brain_args``): the motion heuristic then
     knows no more of the world than the robot does."""
+    engine_args: tuple[str, ...] = ()
+    """More options for the engine, e.g. ``("--policy", "policy.npz")``."""
 
     @property
     def tag(self) -> str:
@@ -146,7 +148,10 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
     shadow_dir = logs / f"{tag}.shadows"
     engine = start_node(
-        engine_command("sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep"), engine_log
+        engine_command(
+            "sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep", *spec.engine_args
+        ),
+        engine_log,
     )
     brain = None
     record = RunRecord()
