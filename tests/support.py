@@ -89,6 +89,16 @@ def toyroom_run(out: Path, scenario: str, *extra: str) -> Path:
     return out
 
 
+def toyroom_fit(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    """``toyroom fit ARGS --no-progress`` as a real process."""
+    return subprocess.run(
+        [sys.executable, "-m", "bridge", "fit", *map(str, args), "--no-progress"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+
+
 class MindCsv:
     """``mind.csv`` indexed for assertions: ``at(agent, label)`` and ``p(...)``."""
 

@@ -5,15 +5,19 @@ from __future__ import annotations
 import argparse
 import sys
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from bridge.flags import add_log_level, add_settings_args, command_parser
+from bridge.recording.trace import TraceError, read_trace
 
 from ..errors import SettingsError
 from ..settings import Settings
+from .correlation import JudgedFit, fit_judgments, judged_search
+from .crossval import folds
 from .fit import fit, write_fit
 from .grid import GRIDS, parse_grid
+from .judgments import Judgment, load_judgments
 from .search import DEFAULT_MODELS, MODELS
 
 
@@ -48,6 +52,13 @@ def add_fit_args(parser: argparse.ArgumentParser) -> None:
         "--out", type=Path, required=True, help="directory for settings.toml, fit.json, report.md"
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--judgments",
+        type=Path,
+        metavar="FILE.csv",
+        help="ratings of the recordings (episode, tick, person, quantity, target, value): also fit the "
+        "parameters that correlate best with them, and write those as settings.toml",
+    )
 
 
 def as_traces(paths: Sequence[Path], scratch: Path) -> list[Path]:
@@ -69,15 +80,44 @@ def as_traces(paths: Sequence[Path], scratch: Path) -> list[Path]:
     return out
 
 
+def _judgments(path: Path, traces: Sequence[Path], recordings: Sequence[Path]) -> list[Judgment]:
+    """``--judgments`` read and checked against the recordings before any fitting.
+
+    Raises:
+        SettingsError: naming a recording that cannot be read."""
+    try:
+        loaded = [read_trace(t) for t in traces]
+    except TraceError as err:
+        raise SettingsError(str(err)) from None
+    return load_judgments(path, loaded, [p.stem for p in recordings])
+
+
+def _judged(
+    args: argparse.Namespace,
+    traces: Sequence[Path],
+    judgments: Sequence[Judgment],
+    grid: Mapping[str, Sequence[float]],
+    models: Sequence[str],
+    settings: Settings,
+) -> list[JudgedFit]:
+    """Every model fitted to ``--judgments`` (the same folds as the likelihood fit)."""
+    found = judged_search(traces, models, grid, settings.model, judgments, args.workers, not args.no_progress)
+    parts = folds(len(traces), args.folds, args.seed)
+    return [fit_judgments(m, *found[m], judgments, parts, args.seed) for m in models]
+
+
 def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) -> int:
     """Run the fit and print the report."""
     grid = parse_grid(args.params, args.grid)
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     with tempfile.TemporaryDirectory() as scratch:
         traces = as_traces(args.recordings, Path(scratch))
+        judgments = _judgments(args.judgments, traces, args.recordings) if args.judgments else []
         fits = fit(traces, grid, models, settings, args.folds, args.seed, args.workers, not args.no_progress)
-        summary = write_fit(args.out, fits, list(args.recordings), grid, settings, args.seed, argv)
+        judged = _judged(args, traces, judgments, grid, models, settings) if judgments else []
+        summary = write_fit(args.out, fits, list(args.recordings), grid, settings, args.seed, argv, judged)
     print((args.out / "report.md").read_text(encoding="utf-8"))
-    print(f"brain: wrote {args.out / 'settings.toml'} (fitted: {summary['models'][models[0]]['fitted']})")
+    source = summary["judgments"] if judged else summary["models"]
+    print(f"brain: wrote {args.out / 'settings.toml'} (fitted: {source[models[0]]['fitted']})")
     sys.stdout.flush()
     return 0

@@ -21,6 +21,7 @@ from bridge.recording.trace import TraceError, read_trace
 
 from ..errors import SettingsError
 from ..settings import Settings, settings_toml
+from .correlation import JudgedFit
 from .crossval import Fold, best_point, cross_validate, folds, held_out_per_action
 from .search import MODELS, NO_ACTION_MODEL, Table, model_settings, search
 
@@ -89,13 +90,14 @@ def write_fit(
     settings: Settings,
     seed: int,
     command: Sequence[str],
+    judged: Sequence[JudgedFit] = (),
 ) -> dict[str, Any]:
-    """The outputs (see the module docstring); returns ``fit.json``'s content."""
+    """The outputs (see the module docstring); returns ``fit.json``'s content. With
+    ``judged`` (a fit to judgments), ``settings.toml`` holds its first model's point."""
     out.mkdir(parents=True, exist_ok=True)
     first = fits[0]
-    fitted = Settings(
-        model=model_settings(first.table.model, settings.model, first.fitted), robot=settings.robot
-    )
+    name, point = (judged[0].model, judged[0].fitted) if judged else (first.table.model, first.fitted)
+    fitted = Settings(model=model_settings(name, settings.model, point), robot=settings.robot)
     (out / "settings.toml").write_text(settings_toml(fitted), encoding="utf-8")
     ranked = sorted(fits, key=lambda f: -f.held_out)
     intervals, differences = pooled_means({f.table.model: f.per_episode() for f in ranked}, seed)
@@ -123,6 +125,11 @@ def write_fit(
         },
         "ranking": [f.table.model for f in ranked],
     }
+    if judged:
+        summary["judgments"] = {
+            j.model: {"fitted": j.fitted, "r": j.r, "fold_points": [j.points[p] for p in j.fold_points]}
+            for j in judged
+        }
     (out / "fit.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
     _write_folds(out / "folds.csv", fits, traces)
     (out / "report.md").write_text(report(summary), encoding="utf-8")
@@ -182,7 +189,28 @@ def report(summary: Mapping[str, Any]) -> str:
         f"Observers without a model of actions ({', '.join(NO_ACTION_MODEL)}) give decisions no likelihood.",
         "",
     ]
+    if "judgments" in summary:
+        lines += _judgments_table(summary["judgments"])
     return "\n".join(lines)
+
+
+def _judgments_table(judged: Mapping[str, Any]) -> list[str]:
+    quantities = sorted({q for m in judged.values() for q in m["r"]})
+    lines = [
+        "## Fit to judgments",
+        "",
+        "Pearson r between the brain's online estimates and the ratings, each episode predicted at",
+        "the point fitted (best mean r over quantities) without its fold; bootstrap 95% intervals",
+        "over episodes.",
+        "",
+        "| model | " + " | ".join(f"r {q}" for q in quantities) + " | fitted on all |",
+        "|---|" + "---|" * len(quantities) + "---|",
+    ]
+    for name, m in judged.items():
+        cells = [_interval(m["r"].get(q, {})) for q in quantities]
+        point = ", ".join(f"{k}={v:g}" for k, v in m["fitted"].items())
+        lines.append(f"| {name} | " + " | ".join(cells) + f" | {point} |")
+    return [*lines, ""]
 
 
 def _negated(d: Mapping[str, float | None] | None) -> dict[str, float | None] | None:

@@ -126,10 +126,13 @@ def _log(evidence: FloatArray) -> FloatArray:
 
 
 def _choice(values: FloatArray, action: int, points: Mapping[str, FloatArray]) -> FloatArray:
-    """``(P, ...)`` each point's probability of ``action`` from ``(..., A)`` Q-values."""
+    """``(P, ...)`` each point's probability of ``action`` from ``(..., A)`` Q-values: one
+    softmax per distinct beta, then each point's ``epsilon`` floor."""
+    betas, which = np.unique(points["beta"], return_inverse=True)
     shape = (-1, *([1] * values.ndim))
-    beta, epsilon = points["beta"].reshape(shape), points["epsilon"].reshape(shape[:-1])
-    return choice_likelihood(values[None], action, beta, epsilon)
+    soft = choice_likelihood(values[None], action, betas.reshape(shape), 0.0)[which]  # (P, ...)
+    epsilon = points["epsilon"].reshape(shape[:-1])
+    return (1.0 - epsilon) * soft + epsilon / values.shape[-1]
 
 
 def _graded(

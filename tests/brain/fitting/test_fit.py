@@ -4,30 +4,10 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 import tomllib
 from pathlib import Path
 
-import pytest
-from support import toyroom_run
-
-SCENARIOS = ("sally-anne", "paper-1", "paper-2")
-
-
-@pytest.fixture(scope="module")
-def recordings(tmp_path_factory: pytest.TempPathFactory) -> list[Path]:
-    root = tmp_path_factory.mktemp("recordings")
-    return [toyroom_run(root / s, s, "--no-live", "--robot", "observe") / "trace.jsonl" for s in SCENARIOS]
-
-
-def fit(*args: str | Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "bridge", "fit", *map(str, args), "--no-progress"],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
+from support import toyroom_fit as fit
 
 
 def test_fit_writes_settings_folds_and_the_comparison(recordings: list[Path], tmp_path: Path) -> None:

@@ -1,0 +1,157 @@
+"""Fitting to judgments (``toyroom fit --judgments``): the grid point whose estimates
+correlate best with people's ratings, cross-validated by episode.
+
+A point's score on some episodes is the mean over quantities of the Pearson r between the
+brain's estimates and the ratings of those episodes. Each fold is fitted on the others and
+its episodes are predicted at that point; the held-out predictions of every fold together
+give each quantity's r, with a bootstrap 95% interval over episodes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from protocol import Observer
+
+from ..settings import ModelSettings
+from ..tracking.tracker import MindTracker
+from .crossval import FloatArray, IntArray
+from .grid import Point, points
+from .judgments import Judgment, predictions
+from .search import MODELS, _trace, model_grid, model_settings
+
+BOOTSTRAP = 1000
+
+
+def pearson(x: FloatArray, y: FloatArray) -> float:
+    """Pearson's r of the rows where both are numbers (``nan`` with fewer than 3 or no spread)."""
+    ok = np.isfinite(x) & np.isfinite(y)
+    if ok.sum() < 3 or np.std(x[ok]) == 0 or np.std(y[ok]) == 0:
+        return float("nan")
+    return float(np.corrcoef(x[ok], y[ok])[0, 1])
+
+
+def score(pred: FloatArray, values: FloatArray, quantities: Sequence[str], rows: IntArray) -> float:
+    """The mean over quantities of r on ``rows`` (quantities without an r left out)."""
+    q = np.asarray(quantities)
+    rs = [
+        pearson(pred[rows][q[rows] == name], values[rows][q[rows] == name]) for name in sorted(set(q[rows]))
+    ]
+    finite = [r for r in rs if np.isfinite(r)]
+    return float(np.mean(finite)) if finite else float("-inf")
+
+
+@dataclass(frozen=True)
+class JudgedFit:
+    """One model fitted to the judgments: the points, every fold's choice, the held-out
+    predictions and each quantity's held-out r with its interval."""
+
+    model: str
+    points: list[Point]
+    fold_points: list[int]
+    fitted: Point
+    r: dict[str, dict[str, float]]
+
+
+def fit_judgments(
+    model: str,
+    grid_points: list[Point],
+    pred: FloatArray,
+    judgments: Sequence[Judgment],
+    parts: list[IntArray],
+    seed: int = 0,
+) -> JudgedFit:
+    """Cross-validate ``pred (P, N)`` (each point's estimate of each judgment) by episode."""
+    values = np.array([j.value for j in judgments])
+    quantities = [j.quantity for j in judgments]
+    episode = np.array([j.episode for j in judgments])
+    everything = np.arange(len(judgments))
+    held = np.full(len(judgments), np.nan)
+    chosen = []
+    for part in parts:
+        inside = np.isin(episode, part)
+        train = everything[~inside]
+        best = int(np.argmax([score(p, values, quantities, train) for p in pred]))
+        held[inside] = pred[best, inside]
+        chosen.append(best)
+    best_all = int(np.argmax([score(p, values, quantities, everything) for p in pred]))
+    return JudgedFit(
+        model, grid_points, chosen, grid_points[best_all], _intervals(held, values, quantities, episode, seed)
+    )
+
+
+def _intervals(
+    held: FloatArray, values: FloatArray, quantities: Sequence[str], episode: IntArray, seed: int
+) -> dict[str, dict[str, float]]:
+    """Each quantity's r with a bootstrap 95% interval over episodes."""
+    rng = np.random.default_rng(seed)
+    q = np.asarray(quantities)
+    episodes = np.unique(episode)
+    rows_of = {e: np.flatnonzero(episode == e) for e in episodes}
+    out = {}
+    for name in sorted(set(quantities)):
+        mine = q == name
+        draws = []
+        for _ in range(BOOTSTRAP):
+            rows = np.concatenate([rows_of[e] for e in rng.choice(episodes, size=len(episodes))])
+            rows = rows[mine[rows]]
+            draws.append(pearson(held[rows], values[rows]))
+        finite = [d for d in draws if np.isfinite(d)]
+        lo, hi = np.percentile(finite, [2.5, 97.5]) if finite else (float("nan"), float("nan"))
+        out[name] = {"mean": pearson(held[mine], values[mine]), "lo": float(lo), "hi": float(hi)}
+    return out
+
+
+JudgedJob = tuple[str, str, ModelSettings, tuple[Judgment, ...]]
+
+
+def _judged(job: JudgedJob) -> FloatArray:
+    path, observer, settings, rows = job
+    trace = _trace(path)
+    tracker = MindTracker(trace.info.scene, settings, observer=Observer(observer))
+    for state, events in trace:
+        tracker.observe(state, events)
+    return predictions(tracker, rows)
+
+
+def judged_search(
+    traces: Sequence[Path],
+    models: Sequence[str],
+    grid: Mapping[str, Sequence[float]],
+    base: ModelSettings,
+    judgments: Sequence[Judgment],
+    workers: int = 2,
+    progress: bool = True,
+) -> dict[str, tuple[list[Point], FloatArray]]:
+    """Every model's estimate of every judgment at every point of its grid: ``(P, N)``."""
+    from rich.progress import Progress
+
+    by_episode = {e: [n for n, j in enumerate(judgments) if j.episode == e] for e in range(len(traces))}
+    jobs: list[JudgedJob] = []
+    index: list[tuple[str, int, list[int]]] = []
+    for name in models:
+        observer, _ = MODELS[name]
+        for p, point in enumerate(points(model_grid(name, grid))):
+            for e, path in enumerate(traces):
+                if by_episode[e]:
+                    mine = tuple(judgments[n] for n in by_episode[e])
+                    jobs.append((str(path), observer.value, model_settings(name, base, point), mine))
+                    index.append((name, p, by_episode[e]))
+    out = {
+        name: (
+            points(model_grid(name, grid)),
+            np.full((len(points(model_grid(name, grid))), len(judgments)), np.nan),
+        )
+        for name in models
+    }
+    with Progress(disable=not progress) as bar, ProcessPoolExecutor(max_workers=max(workers, 1)) as pool:
+        task = bar.add_task("fitting to judgments", total=len(jobs))
+        for (name, p, rows), pred in zip(index, pool.map(_judged, jobs, chunksize=1), strict=True):
+            out[name][1][p, rows] = pred
+            bar.advance(task)
+    return out
