@@ -163,13 +163,16 @@ class BeliefModel:
         t /= t.sum(axis=0, keepdims=True)
         return t
 
-    def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
-        """``(W, W)`` transition of an observer who assumes people know the true world."""
+    def true_target(self, truth: tuple[int, ...], p: Percept) -> int:
+        """The world an observer who assumes people know the true world puts them in."""
         values = np.array(truth)
         own = [k for k, v in enumerate(p.seen) if v >= 0 and v % 2 == 1 and v != values[k]]
         for k in own:  # the person's own carried item counts at the person's location
             values[k] = p.seen[k]
-        target = int(self.model.world_index(values))
+        return int(self.model.world_index(values))
+
+    def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
+        """``(W, W)`` transition of an observer who assumes people know the true world."""
         t = np.zeros((self.model.n_worlds, self.model.n_worlds))
-        t[target, :] = 1.0
+        t[self.true_target(truth, p), :] = 1.0
         return t

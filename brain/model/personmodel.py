@@ -7,8 +7,7 @@
 - :class:`GradedModel`: each person holds a graded belief of their own and plans with it
   (:mod:`brain.model.graded`); ``ModelSettings.belief_model = "graded"``; online and smoothed.
 
-:func:`person_model` picks one by ``ModelSettings.belief_model`` (graded by default) and
-``exact_max_worlds``.
+:func:`person_model` picks one by ``belief_model`` (graded by default) and ``exact_max_worlds``.
 Each step is kept as a small :class:`StepRecord` (the percept, not the ``(W, W)``
 transition, which smoothing rebuilds), so a long episode does not hold a matrix per step.
 """
@@ -77,8 +76,7 @@ class StepRecord:
     """``(item, value, probability)``: what someone in the person's region believes of an
     item, and the chance they told it since the last step (``ModelSettings.hearsay``)."""
     elapsed: float = 0.0
-    """Decision times since the person's previous decision (``switch`` is the hazard over
-    them; 0 for a percept alone)."""
+    """Decision times since the previous decision (``switch``: the hazard over them)."""
 
 
 class PersonFilter(Protocol):
@@ -284,8 +282,10 @@ class GradedModel:
 
     def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
         """Every hypothesis's belief after the record's percept."""
-        if self.true_world:
-            return beliefs @ self.beliefs.true_world(record.truth, record.percept).T
+        if self.true_world:  # every belief moves to the one true world (one row of the transition)
+            out = np.zeros_like(beliefs)
+            out[:, self.beliefs.true_target(record.truth, record.percept)] = beliefs.sum(axis=1)
+            return out
         if record.forget > 0:
             model = self.model
             beliefs = drift(beliefs, model.n_items, model.n_values, record.forget) * model.allowed[None, :]

@@ -256,24 +256,32 @@ def _policy(model: WorldModel, u: FloatArray, qs: FloatArray, settings: ModelSet
     return Policy(model=model, utilities=u, q=qs, likelihood=likelihood)
 
 
-CHOICE_ONLY = ("beta", "epsilon", "hazard")
-"""Settings value iteration never reads: policies that differ only in them share Q-values."""
+PLANNING = (
+    "desire_model",
+    "desire_levels",
+    "preferred_utility",
+    "other_utility",
+    "leave_utility_item",
+    "leave_utility_out",
+    "step_cost",
+    "discount",
+    "vi_tolerance",
+)
+"""The settings value iteration reads: policies that agree on them share Q-values."""
 
 
-@lru_cache(maxsize=8)
-def _cached_values(scene: Scene, settings: ModelSettings) -> tuple[WorldModel, FloatArray, FloatArray]:
+@lru_cache(maxsize=16)
+def _cached_values(scene: Scene, key: tuple[object, ...]) -> tuple[WorldModel, FloatArray, FloatArray]:
     model = build_world_model(scene)
+    settings: ModelSettings = dataclasses.replace(ModelSettings(), **dict(zip(PLANNING, key, strict=True)))  # type: ignore[arg-type]
     return (model, *solve(model, settings))
 
 
 @lru_cache(maxsize=8)
 def cached_policy(scene: Scene, settings: ModelSettings) -> Policy:
     """The policy of a scene, computed once per (scene, settings) in this process; value
-    iteration once per (scene, settings but :data:`CHOICE_ONLY`), so a fit over ``beta``
-    solves each map once."""
-    defaults = ModelSettings()
-    key = dataclasses.replace(settings, **{name: getattr(defaults, name) for name in CHOICE_ONLY})
-    model, u, qs = _cached_values(
-        msgspec.structs.replace(scene, agents=()), key
-    )  # who lives there: no matter
+    iteration once per (scene without its agents, :data:`PLANNING` settings), so a fit over
+    ``beta`` or over belief models solves each map once."""
+    key = tuple(getattr(settings, name) for name in PLANNING)
+    model, u, qs = _cached_values(msgspec.structs.replace(scene, agents=()), key)
     return _policy(model, u, qs, settings)
