@@ -102,6 +102,10 @@ class AutonomousPerson:
         """Update the true belief on what the person sees now (idempotent within a tick)."""
         visible, seen = world.percept(self.id)
         self.belief.perceive(visible, seen, self._missed(world, seen))
+        self._saw(world, seen)
+
+    def _saw(self, world: World, seen: dict[str, str]) -> None:
+        """After perceiving the items in view, ``seen`` (where each is): nothing more here."""
 
     def _missed(self, world: World, seen: dict[str, str]) -> set[str]:
         """The items in view the person has not noticed (``Autonomy.miss``; their own is

@@ -68,9 +68,7 @@ class PlannedPerson(AutonomousPerson):
         self.decisions: list[tuple[int, str, float]] = []
         """Every decision: (tick, action name, the probability it was drawn with)."""
 
-    def perceive(self, world: World) -> None:
-        super().perceive(world)
-        _, seen = world.percept(self.id)
+    def _saw(self, world: World, seen: dict[str, str]) -> None:
         for item in seen:
             holder = world.items[item].holder
             if holder is not None and holder != self.id:

@@ -132,23 +132,18 @@ def judged_search(
     from rich.progress import Progress
 
     by_episode = {e: [n for n, j in enumerate(judgments) if j.episode == e] for e in range(len(traces))}
+    grids = {name: points(model_grid(name, grid)) for name in models}
     jobs: list[JudgedJob] = []
     index: list[tuple[str, int, list[int]]] = []
-    for name in models:
+    for name, grid_points in grids.items():
         observer, _ = MODELS[name]
-        for p, point in enumerate(points(model_grid(name, grid))):
+        for p, point in enumerate(grid_points):
             for e, path in enumerate(traces):
                 if by_episode[e]:
                     mine = tuple(judgments[n] for n in by_episode[e])
                     jobs.append((str(path), observer.value, model_settings(name, base, point), mine))
                     index.append((name, p, by_episode[e]))
-    out = {
-        name: (
-            points(model_grid(name, grid)),
-            np.full((len(points(model_grid(name, grid))), len(judgments)), np.nan),
-        )
-        for name in models
-    }
+    out = {name: (g, np.full((len(g), len(judgments)), np.nan)) for name, g in grids.items()}
     with Progress(disable=not progress) as bar, ProcessPoolExecutor(max_workers=max(workers, 1)) as pool:
         task = bar.add_task("fitting to judgments", total=len(jobs))
         for (name, p, rows), pred in zip(index, pool.map(_judged, jobs, chunksize=1), strict=True):

@@ -30,7 +30,7 @@ from protocol import Observer
 from ..model.arrays import FloatArray
 from ..model.estimates import Estimate
 from ..model.graded import choice_likelihood, expected_q
-from ..model.personmodel import ExactModel, GradedModel, PersonModel, StepRecord
+from ..model.personmodel import ExactModel, GradedModel, PersonFilter, PersonModel, StepRecord
 from ..settings import ModelSettings
 from ..tracking.tracker import MindTracker
 from .evidence import Evidence
@@ -43,7 +43,7 @@ CHEAP = ("beta", "epsilon", "hazard")
 class RecordOnly:
     """A filter that keeps nothing but the tracker's records (the replay filters them)."""
 
-    first: object
+    first: PersonFilter
     log_evidence: float = 0.0
     cache: dict[tuple[int, ...], Estimate] = dataclasses.field(default_factory=dict)
 
@@ -52,7 +52,7 @@ class RecordOnly:
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
         if truth not in self.cache:
-            self.cache[truth] = self.first.estimate(truth)  # type: ignore[attr-defined]
+            self.cache[truth] = self.first.estimate(truth)
         return self.cache[truth]
 
 

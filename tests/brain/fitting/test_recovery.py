@@ -9,7 +9,6 @@ comparison is shown with intervals, the generating model first)."""
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -20,7 +19,6 @@ from support import toyroom_fit as fit
 
 @pytest.mark.timeout(900)
 def test_fit_recovers_the_planners_beta_and_hazard(tmp_path: Path) -> None:
-    env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
     evaluation = subprocess.run(
         [sys.executable, "-m", "bridge", "eval", "--episodes", "4", "--minds", "model"]
         + ["--set", "beta=4", "--set", "hazard=0.02", "--policies", "none", "--max-ticks", "800"]
@@ -28,7 +26,6 @@ def test_fit_recovers_the_planners_beta_and_hazard(tmp_path: Path) -> None:
         capture_output=True,
         text=True,
         timeout=900,
-        env=env,
     )
     assert evaluation.returncode == 0, evaluation.stderr[-3000:]
     recordings = sorted((tmp_path / "eval" / "recordings" / "omniscient-model-everyday").glob("*.mcap"))
