@@ -1,17 +1,22 @@
 """Fitting the model to recorded behaviour (``toyroom fit``): grids of parameters, the
 log-likelihood of an episode's decisions, k-fold cross-validation by episode and the model
-comparison by held-out log-likelihood per action."""
+comparison by held-out log-likelihood per action (and, given people's ratings, by
+correlation with them)."""
 
 from .crossval import Fold, cross_validate, folds, held_out_per_action
 from .evidence import Evidence, episode_evidence
 from .fit import ModelFit, fit, write_fit
 from .grid import GRIDS, parse_grid, points
-from .search import DEFAULT_MODELS, MODELS, Table, search
+from .motion import MOTION, motion_evidence, motion_predictions
+from .search import BRAIN_MODELS, DEFAULT_MODELS, MODELS, ModelSpec, Table, search
 
 __all__ = [
+    "BRAIN_MODELS",
     "DEFAULT_MODELS",
     "GRIDS",
     "MODELS",
+    "MOTION",
+    "ModelSpec",
     "Evidence",
     "Fold",
     "ModelFit",
@@ -21,6 +26,8 @@ __all__ = [
     "fit",
     "folds",
     "held_out_per_action",
+    "motion_evidence",
+    "motion_predictions",
     "parse_grid",
     "points",
     "search",

@@ -23,6 +23,7 @@ from ..tracking.tracker import MindTracker
 from .crossval import FloatArray, IntArray
 from .grid import Point, points
 from .judgments import Judgment, predictions
+from .motion import MOTION, motion_predictions
 from .search import MODELS, _trace, model_grid, model_settings
 
 BOOTSTRAP = 1000
@@ -113,6 +114,8 @@ JudgedJob = tuple[str, str, ModelSettings, tuple[Judgment, ...]]
 def _judged(job: JudgedJob) -> FloatArray:
     path, observer, settings, rows = job
     trace = _trace(path)
+    if observer == MOTION:
+        return motion_predictions(trace, rows)
     tracker = MindTracker(trace.info.scene, settings, observer=Observer(observer))
     for state, events in trace:
         tracker.observe(state, events)
@@ -132,16 +135,16 @@ def judged_search(
     from rich.progress import Progress
 
     by_episode = {e: [n for n, j in enumerate(judgments) if j.episode == e] for e in range(len(traces))}
-    grids = {name: points(model_grid(name, grid)) for name in models}
+    grids = {name: points(model_grid(name, grid, judged=True)) for name in models}
     jobs: list[JudgedJob] = []
     index: list[tuple[str, int, list[int]]] = []
     for name, grid_points in grids.items():
-        observer, _ = MODELS[name]
+        observer = MODELS[name].observer
         for p, point in enumerate(grid_points):
             for e, path in enumerate(traces):
                 if by_episode[e]:
                     mine = tuple(judgments[n] for n in by_episode[e])
-                    jobs.append((str(path), observer.value, model_settings(name, base, point), mine))
+                    jobs.append((str(path), observer, model_settings(name, base, point), mine))
                     index.append((name, p, by_episode[e]))
     out = {name: (g, np.full((len(g), len(judgments)), np.nan)) for name, g in grids.items()}
     with Progress(disable=not progress) as bar, ProcessPoolExecutor(max_workers=max(workers, 1)) as pool:

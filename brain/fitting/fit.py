@@ -23,7 +23,7 @@ from ..errors import SettingsError
 from ..settings import Settings, settings_toml
 from .correlation import JudgedFit
 from .crossval import Fold, best_point, cross_validate, folds, held_out_per_action
-from .search import MODELS, NO_ACTION_MODEL, Table, model_settings, search
+from .search import BRAIN_MODELS, MODELS, Table, model_settings, search
 
 
 @dataclass(frozen=True)
@@ -62,6 +62,21 @@ def check_recordings(paths: Sequence[Path], k: int) -> None:
         raise SettingsError(f"{k}-fold cross-validation needs at least {k} recordings, got {len(paths)}")
 
 
+def check_models(models: Sequence[str]) -> None:
+    """Every model known, and the first one the brain's.
+
+    Raises:
+        SettingsError: naming what is wrong."""
+    unknown = [m for m in models if m not in MODELS]
+    if unknown or not models:
+        raise SettingsError(f"unknown models {unknown}; known: {', '.join(MODELS)}")
+    if models[0] not in BRAIN_MODELS:
+        raise SettingsError(
+            f"the first model's fit is written as settings.toml, so it must be one of the brain's "
+            f"({', '.join(BRAIN_MODELS)}), got {models[0]!r}"
+        )
+
+
 def fit(
     traces: Sequence[Path],
     grid: Mapping[str, Sequence[float]],
@@ -72,12 +87,16 @@ def fit(
     workers: int = 2,
     progress: bool = True,
 ) -> list[ModelFit]:
-    """Search, then cross-validate each model (folds shared by every model)."""
-    unknown = [m for m in models if m not in MODELS]
-    if unknown or not models:
-        raise SettingsError(f"unknown models {unknown}; known: {', '.join(MODELS)}")
+    """Search, then cross-validate each model with a model of actions (folds shared by every
+    model).
+
+    Raises:
+        SettingsError: naming an unknown model, or a first model that is not the brain's
+            (its fit is written as ``settings.toml``)."""
+    check_models(models)
     check_recordings(traces, k)
-    tables = search(traces, models, grid, settings.model, workers, progress)
+    acting = [m for m in models if MODELS[m].actions]
+    tables = search(traces, acting, grid, settings.model, workers, progress)
     parts = folds(len(traces), k, seed)
     return [ModelFit(t, cross_validate(t.ll, t.actions, parts), t.points[best_point(t.ll)]) for t in tables]
 
@@ -186,7 +205,8 @@ def report(summary: Mapping[str, Any]) -> str:
         )
     lines += [
         "",
-        f"Observers without a model of actions ({', '.join(NO_ACTION_MODEL)}) give decisions no likelihood.",
+        f"Without a model of actions ({', '.join(m for m, spec in MODELS.items() if not spec.actions)}), "
+        "an observer gives decisions no likelihood: it is compared on judgments only.",
         "",
     ]
     if "judgments" in summary:
@@ -199,16 +219,16 @@ def _judgments_table(judged: Mapping[str, Any]) -> list[str]:
     lines = [
         "## Fit to judgments",
         "",
-        "Pearson r between the brain's online estimates and the ratings, each episode predicted at",
+        "Pearson r between each model's online estimates and the ratings, each episode predicted at",
         "the point fitted (best mean r over quantities) without its fold; bootstrap 95% intervals",
-        "over episodes.",
+        "over episodes. The motion heuristic's beliefs are the truth and it has no false beliefs.",
         "",
         "| model | " + " | ".join(f"r {q}" for q in quantities) + " | fitted on all |",
         "|---|" + "---|" * len(quantities) + "---|",
     ]
     for name, m in judged.items():
         cells = [_interval(m["r"].get(q, {})) for q in quantities]
-        point = ", ".join(f"{k}={v:g}" for k, v in m["fitted"].items())
+        point = ", ".join(f"{k}={v:g}" for k, v in m["fitted"].items()) or "(no parameters)"
         lines.append(f"| {name} | " + " | ".join(cells) + f" | {point} |")
     return [*lines, ""]
 

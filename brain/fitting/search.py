@@ -4,9 +4,11 @@ points of one model that differ only in ``beta``, ``epsilon`` and ``hazard`` sha
 over each recording (:mod:`brain.fitting.replay`).
 
 A *model* is an observer and settings overrides (:data:`MODELS`): the graded default, the
-paper's point beliefs, belief-space planning, ``truebelief`` and a no-cost model (every
-step free, so the path is no evidence of the goal). Each is fitted on the same grid (less a
-parameter the model pins) and compared by held-out log-likelihood per action.
+paper's point beliefs, belief-space planning, ``truebelief``, a no-cost model (every step
+free, so the path is no evidence of the goal), the motion heuristic
+(:mod:`brain.fitting.motion`) and ``perceptonly`` (judgments only: it has no model of
+actions). Each is fitted on the same grid (less a parameter the model pins or lacks) and
+compared by held-out log-likelihood per action.
 """
 
 from __future__ import annotations
@@ -27,19 +29,44 @@ from ..settings import ModelSettings
 from .crossval import FloatArray, IntArray
 from .evidence import Evidence, episode_evidence
 from .grid import Point, apply, points
+from .motion import MOTION, motion_evidence
 from .replay import CHEAP, evidence_at_points
 
-MODELS: dict[str, tuple[Observer, dict[str, object]]] = {
-    "graded": (Observer.BTOM, {}),
-    "point": (Observer.BTOM, {"belief_model": "point"}),
-    "belief-planning": (Observer.BTOM, {"person_planner": "belief"}),
-    Observer.TRUEBELIEF.value: (Observer.TRUEBELIEF, {}),
-    "nocost": (Observer.BTOM, {"step_cost": 0.0}),
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """A model ``toyroom fit`` can compare.
+
+    Attributes:
+        observer: the brain's observer that runs it (an :class:`~protocol.Observer` value), or
+            :data:`~brain.fitting.motion.MOTION` for the motion heuristic.
+        pinned: the settings it fixes (left out of its grid).
+        params: the only parameters it has (``None``: every setting).
+        actions: whether it gives decisions a likelihood (``perceptonly`` does not: it is
+            compared on judgments only).
+        judged_params: whether its estimates of judged quantities depend on the grid.
+    """
+
+    observer: str
+    pinned: Mapping[str, object] = dataclasses.field(default_factory=dict)
+    params: tuple[str, ...] | None = None
+    actions: bool = True
+    judged_params: bool = True
+
+
+MODELS: dict[str, ModelSpec] = {
+    "graded": ModelSpec(Observer.BTOM.value),
+    "point": ModelSpec(Observer.BTOM.value, {"belief_model": "point"}),
+    "belief-planning": ModelSpec(Observer.BTOM.value, {"person_planner": "belief"}),
+    Observer.TRUEBELIEF.value: ModelSpec(Observer.TRUEBELIEF.value),
+    "nocost": ModelSpec(Observer.BTOM.value, {"step_cost": 0.0}),
+    MOTION: ModelSpec(MOTION, params=("beta", "epsilon"), judged_params=False),
+    Observer.PERCEPTONLY.value: ModelSpec(Observer.PERCEPTONLY.value, actions=False, judged_params=False),
 }
-"""The models ``toyroom fit`` can compare: observer and the settings it pins."""
-DEFAULT_MODELS = ("graded", "point", Observer.TRUEBELIEF.value, "nocost")
-NO_ACTION_MODEL = (Observer.PERCEPTONLY.value,)
-"""Observers without a model of actions: they give decisions no likelihood to compare."""
+"""The models ``toyroom fit`` can compare."""
+DEFAULT_MODELS = ("graded", "point", Observer.TRUEBELIEF.value, "nocost", MOTION, Observer.PERCEPTONLY.value)
+BRAIN_MODELS = tuple(name for name, spec in MODELS.items() if spec.observer != MOTION and spec.actions)
+"""The models whose fitted point is brain settings (``settings.toml``)."""
 
 
 @dataclass(frozen=True)
@@ -52,16 +79,22 @@ class Table:
     actions: IntArray
 
 
-def model_grid(name: str, grid: Mapping[str, Sequence[float]]) -> dict[str, Sequence[float]]:
-    """The grid of model ``name``: ``grid`` less what the model pins."""
-    _, pinned = MODELS[name]
-    return {k: v for k, v in grid.items() if k not in pinned}
+def model_grid(
+    name: str, grid: Mapping[str, Sequence[float]], judged: bool = False
+) -> dict[str, Sequence[float]]:
+    """The grid of model ``name``: ``grid`` less what the model pins or does not have (none
+    of it for a model whose judgments take no parameters, when ``judged``)."""
+    spec = MODELS[name]
+    if judged and not spec.judged_params:
+        return {}
+    return {
+        k: v for k, v in grid.items() if k not in spec.pinned and (spec.params is None or k in spec.params)
+    }
 
 
 def model_settings(name: str, base: ModelSettings, point: Mapping[str, float]) -> ModelSettings:
     """``base`` with model ``name``'s pinned settings and the point's values."""
-    _, pinned = MODELS[name]
-    return apply(dataclasses.replace(base, **pinned), point)  # type: ignore[arg-type]
+    return apply(dataclasses.replace(base, **MODELS[name].pinned), point)  # type: ignore[arg-type]
 
 
 @lru_cache(maxsize=64)
@@ -78,6 +111,8 @@ def _evaluate(job: Job) -> list[Evidence]:
     (:mod:`brain.fitting.replay`), else one pass per point."""
     path, observer, settings, cheap = job
     trace = _trace(path)
+    if observer == MOTION:
+        return motion_evidence(trace, settings, cheap)
     fast = evidence_at_points(trace, settings, Observer(observer), cheap)
     if fast is not None:
         return fast
@@ -107,12 +142,12 @@ def search(
     index: list[tuple[str, list[int], int]] = []
     for e, path in enumerate(traces):
         for name in models:
-            observer, _ = MODELS[name]
+            observer = MODELS[name].observer
             grid_points = points(model_grid(name, grid))
             for key, members in _grouped(grid_points).items():
                 settings = model_settings(name, base, dict(key))
                 cheap = tuple({k: v for k, v in grid_points[p].items() if k in CHEAP} for p in members)
-                jobs.append((str(path), observer.value, settings, cheap))
+                jobs.append((str(path), observer, settings, cheap))
                 index.append((name, members, e))
     results = _run(jobs, workers, progress)
     tables = {name: _empty_table(name, points(model_grid(name, grid)), len(traces)) for name in models}

@@ -52,10 +52,21 @@ def ratings(recordings: list[Path], beta: float, path: Path, noise: float = 0.03
 def test_fit_to_judgments_finds_the_beta_that_made_them(recordings: list[Path], tmp_path: Path) -> None:
     judgments = ratings(recordings, 0.5, tmp_path / "judgments.csv")
     out = tmp_path / "fit"
-    args = ("--params", "beta", "--grid", "beta=0.5,8", "--models", "graded", "--folds", "3")
+    models = "graded,motion,perceptonly"
+    args = ("--params", "beta", "--grid", "beta=0.5,8", "--models", models, "--folds", "3")
     result = fit(*recordings, *args, "--judgments", judgments, "--out", out)
     assert result.returncode == 0, result.stderr
-    judged = json.loads((out / "fit.json").read_text())["judgments"]["graded"]
+    every = json.loads((out / "fit.json").read_text())["judgments"]
+    assert set(every) == {"graded", "motion", "perceptonly"}, f"judged models: {set(every)}"
+    assert every["motion"]["fitted"] == {} == every["perceptonly"]["fitted"], (
+        "the baselines have no parameters"
+    )
+    for baseline in ("motion", "perceptonly"):
+        r = every[baseline]["r"]["desire"]["mean"]
+        assert r < every["graded"]["r"]["desire"]["mean"], (
+            f"{baseline} desire r {r} beat the generating model"
+        )
+    judged = every["graded"]
     assert judged["fitted"] == {"beta": 0.5}, f"expected the generating beta 0.5, got {judged['fitted']}"
     assert set(judged["r"]) == {"belief", "desire"}
     for quantity, r in judged["r"].items():
