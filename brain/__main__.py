@@ -48,17 +48,23 @@ OBSERVERS = Observer.names()
 def run_parser() -> argparse.ArgumentParser:
     parser = command_parser(
         "python -m brain",
-        "The Theory-of-Mind brain node, in lock-step with the world's engine until the episode ends\n"
+        "The Theory-of-Mind brain node, in lock-step with the world's engine (or free-running with a\n"
+        "real-time one) until the episode ends\n"
         "(`python -m brain infer TRACE --out DIR`: the same outputs from a recording).",
     )
     parser.add_argument(
-        "--scenario", help="scenario to reset the engine to (default: the engine's current one)"
+        "--scenario",
+        help="scenario to reset the engine to (default: lock-step, the engine's current one; "
+        "real time, no reset: join the episode running)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="episode seed, with --scenario")
+    parser.add_argument("--seed", type=int, default=0, help="episode seed of the reset")
     parser.add_argument("--out", type=Path, help="write mind.csv, figures and report.md here at the end")
     parser.add_argument("--observer", choices=OBSERVERS, default=OBSERVERS[0], help="person model")
     parser.add_argument(
-        "--timeout", type=float, default=10.0, help="seconds per lock-step request; 0: no limit"
+        "--timeout",
+        type=float,
+        default=10.0,
+        help="seconds per lock-step request (real time: the wait for states); 0: no limit",
     )
     parser.add_argument(
         "--handshake-timeout", type=float, default=30.0, help="seconds to wait for the engine"

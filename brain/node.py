@@ -40,6 +40,7 @@ from protocol import (
     State,
 )
 
+from .errors import StateError
 from .outputs.results import mind_message
 from .outputs.shadows import ShadowMinds
 from .robot.controller import RobotBrain
@@ -82,6 +83,8 @@ class BrainNode:
         self.shadow_dir = shadow_dir or Path(".")
         self._open_shadows: list[ShadowMinds] = []
         self._max_ticks: int | None = None
+        self._skipped = 0
+        """States skipped because the tracker could not follow them."""
         self._on_tick: Callable[[State, tuple[Event, ...]], None] | None = None
         self.robot_mode = robot
         self.robot_settings = robot_settings or RobotSettings()
@@ -154,8 +157,15 @@ class BrainNode:
     def _tick(self, link: _Link, state: State, events: tuple[Event, ...]) -> bool:
         """The per-tick pipeline of both clocks: the estimates, the shadows, the robot's tree
         and commands (in lock-step each awaited until the engine accepts or refuses it), the
-        ``brain/mind`` message. Whether the episode is over."""
-        link.tracker.observe(state, events)
+        ``brain/mind`` message. Whether the episode is over. A state the tracker cannot
+        follow is skipped, and logged (the first one with its reason)."""
+        try:
+            link.tracker.observe(state, events)
+        except StateError as err:
+            self._skipped += 1
+            if self._skipped == 1:
+                log.error("%s; skipping such states (this is logged once)", err)
+            return state.done or (self._max_ticks is not None and state.tick >= self._max_ticks)
         if link.shadow is not None:
             link.shadow.observe(state, events)
         robot = link.robot

@@ -29,6 +29,7 @@ from .mind import (
 from .registry import BY_TAG, MESSAGE_TYPES, tag_of
 from .replies import ControlReply, ErrorCode, ErrorReply
 from .robot import (
+    COMMAND_KINDS,
     Action,
     Cancel,
     CommandState,
@@ -42,6 +43,8 @@ from .robot import (
     RobotCommand,
     Say,
     SayTopic,
+    UnknownAction,
+    unknown_action,
 )
 from .scene import (
     AgentKind,
@@ -59,8 +62,10 @@ from .scene_check import InvalidScene, scene_problems, validate_scene
 from .state import Activity, AgentState, ItemState, State
 from .truth import ItemPlace, TrueMind, Truth
 from .version import PROTOCOL_VERSION, Version, check_version
+from .vocabulary import known, note_unknown, unknown_values
 
 __all__ = [
+    "COMMAND_KINDS",
     "NEIGHBOURS",
     "GridCell",
     "PROTOCOL_VERSION",
@@ -129,6 +134,7 @@ __all__ = [
     "Step",
     "TrueMind",
     "Truth",
+    "UnknownAction",
     "Vec2",
     "Version",
     "VersionMismatch",
@@ -137,9 +143,13 @@ __all__ = [
     "check_version",
     "decode",
     "encode",
+    "known",
+    "note_unknown",
     "read_header",
     "scene_problems",
     "tag_of",
     "to_builtins",
+    "unknown_action",
+    "unknown_values",
     "validate_scene",
 ]

@@ -17,9 +17,11 @@ from typing import Any, TypeVar, overload
 import msgspec
 
 from .errors import ProtocolError
-from .message import Header, Message
+from .message import Header, Id, Message
 from .registry import BY_TAG, MESSAGE_TYPES
+from .robot import RobotCommand, unknown_action
 from .version import check_version
+from .vocabulary import note_unknown
 
 M = TypeVar("M", bound=Message)
 
@@ -139,11 +141,81 @@ def decode(data: bytes, expected: type[M] | None = None, encoding: Encoding = En
         return _DECODERS[(cls, encoding)].decode(data)
     except msgspec.ValidationError as err:
         reason, path = _split(err)
+        if cls is RobotCommand and path == "$.action.kind" and reason.startswith("Invalid value"):
+            return _unknown_command(data, encoding)
+        reason = _with_value(reason, _value_at(data, encoding, path))
         raise ProtocolError(reason, message_type=header.type, field=path) from None
     except Exception as err:
         raise ProtocolError(
             f"not a valid {encoding.name} document ({_split(err)[0]})", message_type=header.type
         ) from None
+
+
+_MISSING = object()
+_STEP_RE = re.compile(r"\.([A-Za-z_][A-Za-z0-9_]*)|\[(\d+)\]")
+EMPTY_FOR_NULL = (
+    'got "" (an empty string): where a value is absent, send null, not "" '
+    '(Unity\'s JsonUtility writes "" for a null string: protocol/README.md, "JSON from C#")'
+)
+
+
+def _value_at(data: bytes, encoding: Encoding, path: str | None) -> Any:
+    """The raw value at JSON path ``path`` (``$.agents[1].cell``) of a payload, or a marker
+    when it cannot be found."""
+    if not path or not path.startswith("$"):
+        return _MISSING
+    try:
+        value: Any = msgspec.json.decode(data) if encoding is Encoding.JSON else msgspec.msgpack.decode(data)
+    except Exception:
+        return _MISSING
+    for name, index in _STEP_RE.findall(path[1:]):
+        try:
+            value = value[int(index)] if index else value[name]
+        except (KeyError, IndexError, TypeError):
+            return _MISSING
+    return value
+
+
+def _with_value(reason: str, value: Any) -> str:
+    """``reason`` saying what came, when msgspec did not (its constraint errors do not)."""
+    if value == "":
+        return f"{reason}, {EMPTY_FOR_NULL}"
+    if value is _MISSING or ", got " in reason:
+        return reason
+    shown = repr(value)
+    return f"{reason}, got {shown if len(shown) <= 80 else shown[:77] + '...'}"
+
+
+class _LooseCommand(msgspec.Struct, frozen=True):
+    """A ``robot_command`` whose action is read as a plain object."""
+
+    protocol: str
+    id: Id
+    robot: Id
+    action: dict[str, Any]
+
+
+_LOOSE: dict[Encoding, Any] = {
+    Encoding.JSON: msgspec.json.Decoder(_LooseCommand),
+    Encoding.MSGPACK: msgspec.msgpack.Decoder(_LooseCommand),
+}
+
+
+def _unknown_command(data: bytes, encoding: Encoding) -> RobotCommand:
+    """A command of a kind this side does not know, kept as an :class:`UnknownAction`."""
+    try:
+        loose = _LOOSE[encoding].decode(data)
+    except msgspec.ValidationError as err:
+        reason, path = _split(err)
+        raise ProtocolError(reason, message_type="robot_command", field=path) from None
+    kind = loose.action.get("kind")
+    if not isinstance(kind, str) or not kind:
+        raise ProtocolError(
+            "expected a command kind (a string)", message_type="robot_command", field="$.action.kind"
+        )
+    note_unknown("command kind", kind)
+    action = unknown_action(kind, loose.action)
+    return RobotCommand(protocol=loose.protocol, id=loose.id, robot=loose.robot, action=action)  # type: ignore[arg-type]
 
 
 def to_builtins(message: Message) -> dict[str, Any]:

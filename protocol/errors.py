@@ -53,7 +53,7 @@ class VersionMismatch(ProtocolError):
     """The peer speaks another major version of the protocol.
 
     Attributes:
-        ours: the protocol version this side speaks (``"1.0"``).
+        ours: the protocol version this side speaks (``"1.1"``).
         theirs: the version the peer declared.
     """
 

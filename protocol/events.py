@@ -8,10 +8,12 @@ from typing import Annotated
 import msgspec
 
 from .message import Id, Message, Seconds, Tick
+from .vocabulary import described, known
 
 
-class EventKind(enum.Enum):
-    """What happened. Fields used by each kind are listed with it.
+class EventKind(enum.StrEnum):
+    """What happened (an open vocabulary: a receiver ignores a kind it does not know, and
+    a recorder keeps it). Fields used by each kind are listed with it.
 
     - ``enter`` / ``leave``: ``actor`` entered / left region ``location``.
     - ``take``: ``actor`` took ``item`` from ``location``.
@@ -40,13 +42,17 @@ class EventKind(enum.Enum):
     WAYPOINT = "waypoint"
 
 
+EventKindName = Annotated[str, described(EventKind, "event kind")]
+
+
 class Event(Message, frozen=True, kw_only=True, tag="event"):
     """One discrete event, stamped with the tick at which it happened."""
 
     episode: Annotated[int, msgspec.Meta(ge=0)]
     tick: Tick
     time: Seconds
-    kind: EventKind
+    kind: EventKindName
+    """An :class:`EventKind` member when known, else the string as sent."""
     actor: Id
     item: Id | None = None
     location: Id | None = None
@@ -55,3 +61,6 @@ class Event(Message, frozen=True, kw_only=True, tag="event"):
     answer: bool | None = None
     label: str | None = None
     detail: str = ""
+
+    def __post_init__(self) -> None:
+        msgspec.structs.force_setattr(self, "kind", known(EventKind, self.kind))

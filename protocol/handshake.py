@@ -14,10 +14,12 @@ import msgspec
 
 from .message import Id, Message
 from .scene import Scene
+from .vocabulary import described, known
 
 
-class Capability(enum.Enum):
-    """Optional engine features, declared by name in the handshake.
+class Capability(enum.StrEnum):
+    """Optional engine features, declared by name in the handshake (an open vocabulary:
+    a client ignores a capability it does not know).
 
     - ``lockstep``: the engine advances only on ``step`` requests (reproducible runs).
     - ``realtime``: the engine can free-run at a multiple of wall-clock time.
@@ -29,6 +31,9 @@ class Capability(enum.Enum):
     REALTIME = "realtime"
     TRUTH = "truth"
     ROBOT = "robot"
+
+
+CapabilityName = Annotated[str, described(Capability, "capability")]
 
 
 class ClockMode(enum.Enum):
@@ -56,10 +61,16 @@ class EngineInfo(Message, frozen=True, kw_only=True, tag="engine_info"):
     """The world name: the ``<world>`` in every key ``toyroom/<world>/...``."""
     scenario: str
     """The scenario loaded now (``""`` when the engine has no notion of scenarios)."""
-    capabilities: tuple[Capability, ...]
+    capabilities: tuple[CapabilityName, ...]
+    """:class:`Capability` members when known, else the strings as sent."""
     clock: ClockMode
     tick_seconds: Annotated[float, msgspec.Meta(gt=0.0)]
     """Simulated seconds per tick."""
     episode: Annotated[int, msgspec.Meta(ge=0)] = 0
     """Counts resets since the engine started."""
     scene: Scene
+
+    def __post_init__(self) -> None:
+        msgspec.structs.force_setattr(
+            self, "capabilities", tuple(known(Capability, c) for c in self.capabilities)
+        )

@@ -2,7 +2,7 @@
 
 Every message is a flat JSON object whose first two fields are the envelope::
 
-    {"type": "state", "protocol": "1.0", ...the message's own fields...}
+    {"type": "state", "protocol": "1.1", ...the message's own fields...}
 
 ``type`` names the message (its tag) and ``protocol`` the ``major.minor`` version of the
 sender. Unknown fields are ignored on decode, which is what lets a minor version add

@@ -10,7 +10,9 @@ anything for the robot: it only carries out what it is told, or says why it cann
 from __future__ import annotations
 
 import enum
-from typing import Annotated
+import threading
+from collections.abc import Mapping
+from typing import Annotated, Any
 
 import msgspec
 
@@ -71,7 +73,8 @@ class Request(msgspec.Struct, frozen=True, tag_field="kind", tag="request"):
     """Ask ``person`` to hand over ``item``, offering ``offer`` in exchange (or nothing).
 
     Succeeds when the person answers (the answer comes as a ``reply`` event and in the
-    status' ``answer``); fails when they cannot be asked (unknown, out of reach of speech).
+    status' ``answer``); fails when they cannot be asked: unknown, not holding ``item``, or
+    out of reach of a hand-over (not on or next to the robot, 4-neighbour).
     """
 
     person: Id
@@ -80,13 +83,53 @@ class Request(msgspec.Struct, frozen=True, tag_field="kind", tag="request"):
 
 
 class Cancel(msgspec.Struct, frozen=True, tag_field="kind", tag="cancel"):
-    """Cancel the running command ``command``; it ends with status ``cancelled``."""
+    """Cancel command ``command``, running or still queued; it ends with status ``cancelled``."""
 
     command: Id
 
 
 Action = Navigate | Pick | Place | Give | Say | Request | Cancel
-"""Every command kind the robot body executes."""
+"""Every command kind the robot body executes (the known set of an open vocabulary: a
+command of another kind decodes to an :class:`UnknownAction`)."""
+COMMAND_KINDS: tuple[str, ...] = tuple(str(t.__struct_config__.tag) for t in Action.__args__)
+"""The known command kinds, in the order of :data:`Action`."""
+
+
+class UnknownAction(msgspec.Struct, frozen=True):
+    """A command of a kind this side does not know (from a peer of a newer minor version):
+    its fields kept as sent, so it re-encodes unchanged. An engine fails it with a reason
+    naming the kind (:func:`unknown_action` builds one)."""
+
+    @property
+    def kind(self) -> str:
+        """The command kind as sent."""
+        return str(type(self).__struct_config__.tag)
+
+    def fields(self) -> dict[str, Any]:
+        """The command's fields as sent, less ``kind``."""
+        return {name: getattr(self, name) for name in self.__struct_fields__}
+
+
+_UNKNOWN: dict[tuple[str, tuple[str, ...]], type[UnknownAction]] = {}
+_UNKNOWN_LOCK = threading.Lock()
+
+
+def unknown_action(kind: str, fields: Mapping[str, Any]) -> UnknownAction:
+    """An :class:`UnknownAction` of ``kind`` holding ``fields`` (a class per kind and field
+    names, made once)."""
+    names = tuple(sorted(k for k in fields if k != "kind"))
+    with _UNKNOWN_LOCK:
+        if (kind, names) not in _UNKNOWN:
+            _UNKNOWN[(kind, names)] = msgspec.defstruct(  # type: ignore[assignment]
+                "UnknownAction",
+                [(name, Any, None) for name in names],
+                bases=(UnknownAction,),
+                tag_field="kind",
+                tag=kind,
+                frozen=True,
+            )
+        cls = _UNKNOWN[(kind, names)]
+    return cls(**{name: fields[name] for name in names})
 
 
 class RobotCommand(Message, frozen=True, kw_only=True, tag="robot_command"):
@@ -95,6 +138,8 @@ class RobotCommand(Message, frozen=True, kw_only=True, tag="robot_command"):
     id: Id
     robot: Id
     action: Action
+    """One of the known kinds, or an :class:`UnknownAction` when decoded from a peer that
+    sent another kind."""
 
 
 class CommandState(enum.Enum):

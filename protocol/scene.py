@@ -8,7 +8,8 @@ visibility table; line of sight on an open map, or a one-room Sally-Anne map wit
 containers, are others, with no change to the protocol.
 
 The walkable cells are the union of the regions' cells and the door cells. A door cell
-belongs to no region; it sees what both regions it joins see.
+belongs to no region; what it sees is its own visibility entry (sim2d's maps give it the
+spots located in the two regions it joins).
 """
 
 from __future__ import annotations
@@ -20,12 +21,20 @@ import msgspec
 
 from .geometry import Cell, Vec2
 from .message import Id
+from .vocabulary import described, known
 
 Metres = Annotated[float, msgspec.Meta(gt=0.0)]
 
 
-class RegionKind(enum.Enum):
-    """What a region is for. ``playground`` regions hold play spots."""
+class RegionKind(enum.StrEnum):
+    """What a region is for (an open vocabulary: :mod:`protocol.vocabulary`).
+
+    Only ``outside`` means anything to the brain: a person who walks into it has chosen
+    to leave (the planner's "out" goal), and no waiting is read there. ``playground``,
+    ``storage``, ``entrance`` and ``room`` are labels for people and viewers (play spots
+    are ``Location.play``, sight is the visibility table); the brain reads a kind it does
+    not know as ``room``.
+    """
 
     PLAYGROUND = "playground"
     STORAGE = "storage"
@@ -34,14 +43,21 @@ class RegionKind(enum.Enum):
     ROOM = "room"
 
 
+RegionKindName = Annotated[str, described(RegionKind, "region kind")]
+
+
 class Region(msgspec.Struct, frozen=True):
     """A room or area: an id, what kind it is, and the walkable cells it covers."""
 
     id: Id
-    kind: RegionKind
+    kind: RegionKindName
+    """A :class:`RegionKind` member when known, else the string as sent."""
     cells: tuple[Cell, ...]
     name: str = ""
     """Human-readable name, e.g. ``"Playground 1"``."""
+
+    def __post_init__(self) -> None:
+        msgspec.structs.force_setattr(self, "kind", known(RegionKind, self.kind))
 
 
 class Door(msgspec.Struct, frozen=True):
@@ -100,13 +116,17 @@ class AgentSpec(msgspec.Struct, frozen=True):
     acts: bool = True
 
 
-class ItemShape(enum.Enum):
-    """How viewers draw an item."""
+class ItemShape(enum.StrEnum):
+    """How viewers draw an item (an open vocabulary: a viewer draws a shape it does not
+    know as a block)."""
 
     BALL = "ball"
     BOARD = "board"
     MARBLE = "marble"
     BLOCK = "block"
+
+
+ItemShapeName = Annotated[str, described(ItemShape, "item shape")]
 
 
 class ItemSpec(msgspec.Struct, frozen=True):
@@ -118,9 +138,13 @@ class ItemSpec(msgspec.Struct, frozen=True):
     """
 
     id: Id
-    shape: ItemShape = ItemShape.BLOCK
+    shape: ItemShapeName = ItemShape.BLOCK
+    """An :class:`ItemShape` member when known, else the string as sent."""
     name: str = ""
     absent: bool = False
+
+    def __post_init__(self) -> None:
+        msgspec.structs.force_setattr(self, "shape", known(ItemShape, self.shape))
 
 
 class Scene(msgspec.Struct, frozen=True):

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from protocol import EventKind, ItemBelief, Prob, TrueMind
+from protocol import EventKind, ItemBelief, Prob, RegionKind, TrueMind
 
 from .personbelief import PersonBelief
 from .scenario import AgentSetup, Autonomy
@@ -309,7 +309,7 @@ class AutonomousPerson:
         )
 
     def _outside_regions(self, world: World) -> set[str]:
-        return {r.id for r in world.map.regions if r.kind.value == "outside"}
+        return {r.id for r in world.map.regions if r.kind == RegionKind.OUTSIDE}
 
     def _outside(self, world: World) -> bool:
         return world.agents[self.id].region in self._outside_regions(world)

@@ -159,10 +159,16 @@ class Engine:
     # ----- clock ----------------------------------------------------------------------
 
     def reset(self, scenario: Scenario | str | None = None, seed: int = 0) -> TickResult:
-        """Start a new episode (of ``scenario``, or the current one) and return tick 0."""
-        self.episode += 1
+        """Start a new episode (of ``scenario``, or the current one) and return tick 0. A
+        scenario that cannot be loaded raises and leaves the episode count as it was."""
         chosen = self.scenario if scenario is None else scenario
-        self._load(chosen if isinstance(chosen, Scenario) else load_scenario(chosen), seed)
+        loaded = chosen if isinstance(chosen, Scenario) else load_scenario(chosen)
+        self.episode += 1
+        try:
+            self._load(loaded, seed)
+        except Exception:
+            self.episode -= 1
+            raise
         return TickResult(self.state(), (), (), self.truth())
 
     def truth(self) -> Truth | None:

@@ -13,6 +13,7 @@ from collections import deque
 from collections.abc import Mapping
 
 from protocol import (
+    COMMAND_KINDS,
     AgentKind,
     Cancel,
     CommandState,
@@ -26,6 +27,7 @@ from protocol import (
     RobotCommand,
     Say,
     SayTopic,
+    UnknownAction,
 )
 
 from .people import Person
@@ -125,6 +127,16 @@ class RobotBody:
             return
         if command.id in self.seen:
             self._status(world, command, CommandState.FAILED, f"duplicate command id '{command.id}'")
+            return
+        if isinstance(command.action, UnknownAction):
+            kind = command.action.kind
+            known = ", ".join(COMMAND_KINDS)
+            self._status(
+                world,
+                command,
+                CommandState.FAILED,
+                f"unknown command kind '{kind}' (this engine does {known})",
+            )
             return
         self.seen.add(command.id)
         problem = self._check_ids(world, command)

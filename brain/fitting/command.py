@@ -47,7 +47,13 @@ def add_fit_args(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--folds", type=int, default=5, help="k of k-fold cross-validation by episode")
     parser.add_argument("--seed", type=int, default=0, help="seed of the folds and the bootstrap")
-    parser.add_argument("--workers", type=int, default=2, help="processes")
+    parser.add_argument("--workers", type=int, default=2, help="processes (or Ray CPUs)")
+    parser.add_argument(
+        "--backend",
+        choices=("local", "ray"),
+        default="local",
+        help="worker processes, or Ray tasks (the 'ray' extra; RAY_ADDRESS for a cluster)",
+    )
     parser.add_argument(
         "--out", type=Path, required=True, help="directory for settings.toml, fit.json, report.md"
     )
@@ -113,7 +119,17 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
     with tempfile.TemporaryDirectory() as scratch:
         traces = as_traces(args.recordings, Path(scratch))
         judgments = _judgments(args.judgments, traces, args.recordings) if args.judgments else []
-        fits = fit(traces, grid, models, settings, args.folds, args.seed, args.workers, not args.no_progress)
+        fits = fit(
+            traces,
+            grid,
+            models,
+            settings,
+            args.folds,
+            args.seed,
+            args.workers,
+            not args.no_progress,
+            args.backend,
+        )
         judged = _judged(args, traces, judgments, grid, models, settings) if judgments else []
         summary = write_fit(args.out, fits, list(args.recordings), grid, settings, args.seed, argv, judged)
     print((args.out / "report.md").read_text(encoding="utf-8"))

@@ -86,6 +86,7 @@ def fit(
     seed: int = 0,
     workers: int = 2,
     progress: bool = True,
+    backend: str = "local",
 ) -> list[ModelFit]:
     """Search, then cross-validate each model with a model of actions (folds shared by every
     model).
@@ -96,7 +97,7 @@ def fit(
     check_models(models)
     check_recordings(traces, k)
     acting = [m for m in models if MODELS[m].actions]
-    tables = search(traces, acting, grid, settings.model, workers, progress)
+    tables = search(traces, acting, grid, settings.model, workers, progress, backend)
     parts = folds(len(traces), k, seed)
     return [ModelFit(t, cross_validate(t.ll, t.actions, parts), t.points[best_point(t.ll)]) for t in tables]
 

@@ -135,9 +135,11 @@ def search(
     base: ModelSettings,
     workers: int = 2,
     progress: bool = True,
+    backend: str = "local",
 ) -> list[Table]:
     """Evaluate every model at every point of its grid on every recording (the points that
-    differ only in :data:`~brain.fitting.replay.CHEAP` parameters in one job)."""
+    differ only in :data:`~brain.fitting.replay.CHEAP` parameters in one job), in worker
+    processes or as Ray tasks (``backend``)."""
     jobs: list[Job] = []
     index: list[tuple[str, list[int], int]] = []
     for e, path in enumerate(traces):
@@ -149,7 +151,7 @@ def search(
                 cheap = tuple({k: v for k, v in grid_points[p].items() if k in CHEAP} for p in members)
                 jobs.append((str(path), observer, settings, cheap))
                 index.append((name, members, e))
-    results = _run(jobs, workers, progress)
+    results = _run(jobs, workers, progress, backend)
     tables = {name: _empty_table(name, points(model_grid(name, grid)), len(traces)) for name in models}
     for (name, members, e), evidence in zip(index, results, strict=True):
         for p, ev in zip(members, evidence, strict=True):
@@ -164,13 +166,19 @@ def _empty_table(name: str, grid_points: list[Point], episodes: int) -> Table:
     )
 
 
-def _run(jobs: list[Job], workers: int, progress: bool) -> list[list[Evidence]]:
-    """Every job's evidence, in order, with a progress bar over (model, point, recording) runs."""
+def _run(jobs: list[Job], workers: int, progress: bool, backend: str = "local") -> list[list[Evidence]]:
+    """Every job's evidence, in order, with a progress bar over (model, point, recording) runs:
+    in worker processes, or as Ray tasks (``backend = "ray"``, :mod:`bridge.evaluation.raybackend`)."""
     from rich.progress import Progress
 
     results: list[list[Evidence]] = []
     with Progress(disable=not progress, transient=False) as bar:
         task = bar.add_task("fitting", total=sum(len(job[3]) for job in jobs))
+        if backend == "ray":  # the bar counts jobs: Ray finishes them in any order
+            from bridge.evaluation.raybackend import run_with_ray
+
+            bar.update(task, total=len(jobs))
+            return run_with_ray(_evaluate, jobs, workers, lambda n: bar.advance(task, n))
         if workers <= 1:
             for job in jobs:
                 results.append(_evaluate(job))

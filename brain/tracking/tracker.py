@@ -27,6 +27,7 @@ from ..model.personmodel import PersonFilter, StepRecord, person_model
 from ..model.planner import TAKE, Move, drop_action, play_action, use_action
 from ..model.world import MOVE_STEPS
 from ..settings import ModelSettings
+from .statecheck import check_items
 from .worldview import WorldView
 
 
@@ -109,7 +110,12 @@ class MindTracker:
     # ----- feeding --------------------------------------------------------------------
 
     def observe(self, state: State, events: Sequence[Event]) -> None:
-        """Take in one tick: the state at its end and the events that happened during it."""
+        """Take in one tick: the state at its end and the events that happened during it.
+
+        Raises:
+            StateError: the state does not say where every item of the scene is (nothing of
+                it is taken in)."""
+        check_items(self.model, state)
         model = self.model
         cell_of = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in state.agents}
         holders = {i.id: cell_of.get(i.held_by) if i.held_by else None for i in state.items}

@@ -6,15 +6,20 @@ order, each giving a :class:`CheckResult` that says what was expected and what c
 ``toyroom conform --world W`` prints them and exits non-zero on any failure; the test
 suite runs the same checks against every engine the repository has.
 
-Checks: the handshake (fields, version, capabilities by name); the scene (ids unique,
-doors joining walkable cells, every location reachable, visibility naming known
-locations); the liveliness token; reset with a seed; lock-step stepping (``step n``
-advances exactly ``n`` ticks, one state per tick, monotonic, the step's last state
-published no later than the reply or carried in it); events naming known ids; every robot
-command kind ending ``succeeded`` or ``failed`` with a reason after ``accepted`` and
-``running`` (or failing at once); an impossible command failing rather than hanging; the
-engine still serving after malformed input. Optional capabilities (``truth``, a real-time
-clock) are checked only when the handshake declares them.
+Checks (:data:`CHECK_NAMES`, in order): the handshake (fields, version, capabilities by
+name); the scene (ids unique, doors joining walkable cells, every location reachable,
+visibility naming known locations); the liveliness token; a real-time clock that runs,
+pauses and resumes, and stops the robot when heartbeats stop; MessagePack understood and
+answered in kind on every key a client writes; reset with a seed; lock-step stepping
+(``step n`` advances exactly ``n`` ticks, one state per tick, monotonic); the
+``control_reply`` carrying the step's last state and exactly the events and statuses it
+published; events naming known ids; every robot command kind ending ``succeeded`` or
+``failed`` with a reason; a real navigation to the farthest cell, one cell at a time; pick,
+place and give succeeding (with the state showing it); cancel of a running command; a
+command sent while another runs answered and run after it; a command of an unknown kind
+failed with a reason; impossible commands failing rather than hanging; every command's
+statuses in order (accepted, running, one final, nothing after); each tick's events before
+its state; the engine still serving after malformed input; ``truth`` when declared.
 """
 
 from __future__ import annotations
@@ -23,22 +28,10 @@ from collections.abc import Callable, Iterator
 
 from protocol import (
     PROTOCOL_VERSION,
-    Action,
-    AgentKind,
-    Cancel,
     Capability,
-    Cell,
     ClockMode,
-    CommandState,
-    Give,
     Hello,
-    Navigate,
-    Pick,
-    Place,
-    Request,
     Reset,
-    Say,
-    SayTopic,
     Version,
     scene_problems,
 )
@@ -47,34 +40,47 @@ from ..bridge import Bridge
 from ..errors import BridgeError
 from ..handshake import ask_engine
 from ..presence import PresenceWatcher
-from .probe import CheckFailed, CheckResult, Probe
+from .clock import ClockChecks
+from .commands import CommandChecks
+from .probe import CheckFailed, CheckResult
 
 CHECK_NAMES = (
     "handshake",
     "scene",
     "liveliness",
     "realtime",
+    "pause and resume",
+    "heartbeat",
+    "messagepack",
     "reset",
     "stepping",
+    "control reply",
     "events",
     "robot commands",
+    "navigation",
+    "pick place give",
     "cancel",
+    "command while one runs",
+    "unknown command",
     "impossible command",
+    "status order",
+    "event order",
     "malformed input",
     "truth",
 )
 """Every check, in the order they run (later ones need earlier ones): the one list that
 ``toyroom conform`` and the pytest mixin (:mod:`bridge.conformance.suite`) both use."""
 
-LOCKSTEP_ONLY = frozenset(CHECK_NAMES[CHECK_NAMES.index("reset") :])
+LOCKSTEP_ONLY = frozenset(CHECK_NAMES[CHECK_NAMES.index("reset") :]) - {"status order", "event order"}
 """Checks that drive the clock: skipped against a real-time engine."""
 
 STOP_AFTER_FAILING = ("handshake", "reset")
 """Checks the others depend on: a failure ends the run."""
 
 
-class Checker(Probe):
-    """The checks, one method each (``check_<name>``)."""
+class Checker(ClockChecks, CommandChecks):
+    """The checks, one method each (``check_<name>``; the clock's and the commands' in
+    :mod:`~bridge.conformance.clock` and :mod:`~bridge.conformance.commands`)."""
 
     def check_handshake(self) -> str:
         info = ask_engine(self.bridge, Hello(client="toyroom-conform", role="conform"), self.timeout)
@@ -87,7 +93,7 @@ class Checker(Probe):
         if not info.engine:
             raise CheckFailed("expected an engine name, got an empty string")
         return f"engine '{info.engine}', protocol {info.protocol}, capabilities " + (
-            ", ".join(c.value for c in info.capabilities) or "none"
+            ", ".join(str(c) for c in info.capabilities) or "none"
         )
 
     def check_scene(self) -> str:
@@ -175,77 +181,9 @@ class Checker(Probe):
             ):
                 if value is not None and value not in known:
                     raise CheckFailed(
-                        f"event {event.kind.value} at tick {event.tick}: {name} '{value}' is no known id"
+                        f"event {event.kind} at tick {event.tick}: {name} '{value}' is no known id"
                     )
         return f"{len(self.stream.events)} events, all with known ids"
-
-    def check_robot_commands(self) -> str:
-        assert self.info is not None
-        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
-            return "skipped: no 'robot' capability or no robot in the scene"
-        scene = self.info.scene
-        home = next(a.home for a in scene.agents if a.id == self.robot)
-        person = next((a.id for a in scene.agents if a.kind is AgentKind.PERSON), "nobody")
-        item = scene.items[0].id if scene.items else "nothing"
-        location = scene.locations[0].id if scene.locations else "nowhere"
-        actions: list[Action] = [
-            Navigate(cell=home),
-            Pick(item=item),
-            Place(location=location),
-            Give(person=person),
-            Say(person=person, item=item, topic=SayTopic.LOCATION, location=location),
-            Request(person=person, item=item),
-        ]
-        seen = []
-        for action in actions:
-            statuses = self.command(action)
-            states = [s.state for s in statuses]
-            kind = type(action).__name__.lower()
-            ok = states[:3] == [CommandState.ACCEPTED, CommandState.RUNNING, CommandState.SUCCEEDED] or (
-                states[-1] is CommandState.FAILED
-                and statuses[-1].reason
-                and states[:-1]
-                in ([], [CommandState.ACCEPTED], [CommandState.ACCEPTED, CommandState.RUNNING])
-            )
-            if not ok:
-                raise CheckFailed(
-                    f"{kind}: expected accepted -> running -> succeeded, or failed with a reason, got "
-                    f"{[f'{s.state.value}({s.reason})' if s.reason else s.state.value for s in statuses]}"
-                )
-            seen.append(f"{kind} {states[-1].value}")
-        return ", ".join(seen)
-
-    def check_cancel(self) -> str:
-        assert self.info is not None
-        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
-            return "skipped: no 'robot' capability"
-        statuses = self.command(Cancel(command="conform-no-such-command"))
-        if statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
-            raise CheckFailed(
-                f"cancel of an unknown command: expected failed with a reason, got {statuses[-1]}"
-            )
-        return f"unknown command: failed ({statuses[-1].reason})"
-
-    def check_impossible_command(self) -> str:
-        assert self.info is not None
-        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
-            return "skipped: no 'robot' capability"
-        scene = self.info.scene
-        walkable = scene.walkable()
-        wall = next(
-            ((c, r) for r in range(scene.rows) for c in range(scene.columns) if (c, r) not in walkable),
-            (scene.columns + 5, scene.rows + 5),
-        )
-        statuses = self.command(Navigate(cell=Cell(*wall)), max_steps=60)
-        if statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
-            raise CheckFailed(
-                f"navigate into a wall at {wall}: expected failed with a reason, got "
-                f"{[s.state.value for s in statuses]}"
-            )
-        unknown = self.command(Pick(item="no-such-item"), max_steps=60)
-        if unknown[-1].state is not CommandState.FAILED or not unknown[-1].reason:
-            raise CheckFailed(f"pick of an unknown item: expected failed with a reason, got {unknown[-1]}")
-        return f"wall: '{statuses[-1].reason}'; unknown item: '{unknown[-1].reason}'"
 
     def check_malformed_input(self) -> str:
         for payload in (b"{not json", b'{"type": "teleport", "protocol": "1.0"}', b"\xff\x00"):
@@ -273,15 +211,6 @@ class Checker(Probe):
         if not self.stream.wait(lambda: len(self.stream.truths) > before, self.timeout):
             raise CheckFailed("the engine declares 'truth' but published nothing on engine/truth in 3 ticks")
         return f"{len(self.stream.truths) - before} truth messages in 3 ticks"
-
-    def check_realtime(self) -> str:
-        assert self.info is not None
-        if self.info.clock is not ClockMode.REALTIME:
-            return "skipped: the clock runs in lock-step"
-        first = len(self.stream.states)
-        if not self.stream.wait(lambda: len(self.stream.states) > first + 2, self.timeout):
-            raise CheckFailed("a real-time clock should publish states by itself; none came")
-        return "states arrive without stepping"
 
     def checks(self) -> Iterator[tuple[str, Callable[[], str]]]:
         """Every check of :data:`CHECK_NAMES`, in order (lock-step ones skipped against a

@@ -13,18 +13,29 @@ from protocol import (
     AgentKind,
     CommandStatus,
     ControlReply,
+    Encoding,
     EngineInfo,
     Event,
+    GridCell,
+    Message,
+    Pause,
     Reset,
+    Resume,
     RobotCommand,
     State,
     Step,
     Truth,
+    UnknownAction,
 )
 
 from ..bridge import Bridge
 from ..errors import BridgeError
-from ..pubsub import Received
+from ..pubsub import Publisher, Received
+
+
+def kind_of(action: Action | UnknownAction) -> str:
+    """A command's kind as sent (``navigate``, ...)."""
+    return action.kind if isinstance(action, UnknownAction) else str(type(action).__struct_config__.tag)
 
 
 @dataclass(frozen=True)
@@ -52,11 +63,15 @@ class _Stream:
     events: list[Event] = field(default_factory=list)
     statuses: list[CommandStatus] = field(default_factory=list)
     truths: list[Truth] = field(default_factory=list)
+    arrivals: list[tuple[str, int, int]] = field(default_factory=list)
+    """``(state | event, episode, tick)`` of every state and event, in arrival order."""
     cond: threading.Condition = field(default_factory=threading.Condition)
 
     def add(self, bucket: list, item: object) -> None:
         with self.cond:
             bucket.append(item)
+            if isinstance(item, (State, Event)):
+                self.arrivals.append((type(item).__name__.lower(), item.episode, item.tick))
             self.cond.notify_all()
 
     def wait(self, predicate: Callable[[], bool], timeout: float) -> bool:
@@ -76,23 +91,34 @@ class Probe:
         self.episode = 0
         self.tick = 0
         self._ids = 0
-        bridge.subscribe(self.keys.state, lambda m, _: self.stream.add(self.stream.states, m), expected=State)
-        bridge.subscribe(
-            self.keys.events, lambda m, _: self.stream.add(self.stream.events, m), expected=Event
-        )
+        self._publishers: dict[tuple[str, Encoding | None], Publisher[Message]] = {}
+        self.last = ControlReply(episode=0, tick=0, time=0.0)
+        """The newest control reply."""
+        # one subscriber for states, events and truth, so their arrival order is the wire's
+        bridge.subscribe(f"{self.keys.prefix}/engine/*", self._on_engine)
         bridge.subscribe(self.keys.status(), self._on_status, expected=CommandStatus)
-        bridge.subscribe(self.keys.truth, lambda m, _: self.stream.add(self.stream.truths, m), expected=Truth)
+
+    def _on_engine(self, message: Message, received: Received) -> None:
+        for key, kind, bucket in (
+            (self.keys.state, State, self.stream.states),
+            (self.keys.events, Event, self.stream.events),
+            (self.keys.truth, Truth, self.stream.truths),
+        ):
+            if received.key == key and isinstance(message, kind):
+                self.stream.add(bucket, message)
 
     def _on_status(self, status: CommandStatus, _: Received) -> None:
         self.stream.add(self.stream.statuses, status)
 
     # ----- helpers --------------------------------------------------------------------
 
-    def control(self, request: Reset | Step) -> ControlReply:
+    def control(self, request: Reset | Step | Pause | Resume) -> ControlReply:
         try:
-            return self.bridge.query(self.keys.control, request, ControlReply, timeout=self.timeout)
+            reply = self.bridge.query(self.keys.control, request, ControlReply, timeout=self.timeout)
         except BridgeError as err:
             raise CheckFailed(f"expected a control_reply to {request!r}, got: {err}") from None
+        self.last = reply
+        return reply
 
     def step(self, n: int) -> ControlReply:
         reply = self.control(Step(n=n))
@@ -105,31 +131,82 @@ class Probe:
         robots = [a for a in self.info.scene.agents if a.kind is AgentKind.ROBOT]
         return robots[0].id if robots else None
 
-    def command(self, action: Action, *, max_steps: int = 400) -> list[CommandStatus]:
-        """Send a command and step until it ends; every status it got."""
+    def send(self, action: Action | UnknownAction, encoding: Encoding | None = None) -> str:
+        """Publish a command for the robot (in ``encoding``, default the bridge's); its id."""
         assert self.robot is not None
         self._ids += 1
-        command = RobotCommand(id=f"conform{self._ids}", robot=self.robot, action=action)
-        publisher = self.bridge.publisher(self.keys.command(self.robot))
+        command = RobotCommand(id=f"conform{self._ids}", robot=self.robot, action=action)  # type: ignore[arg-type]
+        key = self.keys.command(self.robot)
+        publisher = self._publishers.get((key, encoding))
+        if publisher is None:
+            publisher = Publisher(self.bridge.session, key, encoding=encoding or self.bridge.encoding)
+            self._publishers[(key, encoding)] = publisher
         if not publisher.wait_matched(self.timeout):
-            raise CheckFailed(
-                f"expected the engine to subscribe to '{self.keys.command(self.robot)}', it did not"
-            )
+            raise CheckFailed(f"expected the engine to subscribe to '{key}', it did not")
         publisher.put(command)
+        return command.id
 
-        def mine() -> list[CommandStatus]:
-            return [s for s in self.stream.statuses if s.command == command.id]
+    def statuses_of(self, command: str) -> list[CommandStatus]:
+        """Every status published so far about ``command``, in arrival order."""
+        with self.stream.cond:
+            return [s for s in self.stream.statuses if s.command == command]
 
-        self.stream.wait(lambda: bool(mine()), self.timeout)
-        for _ in range(max_steps):
-            got = mine()
-            if got and got[-1].state.final:
-                return got
-            self.step(1)
-            self.stream.wait(lambda: bool(mine()) and mine()[-1].state.final, 0.05)
-        raise CheckFailed(
-            f"{type(action).__name__.lower()}: expected a final status within {max_steps} ticks, got "
-            f"{[s.state.value for s in mine()]}"
+    def wait_status(self, command: str, timeout: float | None = None) -> list[CommandStatus]:
+        """The statuses of ``command`` once it has one (or none after ``timeout``)."""
+        self.stream.wait(
+            lambda: bool(self.statuses_of(command)), self.timeout if timeout is None else timeout
         )
+        return self.statuses_of(command)
+
+    def run_until(self, done: Callable[[], bool], max_steps: int) -> bool:
+        """Step one tick at a time until ``done()``; whether it came within ``max_steps``."""
+        for _ in range(max_steps):
+            if done():
+                return True
+            self.step(1)
+        return done()
+
+    def finish(self, command: str, what: str, max_steps: int = 400) -> list[CommandStatus]:
+        """Step until ``command`` has a final status published; all its statuses."""
+
+        def final() -> bool:
+            got = self.statuses_of(command)
+            return bool(got) and got[-1].state.final
+
+        for _ in range(max_steps):
+            if final() or (
+                any(s.command == command and s.state.final for s in self.last.statuses)
+                and self.stream.wait(final, self.timeout)
+            ):
+                return self.statuses_of(command)
+            self.step(1)
+        if self.stream.wait(final, 0.2):
+            return self.statuses_of(command)
+        raise CheckFailed(
+            f"{what}: expected a final status within {max_steps} ticks, got "
+            f"{[s.state.value for s in self.statuses_of(command)]}"
+        )
+
+    def command(self, action: Action, *, max_steps: int = 400) -> list[CommandStatus]:
+        """Send a command and step until it ends; every status it got."""
+        command = self.send(action)
+        self.wait_status(command)
+        return self.finish(command, kind_of(action), max_steps)
+
+    def latest(self) -> State:
+        """The newest state: the last control reply's, else the newest published."""
+        if self.last.state is not None:
+            return self.last.state
+        with self.stream.cond:
+            if not self.stream.states:
+                raise CheckFailed("expected a state by now, got none")
+            return self.stream.states[-1]
+
+    def cell_of(self, agent: str) -> GridCell:
+        """Where ``agent`` stands in the newest state."""
+        me = next((a for a in self.latest().agents if a.id == agent), None)
+        if me is None:
+            raise CheckFailed(f"expected agent '{agent}' in the state, it is missing")
+        return (me.cell.col, me.cell.row)
 
     # ----- the checks -----------------------------------------------------------------

@@ -1,22 +1,23 @@
-"""The Ray backend of ``toyroom eval`` (``pip install 'toyroom[ray]'``): every episode a
-Ray task, so a sweep can go to a cluster. Locally, Ray is started on loopback only, with
-usage statistics off; on a cluster, set ``RAY_ADDRESS``."""
+"""The Ray backend of ``toyroom eval`` and ``toyroom fit`` (``pip install 'toyroom[ray]'``):
+every episode (or fit job) a Ray task, so a sweep can go to a cluster. Locally, Ray is
+started on loopback only, with usage statistics off; on a cluster, set ``RAY_ADDRESS``."""
 
 from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
-from typing import Any, TypeVar
+from typing import TypeVar
 
 J = TypeVar("J")
+R = TypeVar("R")
 
 
 def run_with_ray(
-    fn: Callable[[J], dict[str, Any]],
+    fn: Callable[[J], R],
     jobs: Sequence[J],
     workers: int,
     progress: Callable[[int], None] | None = None,
-) -> list[dict[str, Any]]:
+) -> list[R]:
     """``fn(job)`` for every job, as Ray tasks; the results in the order of ``jobs``."""
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
     import ray

@@ -23,6 +23,7 @@ from protocol import (
     Request,
     RobotCommand,
     Say,
+    UnknownAction,
 )
 
 from .trace import trace_records
@@ -55,7 +56,7 @@ def _event_row(event: Event) -> EventRow:
     return EventRow(
         event.tick,
         event.actor,
-        event.kind.value,
+        str(event.kind),
         event.item or "",
         event.location or "",
         event.target or "",
@@ -65,7 +66,10 @@ def _event_row(event: Event) -> EventRow:
 
 def _status_row(status: CommandStatus, command: RobotCommand | None) -> EventRow:
     action = command.action if command is not None else None
-    kind = type(action).__name__.lower() if action is not None else "?"
+    if action is None:
+        kind = "?"
+    else:
+        kind = action.kind if isinstance(action, UnknownAction) else str(type(action).__struct_config__.tag)
     item = location = target = ""
     if isinstance(action, Navigate):
         location = f"{action.cell.col},{action.cell.row}"

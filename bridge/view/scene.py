@@ -9,6 +9,7 @@ from __future__ import annotations
 import io
 import threading
 from collections.abc import Sequence
+from typing import Any
 
 import matplotlib
 
@@ -27,7 +28,7 @@ REGION_COLOURS = [0xE8D5B7, 0xB7D3E8, 0xC8E8B7, 0xE8B7D9, 0xF2E6A0, 0xD0D0D0, 0x
 PERSON_COLOURS = [0x1F77B4, 0x2CA02C, 0x9467BD, 0x8C564B, 0x17BECF]
 BAR_COLOURS = [0x9ECAE1, 0xA1D99B, 0xCBC9E2, 0xD9B99B, 0x9EDAE5]
 """Belief bars: a light tint of their person's colour."""
-ITEM_COLOURS = {
+ITEM_COLOURS: dict[str, int] = {
     ItemShape.BALL: 0xD62728,
     ItemShape.BOARD: 0xFF7F0E,
     ItemShape.MARBLE: 0xE377C2,
@@ -130,11 +131,12 @@ class SceneView:
                 )
         for item in scene.items:
             colour = ITEM_COLOURS.get(item.shape, 0xBCBD22)
-            shape = {
+            shapes: dict[str, Any] = {  # any other shape, known or not, is a block
                 ItemShape.BALL: g.Sphere(0.16),
                 ItemShape.BOARD: g.Box([0.45, 0.18, 0.06]),
                 ItemShape.MARBLE: g.Sphere(0.09),
-            }.get(item.shape, g.Box([0.22, 0.22, 0.22]))
+            }
+            shape = shapes.get(item.shape, g.Box([0.22, 0.22, 0.22]))
             vis["items"][item.id].set_object(shape, _flat(colour))
         self.dirty.set()
 

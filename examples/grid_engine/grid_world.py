@@ -9,7 +9,7 @@ from typing import Any
 
 from grid_scenario import Cell, Scenario, scaled
 
-PROTOCOL = "1.0"
+PROTOCOL = "1.1"
 NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1))
 
 
@@ -77,8 +77,17 @@ class Person:
 class GridWorld:
     """One episode of a scenario on the grid."""
 
-    def __init__(self, scenario: Scenario, *, episode: int, tick_seconds: float, robot_acts: bool) -> None:
+    def __init__(
+        self,
+        scenario: Scenario,
+        *,
+        episode: int,
+        tick_seconds: float,
+        robot_acts: bool,
+        broken: str | None = None,
+    ) -> None:
         self.scenario = scenario
+        self.broken = broken  # a deliberate defect (main.BREAKS)
         self.map = scenario.map
         self.walkable = self.map.walkable
         self.episode = episode
@@ -371,6 +380,10 @@ class GridWorld:
         if command["id"] in self.seen_ids:
             return self.status(command, "failed", f"duplicate command id '{command['id']}'")
         self.seen_ids.add(command["id"])
+        if self.broken == "refuse-commands":
+            return self.status(command, "failed", "refused")
+        if self.broken == "drop-queued" and (self.running or self.queue):
+            return None
         checks = {
             "navigate": lambda: (
                 None
@@ -399,6 +412,9 @@ class GridWorld:
             )
             if victim is None:
                 return self.status(command, "failed", f"no queued or running command '{action['command']}'")
+            if self.broken == "ignore-cancel":
+                self.status(command, "accepted")
+                return self.status(command, "succeeded")
             if victim is self.running:
                 self.running, self.paths[self.robot] = None, []
             else:
@@ -435,7 +451,7 @@ class GridWorld:
         kind = action["kind"]
         if kind == "navigate":
             self.move(me)
-            if not self.paths[me]:
+            if not self.paths[me] and self.broken != "never-arrive":
                 self.finish("succeeded")
             return
         if kind == "pick":

@@ -11,7 +11,7 @@ import zenoh
 from support import golden_examples
 
 from bridge import Bridge, Received
-from protocol import Encoding, Message, State, encode
+from protocol import PROTOCOL_VERSION, Encoding, Message, State, encode
 
 
 def _collector() -> tuple[queue.Queue, object]:
@@ -88,7 +88,7 @@ def test_other_major_version_is_dropped_with_one_warning(
     assert subscriber.dropped == 5
     warnings = [r for r in caplog.records if "version mismatch" in r.getMessage()]
     assert len(warnings) == 1, f"expected one warning for five messages, got {len(warnings)}"
-    assert "1.0" in warnings[0].getMessage() and "2.0" in warnings[0].getMessage()
+    assert PROTOCOL_VERSION in warnings[0].getMessage() and "2.0" in warnings[0].getMessage()
 
 
 def test_failing_handler_does_not_stop_the_subscriber(

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 
+import msgspec
 import pytest
 
 from protocol import (
@@ -62,6 +63,28 @@ def test_out_of_range_value_is_refused() -> None:
     with pytest.raises(ProtocolError) as caught:
         decode(json.dumps(doc).encode())
     assert caught.value.field == "$.tick", str(caught.value)
+
+
+def test_a_constraint_error_says_what_came() -> None:
+    doc = _example_doc("state")
+    doc["tick"] = -1
+    with pytest.raises(ProtocolError) as caught:
+        decode(json.dumps(doc).encode())
+    assert caught.value.reason.endswith(", got -1"), caught.value.reason
+
+
+@pytest.mark.parametrize("encoding", list(Encoding))
+def test_an_empty_string_for_null_says_send_null(encoding: Encoding) -> None:
+    """What Unity's JsonUtility writes for a null string."""
+    doc = _example_doc("state")
+    doc["agents"][0]["holding"] = ""
+    payload = encode(decode(json.dumps(_example_doc("state")).encode()), encoding)
+    raw = json.dumps(doc).encode() if encoding is Encoding.JSON else msgspec.msgpack.encode(doc)
+    assert decode(payload, State, encoding)  # the same message with null decodes
+    with pytest.raises(ProtocolError) as caught:
+        decode(raw, State, encoding)
+    err = caught.value
+    assert err.field == "$.agents[0].holding" and 'send null, not ""' in err.reason, str(err)
 
 
 def test_missing_envelope_fields_are_named() -> None:

@@ -96,3 +96,26 @@ def test_schemas_do_not_depend_on_how_msgspec_formats(cls: type) -> None:
     )
     on_disk = json.loads((SCHEMA_DIR / f"{tag_of(cls)}.json").read_text())
     assert json.dumps(on_disk, sort_keys=True) == json.dumps(message_schema(cls), sort_keys=True)
+
+
+def test_docs_examples_and_the_example_engine_carry_the_version() -> None:
+    """One protocol version everywhere a peer reads it from."""
+    import json
+    import re
+    from pathlib import Path
+
+    from protocol import PROTOCOL_VERSION
+    from protocol.examples import example_paths
+
+    root = Path(__file__).resolve().parents[2]
+    header = (root / "protocol" / "README.md").read_text().splitlines()[0]
+    assert header.endswith(f"version {PROTOCOL_VERSION}"), f"protocol/README.md starts {header!r}"
+    stale = {
+        t: d["protocol"]
+        for t, p in example_paths().items()
+        if (d := json.loads(p.read_text()))["protocol"] != PROTOCOL_VERSION
+    }
+    assert not stale, f"examples of another version than {PROTOCOL_VERSION}: {stale}"
+    engine = (root / "examples" / "grid_engine" / "grid_world.py").read_text()
+    found = re.search(r'^PROTOCOL = "([0-9.]+)"', engine, re.MULTILINE)
+    assert found and found.group(1) == PROTOCOL_VERSION, f"the grid engine speaks {found and found.group(1)}"

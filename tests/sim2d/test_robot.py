@@ -182,3 +182,18 @@ def test_scripted_person_reacts_to_a_give(engine: Engine) -> None:
             break
     assert played, "A1, handed the ball, should walk to a play spot and play with it"
     assert engine.world.agents["A1"].cell in [(1, 9), (13, 9)]
+
+
+def test_a_failed_reset_starts_no_episode() -> None:
+    from sim2d.errors import ScenarioError
+
+    engine = Engine("paper-robot")
+    first = engine.reset().state.episode
+    with pytest.raises(ScenarioError):
+        engine.reset("no-such-scenario")
+    again = engine.reset()
+    assert again.state.episode == first + 1, (
+        f"episodes {first} then {again.state.episode}: a failed reset counted"
+    )
+    events = [e for e in (engine.step().events + engine.step().events)]
+    assert all(e.episode == again.state.episode for e in events), events

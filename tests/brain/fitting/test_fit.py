@@ -51,3 +51,13 @@ def test_fit_names_bad_input(recordings: list[Path], tmp_path: Path) -> None:
     assert missing.returncode == 2 and "nope.jsonl: no such recording" in missing.stderr, missing.stderr
     model = fit(*recordings, "--models", "graded,oracle", "--folds", "2", "--out", tmp_path / "d")
     assert model.returncode == 2 and "oracle" in model.stderr, model.stderr
+
+
+def test_fit_on_ray_finds_what_worker_processes_find(recordings: list[Path], tmp_path: Path) -> None:
+    args = ("--params", "beta", "--grid", "beta=0.5,2", "--models", "graded,motion", "--folds", "3")
+    local = fit(*recordings, *args, "--out", tmp_path / "local")
+    ray = fit(*recordings, *args, "--backend", "ray", "--out", tmp_path / "ray")
+    assert local.returncode == 0 and ray.returncode == 0, local.stderr[-2000:] + ray.stderr[-2000:]
+    a, b = (json.loads((tmp_path / d / "fit.json").read_text())["models"] for d in ("local", "ray"))
+    for model in ("graded", "motion"):
+        assert a[model]["held_out_per_action"] == b[model]["held_out_per_action"], (model, a[model], b[model])

@@ -7,12 +7,15 @@ import subprocess
 import sys
 import uuid
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from support import EngineProcess, GridEngineProcess
 
 from bridge import Bridge
 from bridge.conformance.suite import EngineConformance
+
+GRID_ENGINE = Path(__file__).resolve().parents[3] / "examples" / "grid_engine" / "main.py"
 
 SIM2D_SCENARIOS = [
     "paper-1",
@@ -48,25 +51,60 @@ class TestGridEngine(EngineConformance):
             yield world
 
 
-@pytest.mark.parametrize(
-    ("fault", "check", "says"),
-    [
-        ("version", "handshake", "the peer speaks 2.0"),
-        ("status", "robot commands", "expected accepted -> running -> succeeded"),
-        ("double-step", "stepping", "expected tick 1, got 2"),
-    ],
-)
-def test_broken_engines_fail_the_named_check(world: str, fault: str, check: str, says: str) -> None:
+class TestSim2dRealtime(EngineConformance):
+    """sim2d free-running: the clock, pause and resume, and heartbeat loss."""
+
+    @pytest.fixture(scope="class")
+    @classmethod
+    def conformance_world(cls) -> Iterator[str]:
+        world = f"conform-realtime-{uuid.uuid4().hex[:6]}"
+        with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "1"):
+            yield world
+
+
+BROKEN = {
+    "version": ("handshake", "the peer speaks 2.0"),
+    "status": ("robot commands", "expected accepted -> running -> succeeded"),
+    "double-step": ("stepping", "expected tick 1, got 2"),
+    "extra-tick": ("stepping", "expected tick 1, got 2"),
+    "refuse-commands": ("navigation", "expected succeeded, got ['failed(refused)']"),
+    "omit-lists": ("control reply", "expected the control_reply of a step to carry its last state"),
+    "events-after-state": ("event order", "expected each tick's events before its state"),
+    "duplicate-status": ("status order", "expected accepted -> running -> one final status"),
+    "never-arrive": ("navigation", "expected a final status within 400 ticks"),
+    "ignore-cancel": ("cancel", "expected the cancel succeeded and the navigate cancelled"),
+    "drop-queued": ("command while one runs", "expected a status (accepted or failed), got none"),
+    "wrong-encoding": ("messagepack", "expected a MessagePack reply, got application/json"),
+    "no-visibility": ("scene", "visibility"),
+    "door-in-region": ("scene", "door"),
+    "no-token": ("liveliness", "expected a liveliness token"),
+}
+"""Each ``--break`` mode of the grid engine: the check that must fail, and what it must say."""
+
+
+def test_every_break_mode_is_listed_and_tested() -> None:
+    listed = subprocess.run(
+        [sys.executable, str(GRID_ENGINE), "--break", "list"], capture_output=True, text=True, timeout=60
+    )
+    modes = [line.split()[0] for line in listed.stdout.splitlines() if line.strip()]
+    assert len(modes) >= 12 and set(modes) == set(BROKEN), f"--break list: {modes}; tested: {sorted(BROKEN)}"
+
+
+@pytest.mark.parametrize("fault", sorted(BROKEN))
+def test_broken_engines_fail_the_named_check(world: str, fault: str) -> None:
+    check, says = BROKEN[fault]
     with GridEngineProcess(world, "--scenario", "paper-robot", "--break", fault):
         result = subprocess.run(
-            [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "10"],
+            [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "5"],
             capture_output=True,
             text=True,
             timeout=300,
         )
     assert result.returncode != 0, f"a '{fault}' engine passed:\n{result.stdout}"
     failures = [line for line in result.stdout.splitlines() if line.startswith("FAIL")]
-    assert any(line.startswith(f"FAIL  {check}:") and says in line for line in failures), result.stdout
+    assert any(line.startswith(f"FAIL  {check}:") and says in line for line in failures), (
+        f"expected 'FAIL  {check}: ...{says}...', got:\n" + "\n".join(failures)
+    )
 
 
 def test_conform_command_passes_and_the_token_goes_with_the_engine(world: str) -> None:

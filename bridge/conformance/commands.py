@@ -1,0 +1,313 @@
+"""The conformance checks of robot commands: every kind ending properly, the success paths
+(a real navigation to a far cell; pick, place and give), cancel of a running command, a
+command sent while another runs, a kind the engine does not know, impossible commands, and
+the order of every status seen."""
+
+from __future__ import annotations
+
+from protocol import (
+    Action,
+    AgentKind,
+    Cancel,
+    Capability,
+    Cell,
+    CommandState,
+    CommandStatus,
+    Give,
+    GridCell,
+    Navigate,
+    Pick,
+    Place,
+    Request,
+    Say,
+    SayTopic,
+    unknown_action,
+)
+from protocol.carry import walking_distances
+
+from .probe import CheckFailed, Probe, kind_of
+
+FINAL = (CommandState.SUCCEEDED, CommandState.FAILED, CommandState.CANCELLED)
+GIVE_TRIES = 4
+"""Tries at handing an item to a person who may walk off meanwhile."""
+
+
+def shown(statuses: list[CommandStatus]) -> list[str]:
+    """Statuses as ``state(reason)`` for a message."""
+    return [f"{s.state.value}({s.reason})" if s.reason else s.state.value for s in statuses]
+
+
+class CommandChecks(Probe):
+    """The robot-command checks (``check_<name>``)."""
+
+    def _acting_robot(self) -> str | None:
+        """Why the command checks are skipped, or ``None`` when the robot acts."""
+        assert self.info is not None
+        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
+            return "skipped: no 'robot' capability or no robot in the scene"
+        robot = next(a for a in self.info.scene.agents if a.id == self.robot)
+        return None if robot.acts else f"skipped: robot '{self.robot}' only observes (acts: false)"
+
+    def _far_cell(self) -> tuple[GridCell, int]:
+        """The walkable cell farthest from the robot, and its walking distance."""
+        assert self.info is not None and self.robot is not None
+        distances = walking_distances(self.info.scene.walkable(), [self.cell_of(self.robot)])
+        return max(distances.items(), key=lambda kv: (kv[1], kv[0]))
+
+    def _succeed(self, action: Action, what: str) -> list[CommandStatus]:
+        statuses = self.command(action)
+        if statuses[-1].state is not CommandState.SUCCEEDED:
+            raise CheckFailed(f"{what}: expected succeeded, got {shown(statuses)}")
+        return statuses
+
+    def _go(self, cell: GridCell, what: str) -> None:
+        self._succeed(Navigate(cell=Cell(*cell)), f"navigate to ({cell[0]},{cell[1]}) {what}")
+
+    def _until_running(self, command: str, what: str) -> None:
+        def running() -> bool:
+            return CommandState.RUNNING in [s.state for s in self.statuses_of(command)]
+
+        if not self.run_until(running, 20):
+            raise CheckFailed(
+                f"{what}: expected running within 20 ticks, got {shown(self.statuses_of(command))}"
+            )
+
+    def check_robot_commands(self) -> str:
+        if (skip := self._acting_robot()) is not None:
+            return skip
+        assert self.info is not None and self.robot is not None
+        scene = self.info.scene
+        home = next(a.home for a in scene.agents if a.id == self.robot)
+        person = next((a.id for a in scene.agents if a.kind is AgentKind.PERSON), "nobody")
+        item = scene.items[0].id if scene.items else "nothing"
+        location = scene.locations[0].id if scene.locations else "nowhere"
+        actions: list[Action] = [
+            Navigate(cell=home),
+            Pick(item=item),
+            Place(location=location),
+            Give(person=person),
+            Say(person=person, item=item, topic=SayTopic.LOCATION, location=location),
+            Request(person=person, item=item),
+        ]
+        seen = []
+        for action in actions:
+            statuses = self.command(action)
+            states = [s.state for s in statuses]
+            ok = states[:3] == [CommandState.ACCEPTED, CommandState.RUNNING, CommandState.SUCCEEDED] or (
+                states[-1] is CommandState.FAILED
+                and statuses[-1].reason
+                and states[:-1]
+                in ([], [CommandState.ACCEPTED], [CommandState.ACCEPTED, CommandState.RUNNING])
+            )
+            if not ok:
+                raise CheckFailed(
+                    f"{kind_of(action)}: expected accepted -> running -> succeeded, or failed with a "
+                    f"reason, got {shown(statuses)}"
+                )
+            seen.append(f"{kind_of(action)} {states[-1].value}")
+        return ", ".join(seen)
+
+    def check_navigation(self) -> str:
+        if (skip := self._acting_robot()) is not None:
+            return skip
+        assert self.robot is not None
+        target, distance = self._far_cell()
+        if distance < 2:
+            return "skipped: no cell two steps away"
+        mark = len(self.stream.states)
+        statuses = self._succeed(Navigate(cell=Cell(*target)), f"navigate to the far cell {target}")
+        ticks = statuses[-1].tick - statuses[0].tick
+        if self.cell_of(self.robot) != target:
+            raise CheckFailed(
+                f"navigate succeeded: expected the robot on {target}, got {self.cell_of(self.robot)}"
+            )
+        trail = [
+            (a.cell.col, a.cell.row)
+            for s in self.stream.states[mark:]
+            if s.episode == self.last.episode
+            for a in s.agents
+            if a.id == self.robot
+        ]
+        jumps = [
+            (a, b)
+            for a, b in zip(trail, trail[1:], strict=False)
+            if max(abs(a[0] - b[0]), abs(a[1] - b[1])) > 1
+        ]
+        if jumps:
+            raise CheckFailed(f"expected the robot to move one cell at a time, got the jump {jumps[0]}")
+        return f"{distance} cells to {target} in {ticks} ticks"
+
+    def _resting_item(self) -> tuple[str, str, GridCell]:
+        """An item resting at a location: its id, the location and the location's cell."""
+        assert self.info is not None
+        cells = {loc.id: (loc.cell.col, loc.cell.row) for loc in self.info.scene.locations}
+        for item in self.latest().items:
+            if item.location is not None and item.held_by is None and item.location in cells:
+                return item.id, item.location, cells[item.location]
+        raise CheckFailed("expected an item resting at a location to pick, got none")
+
+    def _free_location(self, other_than: str) -> tuple[str, GridCell]:
+        assert self.info is not None
+        resting = [i.location for i in self.latest().items if i.held_by is None]
+        for loc in self.info.scene.locations:
+            room = loc.capacity is None or resting.count(loc.id) < loc.capacity
+            if loc.id != other_than and room and not loc.use:
+                return loc.id, (loc.cell.col, loc.cell.row)
+        raise CheckFailed("expected a second location with room to place an item, got none")
+
+    def _holding(self, agent: str) -> str | None:
+        return next((a.holding for a in self.latest().agents if a.id == agent), None)
+
+    def check_pick_place_give(self) -> str:
+        if (skip := self._acting_robot()) is not None:
+            return skip
+        assert self.robot is not None
+        item, source, cell = self._resting_item()
+        self._go(cell, f"to pick '{item}'")
+        self._succeed(Pick(item=item), f"pick '{item}' at {source}")
+        if self._holding(self.robot) != item:
+            raise CheckFailed(
+                f"pick succeeded: expected the robot to hold '{item}', got {self._holding(self.robot)}"
+            )
+        target, there = self._free_location(source)
+        self._go(there, f"to place '{item}'")
+        self._succeed(Place(location=target), f"place '{item}' at {target}")
+        where = next((i for i in self.latest().items if i.id == item), None)
+        if where is None or where.location != target or where.held_by is not None:
+            raise CheckFailed(f"place succeeded: expected '{item}' resting at {target}, got {where}")
+        self._succeed(Pick(item=item), f"pick '{item}' again at {target}")
+        return f"picked and placed '{item}' ({source} -> {target}); " + self._give(item)
+
+    def _give(self, item: str) -> str:
+        assert self.info is not None and self.robot is not None
+        people = [a.id for a in self.info.scene.agents if a.kind is AgentKind.PERSON]
+        reasons = []
+        for _ in range(GIVE_TRIES):
+            free = [
+                p for p in people if any(a.id == p for a in self.latest().agents) and self._holding(p) is None
+            ]
+            if not free:
+                self.step(20)
+                continue
+            person = free[0]
+            self._go(self.cell_of(person), f"to {person}")
+            statuses = self.command(Give(person=person))
+            if statuses[-1].state is CommandState.SUCCEEDED:
+                if self._holding(person) != item:
+                    raise CheckFailed(
+                        f"give succeeded: expected {person} to hold '{item}', got {self._holding(person)}"
+                    )
+                return f"gave it to {person}"
+            reasons.append(shown(statuses)[-1])
+        return f"no give succeeded in {GIVE_TRIES} tries ({'; '.join(reasons) or 'nobody had free hands'})"
+
+    def check_cancel(self) -> str:
+        if (skip := self._acting_robot()) is not None:
+            return skip
+        statuses = self.command(Cancel(command="conform-no-such-command"))
+        if statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
+            raise CheckFailed(
+                f"cancel of an unknown command: expected failed with a reason, got {shown(statuses)}"
+            )
+        target, distance = self._far_cell()
+        if distance < 3:
+            return "unknown command failed; skipped a running one: no cell three steps away"
+        navigate = self.send(Navigate(cell=Cell(*target)))
+        self._until_running(navigate, f"navigate to {target}")
+        cancel = self.send(Cancel(command=navigate))
+        self.wait_status(cancel)
+        ended = self.finish(cancel, "cancel")
+        self.run_until(lambda: any(s.state.final for s in self.statuses_of(navigate)), 5)
+        victim = self.statuses_of(navigate)
+        if ended[-1].state is not CommandState.SUCCEEDED or victim[-1].state is not CommandState.CANCELLED:
+            raise CheckFailed(
+                f"cancel of a running navigate: expected the cancel succeeded and the navigate cancelled, "
+                f"got cancel {shown(ended)}, navigate {shown(victim)}"
+            )
+        return "an unknown command fails; a running navigate ends cancelled"
+
+    def check_command_while_one_runs(self) -> str:
+        if (skip := self._acting_robot()) is not None:
+            return skip
+        assert self.robot is not None
+        start = self.cell_of(self.robot)
+        target, distance = self._far_cell()
+        if distance < 3:
+            return "skipped: no cell three steps away"
+        first = self.send(Navigate(cell=Cell(*target)))
+        self._until_running(first, f"navigate to {target}")
+        second = self.send(Navigate(cell=Cell(*start)))
+        if not self.wait_status(second):
+            raise CheckFailed(
+                "a command sent while another runs: expected a status (accepted or failed), got none"
+            )
+        one, two = self.finish(first, "the first navigate"), self.finish(second, "the second navigate")
+        if two[0].state is CommandState.FAILED:
+            return f"refused while busy: {two[0].reason}"
+        order = [(s.command, s.state) for s in self.stream.statuses if s.command in (first, second)]
+        ended = order.index((first, one[-1].state))
+        started = (
+            order.index((second, CommandState.RUNNING)) if (second, CommandState.RUNNING) in order else -1
+        )
+        if started < ended and one[-1].state is not CommandState.CANCELLED:
+            raise CheckFailed(
+                f"a second command ran before the first ended: got {[f'{c} {s.value}' for c, s in order]}"
+            )
+        return f"queued: first {one[-1].state.value}, then second {two[-1].state.value}"
+
+    def check_unknown_command(self) -> str:
+        if (skip := self._acting_robot()) is not None:
+            return skip
+        command = self.send(unknown_action("conform-unknown-kind", {"note": "a kind from a newer version"}))
+        statuses = (
+            self.finish(command, "a command of an unknown kind", max_steps=20)
+            if self.wait_status(command)
+            else []
+        )
+        if not statuses or statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
+            raise CheckFailed(
+                f"a command of an unknown kind: expected failed with a reason, got {shown(statuses)}"
+            )
+        return f"failed: {statuses[-1].reason}"
+
+    def check_impossible_command(self) -> str:
+        if (skip := self._acting_robot()) is not None:
+            return skip
+        assert self.info is not None
+        scene = self.info.scene
+        walkable = scene.walkable()
+        wall = next(
+            ((c, r) for r in range(scene.rows) for c in range(scene.columns) if (c, r) not in walkable),
+            (scene.columns + 5, scene.rows + 5),
+        )
+        statuses = self.command(Navigate(cell=Cell(*wall)), max_steps=60)
+        if statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
+            raise CheckFailed(
+                f"navigate into a wall at {wall}: expected failed with a reason, got {shown(statuses)}"
+            )
+        unknown = self.command(Pick(item="no-such-item"), max_steps=60)
+        if unknown[-1].state is not CommandState.FAILED or not unknown[-1].reason:
+            raise CheckFailed(f"pick of an unknown item: expected failed with a reason, got {shown(unknown)}")
+        return f"wall: '{statuses[-1].reason}'; unknown item: '{unknown[-1].reason}'"
+
+    def check_status_order(self) -> str:
+        with self.stream.cond:
+            statuses = list(self.stream.statuses)
+        by_command: dict[str, list[CommandStatus]] = {}
+        for status in statuses:
+            by_command.setdefault(status.command, []).append(status)
+        allowed = {
+            None: {CommandState.ACCEPTED, CommandState.FAILED},
+            CommandState.ACCEPTED: {CommandState.RUNNING, *FINAL},
+            CommandState.RUNNING: set(FINAL),
+        }
+        for command, seen in by_command.items():
+            before = None
+            for status in seen:
+                if before in FINAL or status.state not in allowed.get(before, set()):
+                    raise CheckFailed(
+                        f"command {command}: expected accepted -> running -> one final status, "
+                        f"got {shown(seen)}"
+                    )
+                before = status.state
+        return f"{len(statuses)} statuses of {len(by_command)} commands, each in order"
