@@ -148,40 +148,9 @@ def test_the_viewer_draws_an_unknown_shape_as_a_block(
 ) -> None:
     """The newer run's recording (its scene's items all of shape ``cup``) replayed into the
     viewer: the cups are drawn in the block's colour."""
-    import matplotlib.image
-    import numpy as np
-
     from bridge.view import ITEM_COLOURS
+    from tests.bridge.view.test_view import pixels_of, shot_at
 
-    world = f"newer-view-{uuid.uuid4().hex[:6]}"
-    shot = tmp_path / "view.png"
-    view = [
-        sys.executable,
-        "-m",
-        "bridge",
-        "view",
-        "--world",
-        world,
-        "--screenshot",
-        str(shot),
-        "--after",
-        "6",
-    ]
-    viewer = subprocess.Popen(view, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    replay = subprocess.Popen(
-        [sys.executable, "-m", "bridge", "replay", str(runs["newer"][0] / "run.mcap"), "--world", world]
-        + ["--speed", "0", "--until-tick", "30", "--hold", "--wait-subscribers", "10"],
-        stdout=subprocess.PIPE,
-        text=True,
-    )
-    try:
-        _, err = viewer.communicate(timeout=180)
-        assert viewer.returncode == 0, err
-    finally:
-        replay.terminate()
-        replay.wait(timeout=10)
-    image = matplotlib.image.imread(str(shot))
+    image = shot_at(runs["newer"][0] / "run.mcap", 30, tmp_path / "view.png")
     block = ITEM_COLOURS[ItemShape.BLOCK]
-    rgb = np.array([(block >> 16) & 255, (block >> 8) & 255, block & 255]) / 255
-    pixels = int(np.all(np.abs(image[:, :, :3] - rgb) <= 8 / 255, axis=2).sum())
-    assert pixels > 20, f"the cups were not drawn as blocks (no pixels of #{block:06x})"
+    assert pixels_of(image, block) > 20, f"the cups were not drawn as blocks (no pixels of #{block:06x})"
