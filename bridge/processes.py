@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import logging
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -123,11 +124,66 @@ def node_command(package: str, world: str, settings: SessionSettings, *args: str
     ]
 
 
-def engine_command(engine: str, world: str, settings: SessionSettings, *args: str) -> list[str]:
-    """The command line of an engine: ``sim2d``, or ``grid`` (default loopback network only)."""
+def engine_command(
+    engine: str, world: str, settings: SessionSettings, *args: str, gateway: str | None = None
+) -> list[str]:
+    """The command line of an engine: ``sim2d``, or ``grid`` (default loopback network only,
+    or through the gateway at the ``ws://`` URL ``gateway``)."""
     if engine == "grid":
-        return [sys.executable, str(source_file(GRID_ENGINE, "--engine grid")), "--world", world, *args]
+        through = ["--gateway", gateway] if gateway else []
+        return [
+            sys.executable,
+            str(source_file(GRID_ENGINE, "--engine grid")),
+            "--world",
+            world,
+            *through,
+            *args,
+        ]
+    if gateway is not None:
+        raise BridgeError(f"the {engine} engine speaks Zenoh only (no --gateway)")
     return node_command("sim2d", world, settings, *args)
+
+
+def gateway_command(world: str, settings: SessionSettings, listen: str) -> list[str]:
+    """The command line of ``python -m bridge.gateway`` serving ``world`` on ``listen``."""
+    zenoh = _network_args(settings)
+    zenoh = ["--zenoh-listen" if arg == "--listen" else arg for arg in zenoh]
+    return [
+        sys.executable,
+        "-X",
+        "faulthandler",
+        "-m",
+        "bridge.gateway",
+        "--world",
+        world,
+        "--listen",
+        listen,
+        *zenoh,
+    ]
+
+
+GATEWAY_READY = re.compile(r"toyroom gateway: world '[^']*' on (?P<url>ws://\S+)")
+
+
+def start_gateway(
+    world: str, settings: SessionSettings, log_path: Path, timeout: float = 30.0
+) -> tuple[subprocess.Popen[bytes], str]:
+    """A gateway process on a free loopback port, and its URL once it listens.
+
+    Raises:
+        BridgeError: it exited, or did not say it listens within ``timeout`` s (its log says why).
+    """
+    process = start_node(gateway_command(world, settings, "ws://127.0.0.1:0"), log_path)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        match = GATEWAY_READY.search(log_path.read_text(encoding="utf-8", errors="replace"))
+        if match:
+            return process, match.group("url")
+        if process.poll() is not None:
+            break
+        time.sleep(0.05)
+    stop_node(process)
+    raise BridgeError(f"the gateway did not start (exit status {process.returncode}); see {log_path}")
 
 
 def start_node(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:

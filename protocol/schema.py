@@ -1,7 +1,8 @@
 """JSON Schemas of the messages, generated from the Structs and checked in.
 
 ``protocol/schema/<type>.json`` holds the schema of each message (draft 2020-12), so a
-client in another language can validate or generate code without reading Python.
+client in another language can validate or generate code without reading Python;
+``protocol/schema/gateway/<op>.json`` the schema of each gateway frame (:mod:`protocol.frames`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from typing import Any
 import msgspec
 
 from .bundled import bundled_dir
+from .frames import FRAME_TYPES, FRAMES_VERSION, Frame, op_of
 from .registry import MESSAGE_TYPES, tag_of
 from .version import PROTOCOL_VERSION
 
@@ -70,24 +72,45 @@ def message_schema(cls: type[msgspec.Struct]) -> dict[str, Any]:
     return schema
 
 
-def render_all() -> dict[str, str]:
-    """Every schema file's name and exact text (sorted keys, 2-space indent, final newline)."""
-    return {
-        f"{tag_of(cls)}.json": json.dumps(message_schema(cls), indent=2, sort_keys=True) + "\n"
-        for cls in MESSAGE_TYPES
+def frame_schema(cls: type[Frame]) -> dict[str, Any]:
+    """The JSON Schema of one gateway frame class, self-contained."""
+    op = op_of(cls)
+    schema: dict[str, Any] = {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "$id": f"toyroom/gateway/{FRAMES_VERSION}/{op}.json",
+        "title": f"toyroom gateway '{op}' frame, frames {FRAMES_VERSION}",
     }
+    schema.update(normalised(msgspec.json.schema(cls)))
+    return schema
+
+
+def _text(schema: dict[str, Any]) -> str:
+    return json.dumps(schema, indent=2, sort_keys=True) + "\n"
+
+
+def render_all() -> dict[str, str]:
+    """Every schema file's path (relative to the schema directory) and exact text (sorted
+    keys, 2-space indent, final newline): the messages, then ``gateway/`` the frames."""
+    files = {f"{tag_of(cls)}.json": _text(message_schema(cls)) for cls in MESSAGE_TYPES}
+    files.update({f"gateway/{op_of(cls)}.json": _text(frame_schema(cls)) for cls in FRAME_TYPES})
+    return files
+
+
+def _existing(directory: Path) -> list[str]:
+    return sorted(p.relative_to(directory).as_posix() for p in directory.glob("**/*.json"))
 
 
 def write_schemas(directory: Path = SCHEMA_DIR) -> list[Path]:
     """Write every schema into ``directory`` (removing stale ``*.json`` there); return the paths."""
     directory.mkdir(parents=True, exist_ok=True)
     wanted = render_all()
-    for old in directory.glob("*.json"):
-        if old.name not in wanted:
-            old.unlink()
+    for old in _existing(directory):
+        if old not in wanted:
+            (directory / old).unlink()
     paths = []
     for name, text in wanted.items():
         path = directory / name
+        path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text, encoding="utf-8")
         paths.append(path)
     return paths
@@ -103,7 +126,7 @@ def stale_schemas(directory: Path = SCHEMA_DIR) -> list[str]:
             problems.append(f"{name}: missing")
         elif path.read_text(encoding="utf-8") != text:
             problems.append(f"{name}: out of date")
-    for old in sorted(directory.glob("*.json")) if directory.exists() else []:
-        if old.name not in wanted:
-            problems.append(f"{old.name}: no such message any more")
+    for old in _existing(directory) if directory.exists() else []:
+        if old not in wanted:
+            problems.append(f"{old}: no such message or frame any more")
     return problems

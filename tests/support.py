@@ -173,3 +173,24 @@ class GridEngineProcess(EngineProcess):
         script = Path(__file__).resolve().parents[1] / "examples" / "grid_engine" / "main.py"
         self.world = world
         self._start([sys.executable, str(script), "--world", world, *args])
+
+
+class GatewayProcess(EngineProcess):
+    """``python -m bridge.gateway`` on a world, on a free loopback port (:attr:`url`)."""
+
+    def __init__(self, world: str, *args: str) -> None:
+        import re
+        import sys
+        import time
+
+        self.world = world
+        self._start(
+            [sys.executable, "-m", "bridge.gateway", "--world", world, "--listen", "ws://127.0.0.1:0", *args]
+        )
+        deadline = time.monotonic() + 30
+        while (match := re.search(r" on (ws://\S+)", self.output())) is None:
+            assert self.process.poll() is None and time.monotonic() < deadline, (
+                f"the gateway did not start:\n{self.output()}"
+            )
+            time.sleep(0.05)
+        self.url = match.group(1)

@@ -88,6 +88,7 @@ ROOMS = {
         "recording": {"<core>"},
         "conformance": {"<core>"},
         "view": {"<core>"},
+        "gateway": {"<core>"},
         "evaluation": {"<core>"},
         "app": {"<core>", "recording", "conformance", "evaluation"},
     },

@@ -30,6 +30,8 @@ NODE_HELP = {
     "sim": "run the sim2d engine node (pymunk) until interrupted",
     "brain": "run the brain node (inference and robot) against any engine of the world",
     "view": "the meshcat live view of a world (prints its URL; --screenshot FILE.png)",
+    "gateway": "carry a world over a WebSocket for engines without Zenoh (Unity, C#): "
+    "--world W [--listen ws://127.0.0.1:7448] [--token FILE]",
     "generate": "write a random episode (and its map): --map M --seed S --out DIR, or --rooms R --items K",
     "fit": "fit the model's parameters to recorded runs (RECORDINGS... --params beta,hazard --out DIR), "
     "cross-validated by episode, and compare models by held-out log-likelihood",
@@ -61,6 +63,11 @@ def _schema_command(command: Command) -> None:
     schema = command("schema", "write the JSON Schemas into protocol/schema/")
     schema.add_argument("--check", action="store_true", help="exit 1 when the checked-in schemas are stale")
     schema.add_argument("--dir", type=Path, help="schema directory (default: the package's)")
+    schema.add_argument(
+        "--csharp",
+        action="store_true",
+        help="the C# SDK's message classes (clients/unity/Runtime/Protocol/Messages.g.cs) instead",
+    )
 
 
 def _router_command(command: Command) -> None:
@@ -96,6 +103,11 @@ def _run_command(command: Command) -> None:
         choices=("sim2d", "grid"),
         default="sim2d",
         help="sim2d (pymunk) or grid (the example engine in examples/grid_engine/, source checkout only)",
+    )
+    run.add_argument(
+        "--gateway",
+        action="store_true",
+        help="start `toyroom gateway` and connect the engine through it (a WebSocket instead of Zenoh; grid)",
     )
     run.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
     run.add_argument("--record", type=Path, metavar="FILE.mcap", help="also record every message to MCAP")

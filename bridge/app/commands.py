@@ -17,10 +17,40 @@ from ..flags import PROG_ENV, settings_argv
 from ..processes import stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
 
+CSHARP_MESSAGES = "clients/unity/Runtime/Protocol/Messages.g.cs"
+"""The C# SDK's generated message classes, in the source checkout."""
 
-def schema_main(check: bool, directory: Path | None = None) -> int:
-    """Write the JSON Schemas, or with ``check`` report stale ones and return 1."""
+
+def csharp_main(check: bool) -> int:
+    """Write the C# message classes from the schemas, or with ``check`` return 1 when stale."""
+    from protocol.csharp import render_from_schemas
+
+    from ..processes import CHECKOUT
+
+    path = CHECKOUT / CSHARP_MESSAGES
+    if not (CHECKOUT / "clients" / "unity").is_dir():
+        print(f"toyroom schema --csharp needs a source checkout ({CSHARP_MESSAGES})", file=sys.stderr)
+        return 2
+    text = render_from_schemas()
+    if check:
+        if not path.exists() or path.read_text(encoding="utf-8") != text:
+            print(f"stale C# classes {path}: run `toyroom schema --csharp`", file=sys.stderr)
+            return 1
+        print(f"C# classes in {path} are up to date")
+        return 0
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text, encoding="utf-8")
+    print(f"wrote {path}")
+    return 0
+
+
+def schema_main(check: bool, directory: Path | None = None, csharp: bool = False) -> int:
+    """Write the JSON Schemas, or with ``check`` report stale ones and return 1; with
+    ``csharp``, the C# SDK's message classes instead."""
     from protocol.schema import SCHEMA_DIR, stale_schemas, write_schemas
+
+    if csharp:
+        return csharp_main(check)
 
     target = directory or SCHEMA_DIR
     if check:
@@ -131,6 +161,7 @@ NODES = {
     "sim": ("sim2d", ()),
     "brain": ("brain", ()),
     "view": ("bridge.view", ()),
+    "gateway": ("bridge.gateway", ()),
     "generate": ("sim2d", ("generate",)),
     "fit": ("brain", ("fit",)),
 }
@@ -148,7 +179,7 @@ def exec_node(command: str, argv: Sequence[str], prog: str | None = None) -> int
 
 
 def _schema(args: argparse.Namespace) -> int:
-    return schema_main(args.check, args.dir)
+    return schema_main(args.check, args.dir, args.csharp)
 
 
 def _router(args: argparse.Namespace) -> int:
@@ -175,6 +206,7 @@ def _run(args: argparse.Namespace) -> int:
         log_level=args.log_level or "WARNING",
         robot=args.robot,
         engine=args.engine,
+        gateway=args.gateway,
         live=False if args.no_live else None,
         record=args.record,
         view=args.view,

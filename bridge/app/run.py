@@ -25,8 +25,17 @@ from rich.live import Live
 from protocol import Mind, Observer
 
 from ..bridge import Bridge
+from ..errors import BridgeError
 from ..flags import settings_argv
-from ..processes import engine_command, node_command, report_failure, start_node, stop_node, wait_for_engine
+from ..processes import (
+    engine_command,
+    node_command,
+    report_failure,
+    start_gateway,
+    start_node,
+    stop_node,
+    wait_for_engine,
+)
 from ..pubsub import Received
 from ..recording.events import write_events_csv
 from ..recording.mcap import McapRecorder
@@ -52,6 +61,8 @@ class RunConfig:
     """``act`` or ``observe`` to override the scenario's robot mode."""
     engine: str = "sim2d"
     """``sim2d`` (the pymunk engine) or ``grid`` (the example grid engine)."""
+    gateway: bool = False
+    """Start ``toyroom gateway`` and connect the engine through it (a WebSocket, no Zenoh)."""
     live: bool | None = None
     """Show the live table (default: when standard output is a terminal)."""
     record: Path | None = None
@@ -109,8 +120,16 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     world = config.world or f"run-{os.getpid()}"
     robot = ["--robot", config.robot] if config.robot else []
     engine_args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
-    command = engine_command(config.engine, world, settings, *engine_args)
     config.out.mkdir(parents=True, exist_ok=True)
+    gateway, url = (
+        start_gateway(world, settings, config.out / "gateway.log") if config.gateway else (None, None)
+    )
+    try:
+        command = engine_command(config.engine, world, settings, *engine_args, gateway=url)
+    except BridgeError:
+        if gateway is not None:
+            stop_node(gateway)
+        raise
     engine_log, brain_log = config.out / "engine.log", config.out / "brain.log"
     engine = start_node(command, engine_log)
     brain: subprocess.Popen[bytes] | None = None
@@ -165,7 +184,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
             report_failure("brain", brain.returncode, brain_log)
         return brain.returncode
     finally:
-        for process in (brain, engine, viewer):
+        for process in (brain, engine, viewer, gateway):
             if process is not None:
                 stop_node(process)
 

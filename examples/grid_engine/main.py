@@ -4,6 +4,9 @@ Schemas: plain ``zenoh`` and ``json``, no toyroom import. It doubles as a fast e
 
     python examples/grid_engine/main.py --scenario paper-2 --world demo [--robot act|observe]
 
+``--gateway ws://127.0.0.1:7448`` makes it an engine without Zenoh, speaking the gateway's
+JSON frames over a WebSocket to ``toyroom gateway`` (transport.py has both wires).
+
 ``--break MODE`` makes it deliberately wrong in one realistic way, to show that
 ``toyroom conform`` catches each fault (``--break list`` prints the modes).
 
@@ -16,23 +19,18 @@ must keep working with it.
 from __future__ import annotations
 
 import argparse
-import json
 import signal
 import sys
 import threading
-import zlib
 from pathlib import Path
 from typing import Any
 
-import msgspec
-import zenoh
 from grid_scenario import Scenario, read_scenario
 from grid_world import PROTOCOL, GridWorld
+from transport import MALFORMED, GatewayTransport, Request, ZenohTransport
 
 TICK_SECONDS = 0.7  # one move of one cell per tick
 SCENARIOS = Path(__file__).resolve().parents[2] / "sim2d" / "scenarios"
-JSON = zenoh.Encoding("application/json")
-MSGPACK = "application/msgpack"
 NEWER = "1.99"
 BREAKS = {
     "version": "answers the handshake with protocol 2.0",
@@ -54,20 +52,6 @@ BREAKS = {
 """The deliberate defects of ``--break``, each one ``toyroom conform`` must catch."""
 
 
-def load(payload: bytes, mime: str) -> Any:
-    """A payload as Python values: MessagePack when the encoding says so, else JSON."""
-    if mime.split(";")[0].strip() == MSGPACK:
-        return msgspec.msgpack.decode(payload)
-    return json.loads(payload)
-
-
-def dump(message: dict[str, Any], mime: str) -> tuple[bytes, zenoh.Encoding]:
-    """A message in the encoding ``mime`` names (MessagePack or JSON)."""
-    if mime.split(";")[0].strip() == MSGPACK:
-        return msgspec.msgpack.encode(message), zenoh.Encoding(MSGPACK)
-    return json.dumps(message).encode(), JSON
-
-
 def newer(message: dict[str, Any]) -> dict[str, Any]:
     """``message`` as a 1.99 peer sends it: its version, and on a state a field 1.1 lacks."""
     out = {**message, "protocol": NEWER}
@@ -81,35 +65,19 @@ def newer(message: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def world_port(world: str) -> int:
-    """As protocol/README.md says: 17000 + crc32(world) % 10000."""
-    return 17000 + zlib.crc32(world.encode()) % 10000
-
-
-def open_session(world: str) -> zenoh.Session:
-    """Loopback peer, multicast off; listen on the world port when it is free."""
-    endpoint = f"tcp/127.0.0.1:{world_port(world)}"
-    for listen in (endpoint, "tcp/127.0.0.1:0"):
-        config = zenoh.Config()
-        config.insert_json5("mode", '"peer"')
-        config.insert_json5("scouting/multicast/enabled", "false")
-        config.insert_json5("listen/endpoints", json.dumps([listen]))
-        config.insert_json5("connect/endpoints", json.dumps([endpoint]))
-        config.insert_json5("transport/link/tx/lease", "800")
-        try:
-            return zenoh.open(config)
-        except zenoh.ZError:
-            continue
-    raise SystemExit(f"grid engine: cannot open a Zenoh session for world '{world}'")
-
-
-def error(code: str, message: str) -> bytes:
-    return json.dumps({"type": "error", "protocol": PROTOCOL, "code": code, "message": message}).encode()
+def error(code: str, message: str) -> dict[str, Any]:
+    return {"type": "error", "protocol": PROTOCOL, "code": code, "message": message}
 
 
 class GridEngine:
     def __init__(
-        self, world: str, scenario_name: str, robot: str | None, broken: str | None, newer: bool = False
+        self,
+        world: str,
+        scenario_name: str,
+        robot: str | None,
+        broken: str | None,
+        newer: bool = False,
+        gateway: str | None = None,
     ) -> None:
         self.world = world
         self.newer = newer
@@ -120,17 +88,14 @@ class GridEngine:
         self.lock = threading.Lock()
         self.episode = 0
         self.load(scenario_name)
-        self.session = open_session(world)
-        self.state_pub = self.session.declare_publisher(f"{self.prefix}/engine/state", encoding=JSON)
-        self.event_pub = self.session.declare_publisher(f"{self.prefix}/engine/events", encoding=JSON)
-        self.session.declare_queryable(f"{self.prefix}/engine/info", self.on_info)
-        self.session.declare_queryable(f"{self.prefix}/engine/control", self.on_control)
-        self.session.declare_subscriber(f"{self.prefix}/robot/*/command", self.on_command)
-        self.token = (
-            None
-            if broken == "no-token"
-            else self.session.liveliness().declare_token(f"{self.prefix}/@alive/engine/grid")
+        self.wire: ZenohTransport | GatewayTransport = (
+            ZenohTransport(world) if gateway is None else GatewayTransport(gateway, "engine", "grid")
         )
+        self.wire.serve("engine/info", self.on_info)
+        self.wire.serve("engine/control", self.on_control)
+        self.wire.subscribe("robot/*/command", self.on_command)
+        if broken != "no-token":
+            self.wire.announce("engine", "grid")
 
     def load(self, name: str) -> None:
         path = Path(name) if name.endswith(".toml") else SCENARIOS / f"{name}.toml"
@@ -211,14 +176,13 @@ class GridEngine:
             "scene": scene,
         }
 
-    def on_info(self, query: zenoh.Query) -> None:
-        hello = self.parse(query)
+    def on_info(self, query: Request) -> None:
+        hello = query.message
         if hello is not None and str(hello.get("protocol", "")).split(".")[0] != PROTOCOL.split(".")[0]:
             query.reply_err(
                 error(
                     "version_mismatch", f"this engine speaks {PROTOCOL}, the client {hello.get('protocol')}"
-                ),
-                encoding=JSON,
+                )
             )
             return
         with self.lock:
@@ -226,35 +190,21 @@ class GridEngine:
 
     # ----- the clock --------------------------------------------------------------------
 
-    @staticmethod
-    def mime(encoding: zenoh.Encoding | None) -> str:
-        return str(encoding) if encoding is not None else "application/json"
-
-    def parse(self, query: zenoh.Query) -> dict[str, Any] | None:
-        if query.payload is None:
-            return None
-        try:
-            message = load(query.payload.to_bytes(), self.mime(query.encoding))
-        except (ValueError, msgspec.DecodeError):
-            return {"type": None}
-        return message if isinstance(message, dict) else {"type": None}
-
-    def reply(self, query: zenoh.Query, message: dict[str, Any]) -> None:
+    def reply(self, query: Request, message: dict[str, Any]) -> None:
         """Answer in the query's encoding (as the protocol says; not with ``wrong-encoding``)."""
-        mime = "application/json" if self.broken == "wrong-encoding" else self.mime(query.encoding)
-        payload, encoding = dump(self.stamped(message), mime)
-        query.reply(query.key_expr, payload, encoding=encoding)
+        mime = "application/json" if self.broken == "wrong-encoding" else query.mime
+        query.reply(self.stamped(message), mime)
 
     def publish(
         self, events: list[dict[str, Any]], statuses: list[dict[str, Any]], state: dict[str, Any]
     ) -> None:
         late = self.broken == "events-after-state"
         for event in [] if late else events:
-            self.event_pub.put(json.dumps(self.stamped(event)).encode())
+            self.wire.publish("engine/events", self.stamped(event))
         self.publish_statuses(statuses)
-        self.state_pub.put(json.dumps(self.stamped(state)).encode())
+        self.wire.publish("engine/state", self.stamped(state))
         for event in events if late else []:
-            self.event_pub.put(json.dumps(self.stamped(event)).encode())
+            self.wire.publish("engine/events", self.stamped(event))
 
     def stamped(self, message: dict[str, Any]) -> dict[str, Any]:
         return newer(message) if self.newer else message
@@ -264,17 +214,13 @@ class GridEngine:
             if self.broken == "status" and status["state"] == "running":
                 continue
             for _ in range(2 if self.broken == "duplicate-status" else 1):
-                self.session.put(
-                    f"{self.prefix}/robot/{status['robot']}/status",
-                    json.dumps(self.stamped(status)).encode(),
-                    encoding=JSON,
-                )
+                self.wire.publish(f"robot/{status['robot']}/status", self.stamped(status))
 
-    def on_control(self, query: zenoh.Query) -> None:
-        request = self.parse(query) or {"type": None}
+    def on_control(self, query: Request) -> None:
+        request = query.message or MALFORMED
         kind = request.get("type")
         if str(request.get("protocol", PROTOCOL)).split(".")[0] != PROTOCOL.split(".")[0]:
-            query.reply_err(error("version_mismatch", f"this engine speaks {PROTOCOL}"), encoding=JSON)
+            query.reply_err(error("version_mismatch", f"this engine speaks {PROTOCOL}"))
             return
         with self.lock:
             events: list[dict[str, Any]] = []
@@ -285,15 +231,14 @@ class GridEngine:
                     self.load(request.get("scenario") or self.scenario.name)
                 except (OSError, KeyError, ValueError) as err:
                     self.episode -= 1  # a failed reset starts no episode
-                    query.reply_err(error("unknown_scenario", f"cannot load scenario: {err}"), encoding=JSON)
+                    query.reply_err(error("unknown_scenario", f"cannot load scenario: {err}"))
                     return
                 self.publish([], [], self.game.state())
             elif kind == "step":
                 n = request.get("n", 1)
                 if not isinstance(n, int) or not 1 <= n <= 1_000_000:
                     query.reply_err(
-                        error("bad_request", f"step: n must be an integer in [1, 1000000], got {n!r}"),
-                        encoding=JSON,
+                        error("bad_request", f"step: n must be an integer in [1, 1000000], got {n!r}")
                     )
                     return
                 ticks = {"double-step": 2 * n, "extra-tick": n + 1}.get(self.broken or "", n)
@@ -308,8 +253,7 @@ class GridEngine:
                 self.paused = kind == "pause"  # lock-step: only reported, as sim2d does
             else:
                 query.reply_err(
-                    error("bad_request", f"engine/control takes reset, step, pause or resume, got {kind!r}"),
-                    encoding=JSON,
+                    error("bad_request", f"engine/control takes reset, step, pause or resume, got {kind!r}")
                 )
                 return
             state = self.game.state()
@@ -333,13 +277,9 @@ class GridEngine:
 
     # ----- robot commands -----------------------------------------------------------------
 
-    def on_command(self, sample: zenoh.Sample) -> None:
-        try:
-            command = load(sample.payload.to_bytes(), self.mime(sample.encoding))
-            if command.get("type") != "robot_command" or not isinstance(command.get("action"), dict):
-                raise ValueError("not a robot_command")
-        except (ValueError, AttributeError, msgspec.DecodeError) as err:
-            print(f"grid engine: dropped a message on {sample.key_expr}: {err}", file=sys.stderr)
+    def on_command(self, command: dict[str, Any], key: str) -> None:
+        if command.get("type") != "robot_command" or not isinstance(command.get("action"), dict):
+            print(f"grid engine: dropped a message on {key}: not a robot_command", file=sys.stderr)
             return
         with self.lock:
             self.game.statuses = []
@@ -347,9 +287,7 @@ class GridEngine:
             self.publish_statuses(self.game.statuses)
 
     def close(self) -> None:
-        if self.token is not None:
-            self.token.undeclare()
-        self.session.close()
+        self.wire.close()
 
 
 def main() -> int:
@@ -365,22 +303,26 @@ def main() -> int:
         "--lockstep", action="store_true", help="accepted for symmetry with sim2d (always lock-step)"
     )
     parser.add_argument("--log-level", default="WARNING", help="accepted for symmetry with sim2d")
+    parser.add_argument(
+        "--gateway", metavar="URL", help="speak JSON frames to `toyroom gateway` at URL instead of Zenoh"
+    )
     args = parser.parse_args()
     if args.broken == "list":
         for name, what in BREAKS.items():
             print(f"{name:20} {what}")
         return 0
-    engine = GridEngine(args.world, args.scenario, args.robot, args.broken, args.newer)
+    engine = GridEngine(args.world, args.scenario, args.robot, args.broken, args.newer, args.gateway)
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())
     print(f"grid engine: scenario '{args.scenario}' on world '{args.world}'", flush=True)
     # wait in slices: a signal delivered to one of Zenoh's threads only runs its Python
     # handler when the main thread next wakes (a bare stop.wait() may never return)
-    while not stop.wait(0.2):
+    lost = engine.wire.lost if isinstance(engine.wire, GatewayTransport) else threading.Event()
+    while not stop.wait(0.2) and not lost.is_set():
         pass
     engine.close()
-    return 0
+    return 1 if lost.is_set() else 0  # without its gateway the engine has no peers left
 
 
 if __name__ == "__main__":

@@ -13,19 +13,23 @@ PAPER = ("paper-1", "paper-2", "paper-3")
 
 
 @pytest.fixture(
-    scope="module", params=[("sim2d", "graded"), ("grid", "graded"), ("sim2d", "point")], ids="-".join
+    scope="module",
+    params=[("sim2d", "graded"), ("grid", "graded"), ("grid+gateway", "graded"), ("sim2d", "point")],
+    ids="-".join,
 )
 def runs(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> dict[str, MindCsv]:
-    """Runs on both engines (the brain, unchanged, must reproduce Section V on either) with
-    the default graded beliefs, and with the paper's point beliefs (``--set belief_model=point``)."""
+    """Runs on both engines (the brain, unchanged, must reproduce Section V on either), the grid
+    engine also through ``toyroom gateway`` (a WebSocket instead of Zenoh), with the default
+    graded beliefs, and with the paper's point beliefs (``--set belief_model=point``)."""
     engine, belief_model = request.param
+    engine_args = ("--engine", "grid", "--gateway") if engine == "grid+gateway" else ("--engine", engine)
     out = {}
     for scenario in (*PAPER, "sally-anne"):
         # the robot only watches: the statements are about what an observer infers
         directory = toyroom_run(
             tmp_path_factory.mktemp(f"{engine}-{belief_model}-{scenario}"),
             scenario,
-            *("--robot", "observe", "--engine", engine, "--set", f"belief_model={belief_model}"),
+            *("--robot", "observe", *engine_args, "--set", f"belief_model={belief_model}"),
         )
         for name in ("mind.csv", "beliefs.png", "preferences.png", "report.md", "trace.jsonl"):
             assert (directory / name).stat().st_size > 0, f"{scenario}: {name} is missing or empty"

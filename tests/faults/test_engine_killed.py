@@ -9,11 +9,14 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 from support import EngineProcess
 
 from bridge import Bridge, handshake
 from protocol import Mind
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "sim2d" / "scenarios"
 
 
 def start_brain(world: str, *args: str) -> tuple[subprocess.Popen[str], queue.Queue[tuple[float, str]]]:
@@ -87,3 +90,48 @@ def test_lockstep_brain_resumes_after_an_engine_restart(world: str) -> None:
         if brain.poll() is None:
             brain.kill()
         engine.close()
+
+
+def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(world: str, tmp_path: Path) -> None:
+    """The grid engine through ``toyroom gateway``: killed, the gateway withdraws its token and
+    the brain reports it lost; a new engine on the same gateway lets the brain finish."""
+    from support import GatewayProcess, GridEngineProcess
+
+    minds: queue.Queue[Mind] = queue.Queue()
+    # paper-2 with a long first step, so that the engine dies mid-episode (the grid engine
+    # and the brain run the paper's 60 ticks in a fraction of a second)
+    scenario = tmp_path / "long.toml"
+    (tmp_path / "paper.map.toml").write_text((SCENARIOS / "paper.map.toml").read_text())
+    text = (SCENARIOS / "paper-2.toml").read_text()
+    scenario.write_text(
+        text.replace('{ do = "play", ticks = 20, label = "0" }', '{ do = "play", ticks = 600, label = "0" }')
+    )
+    with GatewayProcess(world) as gateway:
+        engine = GridEngineProcess(world, "--scenario", str(scenario), "--gateway", gateway.url)
+        brain, lines = start_brain(world, "--scenario", str(scenario), "--max-ticks", "700")
+        try:
+            with Bridge(world) as watcher:
+                watcher.subscribe(watcher.keys.mind, lambda m, _: minds.put(m), expected=Mind)
+                minds.get(timeout=30)
+                killed_at = time.monotonic()
+                engine.process.kill()
+                engine.process.wait(timeout=10)
+                try:
+                    at, line = lines.get(timeout=5)
+                except queue.Empty:
+                    raise AssertionError(
+                        f"the brain said nothing within 5 s (exit status {brain.poll()}); "
+                        f"gateway log:\n{gateway.output()}"
+                    ) from None
+                assert "lost" in line and at - killed_at < 2.5, (line, at - killed_at)
+                assert gateway.process.poll() is None, "the gateway must outlive its engine"
+                with GridEngineProcess(world, "--scenario", str(scenario), "--gateway", gateway.url):
+                    at, line = lines.get(timeout=30)
+                    assert "back" in line, line
+                    assert brain.wait(timeout=120) == 0, (
+                        "the brain should finish the episode on the new engine"
+                    )
+        finally:
+            if brain.poll() is None:
+                brain.kill()
+            engine.close()

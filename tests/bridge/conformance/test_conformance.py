@@ -10,7 +10,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from support import EngineProcess, GridEngineProcess
+from support import EngineProcess, GatewayProcess, GridEngineProcess
 
 from bridge import Bridge
 from bridge.conformance.suite import EngineConformance
@@ -48,6 +48,17 @@ class TestGridEngine(EngineConformance):
     def conformance_world(cls, request: pytest.FixtureRequest) -> Iterator[str]:
         world = f"grid-{request.param}-{uuid.uuid4().hex[:6]}"
         with GridEngineProcess(world, "--scenario", request.param):
+            yield world
+
+
+class TestGridEngineThroughTheGateway(EngineConformance):
+    """The grid engine without Zenoh: JSON frames over a WebSocket to ``toyroom gateway``."""
+
+    @pytest.fixture(scope="class")
+    @classmethod
+    def conformance_world(cls) -> Iterator[str]:
+        world = f"gateway-{uuid.uuid4().hex[:6]}"
+        with GatewayProcess(world) as gateway, GridEngineProcess(world, "--gateway", gateway.url):
             yield world
 
 

@@ -1,0 +1,83 @@
+"""``python -m bridge.gateway`` (``toyroom gateway``): the gateway until SIGINT or SIGTERM."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import threading
+from collections.abc import Sequence
+from pathlib import Path
+
+from ..errors import BridgeError
+from ..flags import add_log_level, command_parser, configure_logging
+from ..processes import stop_on_signals, wait_for_stop
+from ..session import SessionSettings
+from .server import DEFAULT_URL, Gateway, GatewaySettings
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = command_parser(
+        "python -m bridge.gateway",
+        "carry one world's protocol over a WebSocket, for engines without Zenoh (Unity, C#)",
+    )
+    parser.add_argument("--world", default="default", help="world name: the key prefix toyroom/WORLD/")
+    parser.add_argument(
+        "--listen", default=DEFAULT_URL, metavar="URL", help="ws://HOST:PORT to serve (port 0: any free port)"
+    )
+    parser.add_argument("--token", type=Path, metavar="FILE", help="clients must send this file's secret")
+    parser.add_argument(
+        "--origin", action="append", default=[], help="a browser origin allowed besides loopback (repeatable)"
+    )
+    parser.add_argument(
+        "--ping",
+        type=float,
+        default=0.5,
+        metavar="S",
+        help="seconds between pings (a silent client is dropped)",
+    )
+    network = parser.add_argument_group("Zenoh (default: loopback only, no multicast)")
+    network.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
+    network.add_argument("--mode", choices=("peer", "client", "router"), help="Zenoh mode")
+    network.add_argument(
+        "--connect", action="append", metavar="ENDPOINT", help="Zenoh endpoint to connect to"
+    )
+    network.add_argument(
+        "--zenoh-listen", action="append", metavar="ENDPOINT", help="Zenoh endpoint to listen on"
+    )
+    add_log_level(parser)
+    return parser
+
+
+def settings_from(args: argparse.Namespace) -> GatewaySettings:
+    session = SessionSettings(
+        mode=args.mode,
+        listen=tuple(args.zenoh_listen) if args.zenoh_listen else None,
+        connect=tuple(args.connect) if args.connect else None,
+        config_file=args.zenoh_config,
+    )
+    if not args.ping > 0:
+        raise BridgeError(f"--ping must be a positive number of seconds, got {args.ping}")
+    return GatewaySettings(
+        world=args.world,
+        listen=args.listen,
+        token_file=args.token,
+        origins=tuple(args.origin),
+        ping=args.ping,
+        session=session,
+    )
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    configure_logging(args.log_level)
+    stop = threading.Event()
+    stop_on_signals(stop)
+    try:
+        gateway = Gateway(settings_from(args))
+    except BridgeError as err:
+        print(f"toyroom gateway: {err}", file=sys.stderr)
+        return 2
+    with gateway:
+        print(f"toyroom gateway: world '{args.world}' on {gateway.url}", flush=True)
+        wait_for_stop(stop)
+    return 0
