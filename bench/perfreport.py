@@ -73,6 +73,24 @@ def _graded_rows(numbers: dict[str, Any]) -> list[str]:
     ]
 
 
+def _gateway_rows(numbers: dict[str, Any]) -> list[str]:
+    """The gateway's rows (``bench/gateway_bench.py``), when the run measured them."""
+    if "gateway" not in numbers:
+        return []
+    gateway, profile = numbers["gateway"], numbers["lockstep_profile"]
+    ticks = gateway["lockstep_tick_us"]
+    rows = [
+        f"| gateway: a query answered by a WebSocket client | {gateway['query_rtt_us']:.0f} "
+        f"| (a Zenoh process: {profile['zenoh_query_two_processes_us']:.0f}) |",
+        f"| grid engine lock-step tick over Zenoh | {ticks['direct']:.0f} | |",
+        f"| the same engine through the gateway | {ticks['gateway']:.0f} "
+        f"| <= {2 * ticks['direct']:.0f} (2 x direct): {ticks['ratio']:.2f} x |",
+    ]
+    if "csharp" in ticks:
+        rows.append(f"| the C# SDK's grid engine (Mono) through the gateway | {ticks['csharp']:.0f} | |")
+    return rows
+
+
 def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
     """The section's text."""
     zenoh = numbers["zenoh_rtt_us"]
@@ -92,6 +110,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         f"| of which: raw ping-pong between two processes | {profile['zenoh_rtt_two_processes_us']:.0f} | |",
         f"| of which: raw query between two processes | {profile['zenoh_query_two_processes_us']:.0f} | |",
         f"| of which: the engine's tick alone (`paper-auto`) | {profile['engine_step_us']:.0f} | |",
+        *_gateway_rows(numbers),
         "| `brain_step_us` median / p99, paper map, point beliefs | "
         f"{step['median']:.0f} / {step['p99']:.0f} | <= 1000 |",
         f"| `planner_cold_s`, paper map, point beliefs | {numbers['planner_cold_s']:.3f} | <= 0.5 |",

@@ -8,6 +8,8 @@
 - ``bridge_rtt_us``: the same through the bridge's typed messages (encode, decode);
 - ``lockstep_tick_us`` / ``lockstep_ticks_per_s``: a lock-step client asks a sim2d engine
   process for one tick and gets its state back;
+- ``gateway``: a query answered through ``toyroom gateway``, and a lock-step tick of the grid
+  engine over Zenoh, through the gateway, and of the C# engine (``bench/gateway_bench.py``);
 - ``brain_step_us`` (median, p99): the online update per person per step, paper map, with
   point beliefs (``graded.brain_step_us``: with the graded default);
 - ``planner_cold_s``: the planner on the paper map with an empty cache (point; ``graded.``
@@ -42,6 +44,7 @@ from rich.table import Table
 sys.path.insert(0, str(Path(__file__).parent))
 
 import brain_bench  # noqa: E402
+import gateway_bench  # noqa: E402
 import perfreport  # noqa: E402
 import scaling  # noqa: E402
 
@@ -203,6 +206,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     pubsub_times, query_times = cross_process(rounds, payload)
     tick_times = lockstep(rounds)
     engine_times = engine_step(rounds)
+    gateway = gateway_bench.main(rounds // 2, state)
     brain = brain_bench.main(repeats=1 if quick else 5)
     scaled = scaling.main(quick)
     numbers: dict[str, Any] = {
@@ -217,6 +221,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
             "zenoh_query_two_processes_us": statistics.median(query_times) * 1e6,
             "engine_step_us": statistics.median(engine_times) * 1e6,
         },
+        "gateway": gateway,
         "brain_step_us": {"median": brain["brain_step_us_median"], "p99": brain["brain_step_us_p99"]},
         "planner_cold_s": brain["planner_cold_s"],
         "graded": {
@@ -247,6 +252,16 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     table.add_row("  raw ping-pong, two processes", f"{profile['zenoh_rtt_two_processes_us']:.0f}", "")
     table.add_row("  raw query, two processes", f"{profile['zenoh_query_two_processes_us']:.0f}", "")
     table.add_row("  engine tick alone (paper-auto)", f"{profile['engine_step_us']:.0f}", "")
+    ticks = gateway["lockstep_tick_us"]
+    table.add_row("gateway: query answered over WebSocket", f"{gateway['query_rtt_us']:.0f}", "")
+    table.add_row("grid engine tick, Zenoh", f"{ticks['direct']:.0f}", "")
+    table.add_row(
+        "grid engine tick, through the gateway",
+        f"{ticks['gateway']:.0f}",
+        f"<= {2 * ticks['direct']:.0f} (2 x)",
+    )
+    if "csharp" in ticks:
+        table.add_row("C# grid engine tick (Mono), gateway", f"{ticks['csharp']:.0f}", "")
     table.add_row(
         "point beliefs: brain_step_us median / p99",
         f"{brain['brain_step_us_median']:.0f} / {brain['brain_step_us_p99']:.0f}",

@@ -139,8 +139,10 @@ def engine_command(
             *through,
             *args,
         ]
+    if engine != "sim2d":
+        raise BridgeError(f"no engine '{engine}' here (sim2d or grid)")
     if gateway is not None:
-        raise BridgeError(f"the {engine} engine speaks Zenoh only (no --gateway)")
+        raise BridgeError("the sim2d engine speaks Zenoh only (no --gateway)")
     return node_command("sim2d", world, settings, *args)
 
 
@@ -162,7 +164,7 @@ def gateway_command(world: str, settings: SessionSettings, listen: str) -> list[
     ]
 
 
-GATEWAY_READY = re.compile(r"toyroom gateway: world '[^']*' on (?P<url>ws://\S+)")
+GATEWAY_READY = re.compile(r"toyroom gateway: world '[^']*' on (?P<url>ws://[^\s()]+) \(ready\)")
 
 
 def start_gateway(

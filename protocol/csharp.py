@@ -152,6 +152,8 @@ class Generator:
         if "anyOf" in node:
             options = [o for o in node["anyOf"] if o != {"type": "null"}]
             nullable = len(options) < len(node["anyOf"])
+            if "discriminator" in node and node["discriminator"]["propertyName"] != "kind":
+                return "JObject"  # a batch's frames: built and read as JSON objects
             if "discriminator" in node:
                 self.unions[UNION_BASE] = {
                     kind: _ref_name(ref) for kind, ref in node["discriminator"]["mapping"].items()

@@ -6,7 +6,8 @@ text frames, one JSON object each, told apart by their ``op``. The first frame i
 closes). After that the client publishes (:class:`Put`), subscribes (:class:`Subscribe`,
 answered by :class:`Sample` frames), serves queryables (:class:`Serve`, answered by
 :class:`Query` frames that the client answers with :class:`Reply`) and queries
-(:class:`Get`, answered by one :class:`Replies` frame).
+(:class:`Get`, answered by one :class:`Replies` frame); :class:`Batch` carries several of
+these in one message.
 
 Keys are relative to the world, ``toyroom/<world>/``: ``engine/state``, ``robot/*/command``.
 A payload is a protocol message as a JSON object, embedded as it is (never a string
@@ -142,6 +143,14 @@ class Get(Frame, frozen=True, kw_only=True, tag="get"):
     """Seconds to wait for answers."""
 
 
+class Batch(Frame, frozen=True, kw_only=True, tag="batch"):
+    """Client -> gateway: several frames in one WebSocket message, acted on in order (an
+    engine sends a tick's events, statuses, state and the step's reply as one batch: one
+    message instead of four, and one wake-up of the gateway)."""
+
+    frames: list[Put | Subscribe | Unsubscribe | Serve | Unserve | Reply | Get]
+
+
 class Sample(Frame, frozen=True, kw_only=True, tag="sample"):
     """Gateway -> client: a message published on ``key``, for subscription ``sub``."""
 
@@ -187,7 +196,7 @@ class FrameError(Frame, frozen=True, kw_only=True, tag="error"):
     ref: int | None = None
 
 
-ClientFrame = GatewayHello | Put | Subscribe | Unsubscribe | Serve | Unserve | Reply | Get
+ClientFrame = GatewayHello | Put | Subscribe | Unsubscribe | Serve | Unserve | Reply | Get | Batch
 """Every frame a client sends."""
 
 GatewayFrame = Welcome | Sample | Query | Replies | FrameError
@@ -203,6 +212,7 @@ FRAME_TYPES: tuple[type[Frame], ...] = (
     Unserve,
     Reply,
     Get,
+    Batch,
     Sample,
     Query,
     Replies,

@@ -74,6 +74,27 @@ def scene_main(argv: Sequence[str]) -> int:
     return 0
 
 
+def export_main(argv: Sequence[str]) -> int:
+    """``python -m sim2d export --scenario S [--out FILE]``: the scenario as one JSON document."""
+    from .export import export
+
+    parser = command_parser("python -m sim2d export", "Write a scenario as JSON (for the C# engine).")
+    parser.add_argument("--scenario", required=True, help="scenario name or .toml path")
+    parser.add_argument("--out", type=Path, help="the JSON file (default: standard output)")
+    args = parser.parse_args(argv)
+    try:
+        text = msgspec.json.format(msgspec.json.encode(export(args.scenario)), indent=1).decode()
+    except Sim2dError as err:
+        print(f"sim2d: {err}", file=sys.stderr)
+        return 2
+    if args.out is None:
+        print(text)
+    else:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(text + "\n", encoding="utf-8")
+    return 0
+
+
 def generate_parser() -> argparse.ArgumentParser:
     """``python -m sim2d generate``'s options."""
     from .generate import ITEM_SHAPES, KINDS, MAPS, MINDS
@@ -136,6 +157,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return generate_main(argv[1:])
     if argv and argv[0] == "scene":
         return scene_main(argv[1:])
+    if argv and argv[0] == "export":
+        return export_main(argv[1:])
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level)
     if args.list:

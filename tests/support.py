@@ -188,9 +188,20 @@ class GatewayProcess(EngineProcess):
             [sys.executable, "-m", "bridge.gateway", "--world", world, "--listen", "ws://127.0.0.1:0", *args]
         )
         deadline = time.monotonic() + 30
-        while (match := re.search(r" on (ws://\S+)", self.output())) is None:
+        while (match := re.search(r" on (ws://[^\s()]+) \(ready\)", self.output())) is None:
             assert self.process.poll() is None and time.monotonic() < deadline, (
                 f"the gateway did not start:\n{self.output()}"
             )
             time.sleep(0.05)
         self.url = match.group(1)
+
+
+class CSharpEngineProcess(EngineProcess):
+    """The C# SDK's grid engine under Mono (built when stale), on the gateway at ``url``,
+    with scenario ``scenario`` exported into ``folder``."""
+
+    def __init__(self, url: str, folder: Path, scenario: str, *args: str) -> None:
+        from bridge.gateway import csharp
+
+        csharp.export_scenario(scenario, folder)
+        self._start(csharp.engine_command(url, folder, "--scenario", scenario, *args))

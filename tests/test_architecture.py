@@ -90,7 +90,7 @@ ROOMS = {
         "view": {"<core>"},
         "gateway": {"<core>"},
         "evaluation": {"<core>"},
-        "app": {"<core>", "recording", "conformance", "evaluation"},
+        "app": {"<core>", "recording", "conformance", "evaluation", "gateway"},
     },
     "brain": {
         "<base>": set(),

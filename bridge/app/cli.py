@@ -33,6 +33,8 @@ NODE_HELP = {
     "gateway": "carry a world over a WebSocket for engines without Zenoh (Unity, C#): "
     "--world W [--listen ws://127.0.0.1:7448] [--token FILE]",
     "generate": "write a random episode (and its map): --map M --seed S --out DIR, or --rooms R --items K",
+    "export-scenario": "write a scenario as one JSON document for engines without TOML (the C# engine): "
+    "--scenario NAME [--out FILE]",
     "fit": "fit the model's parameters to recorded runs (RECORDINGS... --params beta,hazard --out DIR), "
     "cross-validated by episode, and compare models by held-out log-likelihood",
 }
@@ -100,9 +102,10 @@ def _run_command(command: Command) -> None:
     )
     run.add_argument(
         "--engine",
-        choices=("sim2d", "grid"),
+        choices=("sim2d", "grid", "csharp"),
         default="sim2d",
-        help="sim2d (pymunk) or grid (the example engine in examples/grid_engine/, source checkout only)",
+        help="sim2d (pymunk), grid (examples/grid_engine/) or csharp (the C# SDK's grid engine under "
+        "Mono, through the gateway; needs mono-devel); grid and csharp need a source checkout",
     )
     run.add_argument(
         "--gateway",

@@ -163,6 +163,7 @@ NODES = {
     "view": ("bridge.view", ()),
     "gateway": ("bridge.gateway", ()),
     "generate": ("sim2d", ("generate",)),
+    "export-scenario": ("sim2d", ("export",)),
     "fit": ("brain", ("fit",)),
 }
 """Commands that run a node package as its own process (``toyroom sim`` -> ``python -m

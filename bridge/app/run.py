@@ -60,7 +60,8 @@ class RunConfig:
     robot: str | None = None
     """``act`` or ``observe`` to override the scenario's robot mode."""
     engine: str = "sim2d"
-    """``sim2d`` (the pymunk engine) or ``grid`` (the example grid engine)."""
+    """``sim2d`` (the pymunk engine), ``grid`` (the example grid engine) or ``csharp`` (the C#
+    SDK's grid engine under Mono, always through the gateway)."""
     gateway: bool = False
     """Start ``toyroom gateway`` and connect the engine through it (a WebSocket, no Zenoh)."""
     live: bool | None = None
@@ -121,11 +122,17 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     robot = ["--robot", config.robot] if config.robot else []
     engine_args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
     config.out.mkdir(parents=True, exist_ok=True)
-    gateway, url = (
-        start_gateway(world, settings, config.out / "gateway.log") if config.gateway else (None, None)
-    )
+    through = config.gateway or config.engine == "csharp"  # the C# engine has no Zenoh
+    gateway, url = start_gateway(world, settings, config.out / "gateway.log") if through else (None, None)
     try:
-        command = engine_command(config.engine, world, settings, *engine_args, gateway=url)
+        if config.engine == "csharp":
+            from ..gateway import csharp
+
+            scenarios = config.out / "scenarios"
+            csharp.export_scenario(config.scenario, scenarios)
+            command = csharp.engine_command(url or "", scenarios, *engine_args)
+        else:
+            command = engine_command(config.engine, world, settings, *engine_args, gateway=url)
     except BridgeError:
         if gateway is not None:
             stop_node(gateway)

@@ -27,6 +27,7 @@ from protocol.frames import (
     FRAMES_VERSION,
     NONE,
     Answer,
+    Batch,
     ClientFrame,
     FrameError,
     GatewayHello,
@@ -177,6 +178,13 @@ class ClientLink:
             Reply: self.reply,
             Get: self.get,
         }
+        if isinstance(frame, Batch):
+            for inner in frame.frames:  # each refused on its own, the rest still acted on
+                try:
+                    handlers[type(inner)](inner)
+                except Refusal as err:
+                    self.refuse(err.code, err.message, err.ref)
+            return
         handlers[type(frame)](frame)
 
     # ----- frames --------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import threading
 from collections.abc import Sequence
@@ -78,6 +79,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"toyroom gateway: {err}", file=sys.stderr)
         return 2
     with gateway:
-        print(f"toyroom gateway: world '{args.world}' on {gateway.url}", flush=True)
+        # one write, so that no log line lands inside it (toyroom run reads the URL from it)
+        os.write(1, f"toyroom gateway: world '{args.world}' on {gateway.url} (ready)\n".encode())
         wait_for_stop(stop)
     return 0

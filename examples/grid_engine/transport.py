@@ -186,6 +186,8 @@ class GatewayTransport:
         self._ids = 0
         self.lost = threading.Event()
         """Set when the gateway closes the connection."""
+        self._held: list[str] | None = None
+        self._reader: threading.Thread | None = None
         self.send({"op": "hello", "role": role, "name": name, "token": token, "client": "grid-engine"})
         welcome = json.loads(self.socket.recv())
         if welcome.get("op") != "welcome":
@@ -194,7 +196,24 @@ class GatewayTransport:
         self._reader.start()
 
     def send(self, frame: dict[str, Any]) -> None:
-        self.socket.send(json.dumps(frame))
+        """Send a frame; while the reader thread handles a query or sample, frames are held
+        and go out together as one ``batch`` (a tick's events, state and reply: one message)."""
+        text = json.dumps(frame)
+        if self._held is not None and threading.current_thread() is self._reader:
+            self._held.append(text)
+        else:
+            self.socket.send(text)
+
+    def _handle(self, call: Callable[..., None], *args: Any) -> None:
+        self._held = []
+        try:
+            call(*args)
+        finally:
+            held, self._held = self._held, None
+            if len(held) == 1:
+                self.socket.send(held[0])
+            elif held:
+                self.socket.send('{"op": "batch", "frames": [' + ", ".join(held) + "]}")
 
     def _next_id(self) -> int:
         self._ids += 1
@@ -224,12 +243,11 @@ class GatewayTransport:
                 frame = json.loads(text)
                 op = frame.get("op")
                 if op == "query":
-                    self._handlers[frame["serve"]](GatewayRequest(self, frame))
+                    self._handle(self._handlers[frame["serve"]], GatewayRequest(self, frame))
                 elif op == "sample":
                     payload = frame.get("payload")
-                    self._listeners[frame["sub"]](
-                        payload if isinstance(payload, dict) else MALFORMED, frame["key"]
-                    )
+                    message = payload if isinstance(payload, dict) else MALFORMED
+                    self._handle(self._listeners[frame["sub"]], message, frame["key"])
                 elif op == "error":
                     print(
                         f"grid engine: the gateway refused a frame: {frame.get('message')}", file=sys.stderr

@@ -14,13 +14,20 @@ PAPER = ("paper-1", "paper-2", "paper-3")
 
 @pytest.fixture(
     scope="module",
-    params=[("sim2d", "graded"), ("grid", "graded"), ("grid+gateway", "graded"), ("sim2d", "point")],
+    params=[
+        ("sim2d", "graded"),
+        ("grid", "graded"),
+        ("grid+gateway", "graded"),
+        ("csharp", "graded"),
+        ("sim2d", "point"),
+    ],
     ids="-".join,
 )
 def runs(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> dict[str, MindCsv]:
-    """Runs on both engines (the brain, unchanged, must reproduce Section V on either), the grid
-    engine also through ``toyroom gateway`` (a WebSocket instead of Zenoh), with the default
-    graded beliefs, and with the paper's point beliefs (``--set belief_model=point``)."""
+    """Runs on every engine (the brain, unchanged, must reproduce Section V on each): sim2d, the
+    grid engine over Zenoh and through ``toyroom gateway`` (a WebSocket), and the C# SDK's
+    engine under Mono (always through the gateway), with the default graded beliefs, and with
+    the paper's point beliefs (``--set belief_model=point``)."""
     engine, belief_model = request.param
     engine_args = ("--engine", "grid", "--gateway") if engine == "grid+gateway" else ("--engine", engine)
     out = {}

@@ -11,6 +11,7 @@ import threading
 import time
 from pathlib import Path
 
+import pytest
 from support import EngineProcess
 
 from bridge import Bridge, handshake
@@ -92,10 +93,19 @@ def test_lockstep_brain_resumes_after_an_engine_restart(world: str) -> None:
         engine.close()
 
 
-def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(world: str, tmp_path: Path) -> None:
-    """The grid engine through ``toyroom gateway``: killed, the gateway withdraws its token and
-    the brain reports it lost; a new engine on the same gateway lets the brain finish."""
-    from support import GatewayProcess, GridEngineProcess
+@pytest.mark.parametrize("engine", ["grid", "csharp"])
+def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(
+    world: str, tmp_path: Path, engine: str
+) -> None:
+    """The grid engine (Python, or C# under Mono) through ``toyroom gateway``: killed, the gateway
+    withdraws its token and the brain reports it lost; a new engine on the same gateway lets
+    the brain finish."""
+    from support import CSharpEngineProcess, GatewayProcess, GridEngineProcess
+
+    def start(url: str) -> EngineProcess:
+        if engine == "csharp":
+            return CSharpEngineProcess(url, tmp_path / "exports", str(scenario))
+        return GridEngineProcess(world, "--scenario", str(scenario), "--gateway", url)
 
     minds: queue.Queue[Mind] = queue.Queue()
     # paper-2 with a long first step, so that the engine dies mid-episode (the grid engine
@@ -107,15 +117,15 @@ def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(world: 
         text.replace('{ do = "play", ticks = 20, label = "0" }', '{ do = "play", ticks = 600, label = "0" }')
     )
     with GatewayProcess(world) as gateway:
-        engine = GridEngineProcess(world, "--scenario", str(scenario), "--gateway", gateway.url)
+        running = start(gateway.url)
         brain, lines = start_brain(world, "--scenario", str(scenario), "--max-ticks", "700")
         try:
             with Bridge(world) as watcher:
                 watcher.subscribe(watcher.keys.mind, lambda m, _: minds.put(m), expected=Mind)
                 minds.get(timeout=30)
                 killed_at = time.monotonic()
-                engine.process.kill()
-                engine.process.wait(timeout=10)
+                running.process.kill()
+                running.process.wait(timeout=10)
                 try:
                     at, line = lines.get(timeout=5)
                 except queue.Empty:
@@ -125,7 +135,7 @@ def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(world: 
                     ) from None
                 assert "lost" in line and at - killed_at < 2.5, (line, at - killed_at)
                 assert gateway.process.poll() is None, "the gateway must outlive its engine"
-                with GridEngineProcess(world, "--scenario", str(scenario), "--gateway", gateway.url):
+                with start(gateway.url):
                     at, line = lines.get(timeout=30)
                     assert "back" in line, line
                     assert brain.wait(timeout=120) == 0, (
@@ -134,4 +144,4 @@ def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(world: 
         finally:
             if brain.poll() is None:
                 brain.kill()
-            engine.close()
+            running.close()

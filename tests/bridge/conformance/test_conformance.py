@@ -10,7 +10,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from support import EngineProcess, GatewayProcess, GridEngineProcess
+from support import CSharpEngineProcess, EngineProcess, GatewayProcess, GridEngineProcess
 
 from bridge import Bridge
 from bridge.conformance.suite import EngineConformance
@@ -59,6 +59,20 @@ class TestGridEngineThroughTheGateway(EngineConformance):
     def conformance_world(cls) -> Iterator[str]:
         world = f"gateway-{uuid.uuid4().hex[:6]}"
         with GatewayProcess(world) as gateway, GridEngineProcess(world, "--gateway", gateway.url):
+            yield world
+
+
+class TestCSharpEngine(EngineConformance):
+    """The C# SDK's grid engine under Mono, through the gateway (clients/unity/)."""
+
+    @pytest.fixture(scope="class", params=["paper-robot", "sally-anne"])
+    @classmethod
+    def conformance_world(
+        cls, request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory
+    ) -> Iterator[str]:
+        world = f"csharp-{request.param}-{uuid.uuid4().hex[:6]}"
+        folder = tmp_path_factory.mktemp("scenarios")
+        with GatewayProcess(world) as gateway, CSharpEngineProcess(gateway.url, folder, request.param):
             yield world
 
 

@@ -280,3 +280,27 @@ def test_the_command_names_a_bad_listen_url(world: str) -> None:
         timeout=60,
     )
     assert result.returncode == 2 and "ws://HOST:PORT" in result.stderr, result.stderr
+
+
+def test_a_batch_is_acted_on_in_order_and_a_bad_frame_in_it_is_refused_alone(
+    gateway: Gateway, client: Client
+) -> None:
+    with Bridge(gateway.settings.world) as bridge:
+        states: queue.Queue[State] = queue.Queue()
+        bridge.subscribe(bridge.keys.state, lambda m, _: states.put(m), expected=State)
+        time.sleep(0.2)
+        state = json.loads(_json(golden_examples()["state"]))
+        later = {**state, "tick": state["tick"] + 1}
+        client.send(
+            {
+                "op": "batch",
+                "frames": [
+                    {"op": "put", "key": "engine/state", "payload": state},
+                    {"op": "put", "key": "engine/*", "payload": state},
+                    {"op": "put", "key": "engine/state", "payload": later},
+                ],
+            }
+        )
+        assert client.error()["code"] == "bad_key"
+        ticks = [states.get(timeout=5).tick, states.get(timeout=5).tick]
+        assert ticks == [state["tick"], state["tick"] + 1], f"expected both good puts in order, got {ticks}"

@@ -1145,6 +1145,20 @@ namespace Toyroom.Gateway
     }
 
     /// <summary>
+    /// Client -&gt; gateway: several frames in one WebSocket message, acted on in order (an
+    /// engine sends a tick's events, statuses, state and the step's reply as one batch: one
+    /// message instead of four, and one wake-up of the gateway).
+    /// </summary>
+    public sealed class Batch
+    {
+        [JsonProperty("frames")]
+        public List<JObject> Frames { get; set; } = new List<JObject>();
+        public const string Tag = "batch";
+        [JsonProperty("op", Order = -3)]
+        public string Op { get; set; } = Tag;
+    }
+
+    /// <summary>
     /// Gateway -&gt; client: a frame was refused; <c>ref</c> is its <c>id</c> or <c>qid</c> when it had one.
     /// </summary>
     public sealed class FrameError
