@@ -96,9 +96,10 @@ def run_doctor(
             for encoding, sender in senders.items():
                 size = len(encode(message, encoding))
                 try:
-                    seconds = _round_trip(
-                        sender, client, message, f"{client.keys.prefix}/doctor/{tag}", repeats
-                    )
+                    # a key per encoding: a subscription just undeclared on a shared key can
+                    # still match the next publisher, which then sends into the void
+                    key = f"{client.keys.prefix}/doctor/{tag}/{encoding.name.lower()}"
+                    seconds = _round_trip(sender, client, message, key, repeats)
                     row += [str(size), f"{seconds * 1e6:.0f}"]
                 except RuntimeError as err:
                     failures += 1
