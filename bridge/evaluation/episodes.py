@@ -19,6 +19,7 @@ import logging
 import subprocess
 import sys
 import tempfile
+import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
@@ -147,6 +148,7 @@ def run_episode(job: EpisodeJob) -> dict[str, Any]:
 
 
 def _episode(job: EpisodeJob) -> dict[str, Any]:
+    started = time.monotonic()
     directory = Path(job.workdir) / job.condition.name
     condition = job.condition
     scenario = generate(
@@ -160,11 +162,15 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
     engine_args: tuple[str, ...] = ()
     if job.condition.minds == "model":  # people act by the planner under the run's settings
         engine_args = ("--policy", str(policy_table(scenario, job.brain_args, directory / "policies")))
+    out["run_seconds"] = {}
     for spec in episode_runs(scenario, args, job.condition.perception, job.policies):
         spec = dataclasses.replace(spec, engine_args=engine_args)
         if job.record:
             spec = _recorded(spec, Path(job.workdir).parent / "recordings" / job.condition.name)
-        for observer, result in _run_with_retries(spec, logs, failures).items():
+        run_started = time.monotonic()
+        results = _run_with_retries(spec, logs, failures)
+        out["run_seconds"][spec.tag.removeprefix(f"{scenario.stem}-")] = time.monotonic() - run_started
+        for observer, result in results.items():
             key = observer if spec.robot == "observe" else f"{ROBOT}-{spec.policy}"
             out[key] = {
                 "counts": result.counts.__dict__,
@@ -175,6 +181,7 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
                 "help": {p: dataclasses.asdict(h) for p, h in result.help.items()},
             }
     out["failed_runs"] = failures
+    out["seconds"] = time.monotonic() - started
     return out
 
 
@@ -231,7 +238,9 @@ def evaluate(
         for c in conditions
         for i in range(episodes)
     ]
+    started = time.monotonic()
     results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
+    took = time.monotonic() - started
     measured = []
     for condition, chunk in zip(conditions, _chunks(results, episodes), strict=True):
         chunk.sort(key=lambda r: int(r["index"]))
@@ -245,6 +254,7 @@ def evaluate(
         "brain_args": list(brain_args),
         "policies": [*policies, "none"],
         "command": command,
+        "timing": timing(results, took, workers),
         "conditions": measured,
     }
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
@@ -256,6 +266,23 @@ def evaluate(
     )
     (out / "report.md").write_text(report(metrics, out))
     return metrics
+
+
+def timing(results: list[dict[str, Any]], took: float, workers: int) -> dict[str, Any]:
+    """How long the evaluation took: wall seconds in all and per episode (with ``workers`` at
+    a time), and one episode's own seconds and each kind of run's, averaged."""
+    own = [r["seconds"] for r in results if "seconds" in r]
+    runs: dict[str, list[float]] = {}
+    for r in results:
+        for name, seconds in r.get("run_seconds", {}).items():
+            runs.setdefault(name, []).append(seconds)
+    return {
+        "seconds": took,
+        "workers": workers,
+        "seconds_per_episode": took / max(1, len(results)),
+        "episode_seconds_mean": sum(own) / len(own) if own else None,
+        "run_seconds_mean": {name: sum(v) / len(v) for name, v in sorted(runs.items())},
+    }
 
 
 def _chunks(results: list[dict[str, Any]], size: int) -> list[list[dict[str, Any]]]:

@@ -138,6 +138,18 @@ def _condition(condition: Mapping[str, Any], out: Path | None) -> list[str]:
     return lines
 
 
+def _timing(timing: Mapping[str, Any]) -> str:
+    """The report's line on how long it took."""
+    runs = ", ".join(f"`{name}` {seconds:.1f} s" for name, seconds in timing["run_seconds_mean"].items())
+    own = timing.get("episode_seconds_mean")
+    return (
+        f"Took {timing['seconds']:.0f} s: **{timing['seconds_per_episode']:.2f} s per episode** with "
+        f"{timing['workers']} at a time"
+        + (f" (one episode's runs, one after the other: {own:.1f} s; per run: {runs})" if own else "")
+        + "."
+    )
+
+
 def report(metrics: Mapping[str, Any], out: Path | None = None) -> str:
     """``report.md``'s text; with ``out``, also draws each condition's figure there."""
     lines = [
@@ -146,6 +158,8 @@ def report(metrics: Mapping[str, Any], out: Path | None = None) -> str:
     ]
     if metrics.get("command"):
         lines += ["```", metrics["command"], "```", ""]
+    if metrics.get("timing"):
+        lines += [_timing(metrics["timing"]), ""]
     lines += [
         "Online estimates against the simulated people's true minds (lower `belief_tv` is better; "
         "a false belief: the person's true belief gives the item's true location less than 0.1). "
