@@ -109,6 +109,7 @@ def test_ray_backend_agrees_with_local(local: tuple[dict, list[int], Path], tmp_
         "ray": [c.pop("failed_runs_retried") for c in ray["conditions"]],
     }
     assert ray.pop("command").startswith("toyroom eval") and expected.pop("command") == ""
+    assert ray.pop("timing")["seconds"] > 0 and expected.pop("timing")["seconds"] > 0  # the machine's, too
     assert ray == expected, f"the Ray backend gave {ray}, the local one {expected} (retried runs: {retried})"
 
 
