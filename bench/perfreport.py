@@ -91,6 +91,19 @@ def _gateway_rows(numbers: dict[str, Any]) -> list[str]:
     return rows
 
 
+def _eval_rows(numbers: dict[str, Any]) -> list[str]:
+    """The evaluation's speed, when the run measured it."""
+    if "eval_timing" not in numbers:
+        return []
+    timing = numbers["eval_timing"]
+    runs = ", ".join(f"{name} {seconds:.1f} s" for name, seconds in timing["run_seconds_mean"].items())
+    return [
+        f"| `eval_seconds_per_episode`: `toyroom eval`, {timing['episodes']} episodes, "
+        f"{timing['workers']} workers | {timing['seconds_per_episode']:.2f} | <= 1.2 (500 in 10 min) |",
+        f"| of which, one run at a time: {runs} | | |",
+    ]
+
+
 def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
     """The section's text."""
     zenoh = numbers["zenoh_rtt_us"]
@@ -111,6 +124,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         f"| of which: raw query between two processes | {profile['zenoh_query_two_processes_us']:.0f} | |",
         f"| of which: the engine's tick alone (`paper-auto`) | {profile['engine_step_us']:.0f} | |",
         *_gateway_rows(numbers),
+        *_eval_rows(numbers),
         "| `brain_step_us` median / p99, paper map, point beliefs | "
         f"{step['median']:.0f} / {step['p99']:.0f} | <= 1000 |",
         f"| `planner_cold_s`, paper map, point beliefs | {numbers['planner_cold_s']:.3f} | <= 0.5 |",

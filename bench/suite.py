@@ -10,6 +10,8 @@
   process for one tick and gets its state back;
 - ``gateway``: a query answered through ``toyroom gateway``, and a lock-step tick of the grid
   engine over Zenoh, through the gateway, and of the C# engine (``bench/gateway_bench.py``);
+- ``eval_seconds_per_episode``: ``toyroom eval``'s wall seconds per episode with its defaults
+  (2 workers; 8 episodes, 2 with ``--quick``), ``eval_timing`` how they split into runs;
 - ``brain_step_us`` (median, p99): the online update per person per step, paper map, with
   point beliefs (``graded.brain_step_us``: with the graded default);
 - ``planner_cold_s``: the planner on the paper map with an empty cache (point; ``graded.``
@@ -195,6 +197,16 @@ def lockstep(rounds: int) -> list[float]:
         engine.wait(timeout=10)
 
 
+def eval_speed(episodes: int) -> dict[str, Any]:
+    """``toyroom eval``'s timing on ``episodes`` episodes with its defaults (2 workers): the
+    target is 500 episodes in 10 minutes, 1.2 s per episode."""
+    from bridge.evaluation.episodes import evaluate
+
+    with tempfile.TemporaryDirectory() as folder:
+        timing: dict[str, Any] = evaluate(episodes, 1, Path(folder))["timing"]
+    return {**timing, "episodes": episodes}
+
+
 def main(quick: bool, out: Path) -> dict[str, Any]:
     rounds = 300 if quick else 2000
     from sim2d.engine import Engine  # only to make a state of the paper map's size
@@ -207,6 +219,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     tick_times = lockstep(rounds)
     engine_times = engine_step(rounds)
     gateway = gateway_bench.main(rounds // 2, state)
+    evaluation = eval_speed(2 if quick else 8)
     brain = brain_bench.main(repeats=1 if quick else 5)
     scaled = scaling.main(quick)
     numbers: dict[str, Any] = {
@@ -222,6 +235,8 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
             "engine_step_us": statistics.median(engine_times) * 1e6,
         },
         "gateway": gateway,
+        "eval_seconds_per_episode": evaluation["seconds_per_episode"],
+        "eval_timing": evaluation,
         "brain_step_us": {"median": brain["brain_step_us_median"], "p99": brain["brain_step_us_p99"]},
         "planner_cold_s": brain["planner_cold_s"],
         "graded": {
@@ -262,6 +277,11 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     )
     if "csharp" in ticks:
         table.add_row("C# grid engine tick (Mono), gateway", f"{ticks['csharp']:.0f}", "")
+    table.add_row(
+        f"eval_seconds_per_episode ({evaluation['episodes']} episodes, {evaluation['workers']} workers)",
+        f"{evaluation['seconds_per_episode']:.2f}",
+        "<= 1.2 (500 in 10 min)",
+    )
     table.add_row(
         "point beliefs: brain_step_us median / p99",
         f"{brain['brain_step_us_median']:.0f} / {brain['brain_step_us_p99']:.0f}",

@@ -65,9 +65,14 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
         "brain_step_us",
         "planner_cold_s",
         "scaling",
+        "gateway",
+        "eval_seconds_per_episode",
     ):
         assert field in numbers, field
     assert numbers["zenoh_rtt_us"] > 0 and numbers["lockstep_ticks_per_s"] > 0
+    ticks = numbers["gateway"]["lockstep_tick_us"]
+    assert ticks["direct"] > 0 and ticks["gateway"] > 0 and ticks["csharp"] > 0, ticks
+    assert numbers["eval_seconds_per_episode"] > 0 and numbers["eval_timing"]["episodes"] == 2
     assert numbers["graded"]["brain_step_us"]["median"] > 0 and numbers["graded"]["planner_cold_s"] > 0
     rows = numbers["scaling"]
     for row in rows:
