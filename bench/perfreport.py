@@ -100,7 +100,7 @@ def _eval_rows(numbers: dict[str, Any]) -> list[str]:
     return [
         f"| `eval_seconds_per_episode`: `toyroom eval`, {timing['episodes']} episodes, "
         f"{timing['workers']} workers | {timing['seconds_per_episode']:.2f} | <= 1.2 (500 in 10 min) |",
-        f"| of which, one run at a time: {runs} | | |",
+        f"| of which, each run's mean wall time ({timing['workers']} at a time): {runs} | | |",
     ]
 
 

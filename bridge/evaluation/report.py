@@ -145,7 +145,7 @@ def _timing(timing: Mapping[str, Any]) -> str:
     return (
         f"Took {timing['seconds']:.0f} s: **{timing['seconds_per_episode']:.2f} s per episode** with "
         f"{timing['workers']} at a time"
-        + (f" (one episode's runs, one after the other: {own:.1f} s; per run: {runs})" if own else "")
+        + (f" (an episode's runs, one after the other: {own:.1f} s; each kind of run: {runs})" if own else "")
         + "."
     )
 
