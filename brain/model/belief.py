@@ -144,8 +144,17 @@ class BeliefModel:
             x = x / (1.0 + self.r * (reach - 1.0))[None, :]
         tensor = x.reshape(len(x), *([V] * K))
         for k in range(K):
-            step = (may_change[k][None, :] | np.eye(V, dtype=bool)).astype(np.float64)  # [i_k, j_k]
-            tensor = np.moveaxis(np.tensordot(tensor, step, axes=([1 + k], [1])), -1, 1 + k)
+            # M_k[i, j] is 1 for every i where value j may change, else only for i = j: so the
+            # product is, at every value, the sum over the changeable values (one matrix-vector
+            # product), plus the value's own mass where it cannot change
+            movable = may_change[k]
+            if not movable.any():
+                continue
+            total = np.tensordot(tensor, movable.astype(np.float64), axes=([1 + k], [0]))
+            out = np.broadcast_to(np.expand_dims(total, 1 + k), tensor.shape).copy()
+            keep = (slice(None),) * (1 + k) + (~movable,)
+            out[keep] += tensor[keep]
+            tensor = out
         return (1.0 - self.r) * x + self.r * tensor.reshape(len(x), -1)
 
     def change_weights(self, p: Percept) -> FloatArray:

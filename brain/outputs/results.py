@@ -40,19 +40,13 @@ def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None
         est = tracker.online(person)
         if est is None:
             continue
+        # rounded as arrays, then read as Python floats: a round() per number is most of the cost
+        rows = np.round(np.asarray(est.beliefs, dtype=np.float64), 6).tolist()
         beliefs = tuple(
-            ItemBelief(
-                item=item,
-                locations=tuple(
-                    Prob(loc, round(float(est.beliefs[k, li]), 6)) for li, loc in enumerate(model.locations)
-                ),
-            )
-            for k, item in enumerate(model.items)
+            ItemBelief(item=item, locations=tuple(map(Prob, model.locations, row)))
+            for item, row in zip(model.items, rows, strict=True)
         )
-        preference = tuple(
-            Prob(name, round(float(p), 6))
-            for name, p in zip((*model.items, OUT), est.preference, strict=True)
-        )
+        preference = tuple(map(Prob, (*model.items, OUT), np.round(est.preference, 6).tolist()))
         item_index, location_index, p = est.intention
         intention = Intention(
             item=model.items[item_index] if item_index is not None else None,
@@ -67,8 +61,7 @@ def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None
                 intention=intention,
                 false_beliefs=tuple(model.items[k] for k in est.false_beliefs),
                 false_belief=tuple(
-                    Prob(item, round(float(np.clip(est.false_belief[k], 0.0, 1.0)), 6))
-                    for k, item in enumerate(model.items)
+                    map(Prob, model.items, np.round(np.clip(est.false_belief, 0.0, 1.0), 6).tolist())
                 ),
                 desire=desire_message(est.desire, (*model.items, OUT)),
                 worlds=tuple(
