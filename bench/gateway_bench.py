@@ -14,7 +14,6 @@
 from __future__ import annotations
 
 import json
-import re
 import shutil
 import statistics
 import subprocess
@@ -29,32 +28,25 @@ from typing import Any
 from websockets.sync.client import connect
 
 from bridge import Bridge, LockstepClient, handshake, query
-from bridge.processes import CHECKOUT
+from bridge.processes import CHECKOUT, start_gateway, stop_node
+from bridge.session import SessionSettings
 from protocol import State
 
 GRID = CHECKOUT / "examples" / "grid_engine" / "main.py"
 
 
 class Gateway:
-    """``python -m bridge.gateway`` on a free port, for one measurement."""
+    """``python -m bridge.gateway`` on a free port (:func:`bridge.processes.start_gateway`),
+    for one measurement."""
 
     def __init__(self, world: str) -> None:
-        self.log = tempfile.TemporaryFile()
-        command = [sys.executable, "-m", "bridge.gateway", "--world", world, "--listen", "ws://127.0.0.1:0"]
-        self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT)
-        deadline = time.monotonic() + 30
-        while time.monotonic() < deadline:
-            self.log.seek(0)
-            match = re.search(rb" on (ws://[^\s()]+) \(ready\)", self.log.read())
-            if match:
-                self.url = match.group(1).decode()
-                return
-            time.sleep(0.05)
-        raise RuntimeError("the gateway did not start")
+        self.folder = tempfile.TemporaryDirectory()
+        log = Path(self.folder.name) / "gateway.log"
+        self.process, self.url = start_gateway(world, SessionSettings(), log)
 
     def close(self) -> None:
-        self.process.terminate()
-        self.process.wait(timeout=10)
+        stop_node(self.process)
+        self.folder.cleanup()
 
 
 def query_rtt(rounds: int, state: State) -> list[float]:

@@ -219,10 +219,3 @@ FRAME_TYPES: tuple[type[Frame], ...] = (
     FrameError,
 )
 """All frame types, in the order the documentation lists them."""
-
-
-def op_of(cls: type[Frame]) -> str:
-    """The ``op`` tag of a frame class (``Put`` -> ``"put"``)."""
-    tag = cls.__struct_config__.tag
-    assert isinstance(tag, str)
-    return tag

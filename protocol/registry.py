@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import msgspec
+
 from .control import Pause, Reset, Resume, Step
 from .events import Event
 from .handshake import EngineInfo, Hello
@@ -32,8 +34,9 @@ MESSAGE_TYPES: tuple[type[Message], ...] = (
 """All message types, in the order the documentation lists them."""
 
 
-def tag_of(cls: type[Message]) -> str:
-    """The ``type`` tag of a message class (``State`` -> ``"state"``)."""
+def tag_of(cls: type[msgspec.Struct]) -> str:
+    """The tag of a message class (its ``type``: ``State`` -> ``"state"``) or of a gateway
+    frame class (its ``op``: ``Put`` -> ``"put"``)."""
     tag = cls.__struct_config__.tag
     assert isinstance(tag, str)  # every registered class sets a string tag
     return tag

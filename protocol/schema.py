@@ -15,7 +15,7 @@ from typing import Any
 import msgspec
 
 from .bundled import bundled_dir
-from .frames import FRAME_TYPES, FRAMES_VERSION, Frame, op_of
+from .frames import FRAME_TYPES, FRAMES_VERSION, Frame
 from .registry import MESSAGE_TYPES, tag_of
 from .version import PROTOCOL_VERSION
 
@@ -51,7 +51,7 @@ def _clean(key: str, value: Any) -> Any:
 def message_schema(cls: type[msgspec.Struct]) -> dict[str, Any]:
     """The JSON Schema of one message class, self-contained (its ``$defs`` included), with
     what a msgspec release may format differently normalised (:func:`normalised`)."""
-    tag = tag_of(cls)  # type: ignore[arg-type]
+    tag = tag_of(cls)
     body = normalised(msgspec.json.schema(cls))
     # The envelope's ``protocol`` has a default for senders, but decoders require it.
     definition = body["$defs"][cls.__name__]
@@ -74,7 +74,7 @@ def message_schema(cls: type[msgspec.Struct]) -> dict[str, Any]:
 
 def frame_schema(cls: type[Frame]) -> dict[str, Any]:
     """The JSON Schema of one gateway frame class, self-contained."""
-    op = op_of(cls)
+    op = tag_of(cls)
     schema: dict[str, Any] = {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": f"toyroom/gateway/{FRAMES_VERSION}/{op}.json",
@@ -92,7 +92,7 @@ def render_all() -> dict[str, str]:
     """Every schema file's path (relative to the schema directory) and exact text (sorted
     keys, 2-space indent, final newline): the messages, then ``gateway/`` the frames."""
     files = {f"{tag_of(cls)}.json": _text(message_schema(cls)) for cls in MESSAGE_TYPES}
-    files.update({f"gateway/{op_of(cls)}.json": _text(frame_schema(cls)) for cls in FRAME_TYPES})
+    files.update({f"gateway/{tag_of(cls)}.json": _text(frame_schema(cls)) for cls in FRAME_TYPES})
     return files
 
 

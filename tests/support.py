@@ -179,21 +179,22 @@ class GatewayProcess(EngineProcess):
     """``python -m bridge.gateway`` on a world, on a free loopback port (:attr:`url`)."""
 
     def __init__(self, world: str, *args: str) -> None:
-        import re
         import sys
         import time
+
+        from bridge.processes import GATEWAY_READY
 
         self.world = world
         self._start(
             [sys.executable, "-m", "bridge.gateway", "--world", world, "--listen", "ws://127.0.0.1:0", *args]
         )
         deadline = time.monotonic() + 30
-        while (match := re.search(r" on (ws://[^\s()]+) \(ready\)", self.output())) is None:
+        while (match := GATEWAY_READY.search(self.output())) is None:
             assert self.process.poll() is None and time.monotonic() < deadline, (
                 f"the gateway did not start:\n{self.output()}"
             )
             time.sleep(0.05)
-        self.url = match.group(1)
+        self.url = match.group("url")
 
 
 class CSharpEngineProcess(EngineProcess):
