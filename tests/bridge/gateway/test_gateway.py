@@ -274,7 +274,7 @@ def _await_queryable(bridge: Bridge, key: str, timeout: float = 5.0) -> None:
     querier = bridge.session.declare_querier(key)
     try:
         deadline = time.monotonic() + timeout
-        while not querier.matching_status.matching:
+        while not querier.matching_status.matching:  # type: ignore[attr-defined]
             assert time.monotonic() < deadline, f"no queryable on {key} within {timeout} s"
             time.sleep(0.01)
     finally:
