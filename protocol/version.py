@@ -54,6 +54,8 @@ def check_version(theirs: str, *, message_type: str | None = None) -> bool:
         VersionMismatch: the major versions differ.
         ProtocolError: ``theirs`` is not a ``major.minor`` version.
     """
+    if theirs == PROTOCOL_VERSION:  # the usual case, without parsing (every message checks)
+        return True
     version = Version.parse(theirs, message_type=message_type)
     if version.major != CURRENT.major:
         raise VersionMismatch(PROTOCOL_VERSION, theirs, message_type=message_type)

@@ -76,6 +76,8 @@ class AutonomousPerson:
         self.errand_after = setup.errand_after
         self.moves = setup.moves
         """The first jobs of a task episode (``AgentSetup.errand``, ``AgentSetup.moves``)."""
+        self._mind: tuple[bytes, str, TrueMind] | None = None
+        """The last :meth:`mind`, with the belief and preference it was made of."""
 
     @property
     def finished(self) -> bool:
@@ -83,7 +85,11 @@ class AutonomousPerson:
         return False
 
     def mind(self) -> TrueMind:
-        """The person's true belief and preference (for ``engine/truth``)."""
+        """The person's true belief and preference (for ``engine/truth``); made again only
+        when either has changed since the last call."""
+        key = self.belief.p.tobytes()
+        if self._mind is not None and self._mind[0] == key and self._mind[1] == self.preference:
+            return self._mind[2]
         beliefs = tuple(
             ItemBelief(
                 item=item,
@@ -94,7 +100,9 @@ class AutonomousPerson:
             )
             for item in self.belief.items
         )
-        return TrueMind(agent=self.id, beliefs=beliefs, preference=self.preference)
+        mind = TrueMind(agent=self.id, beliefs=beliefs, preference=self.preference)
+        self._mind = (key, self.preference, mind)
+        return mind
 
     # ----- the tick ---------------------------------------------------------------------
 

@@ -193,8 +193,7 @@ class Engine:
         exchange(autonomous, world, self.gossip, self.scenario.autonomy.hearsay)
         for robot in self.robots.values():
             robot.update(world, self.people)
-        world.physics.step()
-        world.after_physics()
+        world.step_physics()
         for person in self.people.values():  # true minds as of the end of the tick
             if isinstance(person, AutonomousPerson):
                 person.perceive(world)

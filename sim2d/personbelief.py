@@ -31,26 +31,51 @@ class PersonBelief:
         self.items = list(items)
         self.locations = list(locations)
         self.p = np.full((len(items), len(locations)), 1.0 / max(len(locations), 1))
+        self._row = {item: k for k, item in enumerate(self.items)}
+        self._column = {loc: j for j, loc in enumerate(self.locations)}
+        self._masks: dict[tuple[str, ...], tuple[npt.NDArray[np.bool_], FloatArray | None]] = {}
+        self._last: tuple[object, bytes, FloatArray] | None = None
+        """The last percept, the belief it met (as bytes) and the belief it made."""
+
+    def _view(self, visible: Collection[str]) -> tuple[npt.NDArray[np.bool_], FloatArray | None]:
+        """``(L,)`` which locations are in view, and the uniform belief over those out of view
+        (``None`` when every location is in view); kept per set of visible locations."""
+        key = tuple(visible)
+        cached = self._masks.get(key)
+        if cached is None:
+            mask = np.array([loc in visible for loc in self.locations], dtype=bool)
+            hidden = ~mask
+            elsewhere = np.where(mask, 0.0, 1.0) / hidden.sum() if hidden.any() else None
+            cached = self._masks[key] = (mask, elsewhere)
+        return cached
 
     def perceive(
         self, visible: Collection[str], seen: Mapping[str, str], missed: Collection[str] = ()
     ) -> None:
         """Update on a percept: ``visible`` location ids, and where each item in view is;
-        the beliefs about items in ``missed`` (in view, not noticed) are left alone."""
-        mask = np.array([loc in visible for loc in self.locations])
-        for k, item in enumerate(self.items):
-            if item in missed:
-                continue
-            if item in seen:
-                self.p[k] = 0.0
-                self.p[k, self.locations.index(seen[item])] = 1.0
-                continue
-            row = np.where(mask, 0.0, self.p[k])
-            total = row.sum()
-            if total > 0:
-                self.p[k] = row / total
-            elif (~mask).any():  # it was believed in view but is gone: anywhere out of view
-                self.p[k] = np.where(mask, 0.0, 1.0) / (~mask).sum()
+        the beliefs about items in ``missed`` (in view, not noticed) are left alone. The same
+        percept meeting the same belief again (someone standing still) gives the same result
+        without the arithmetic."""
+        key = (tuple(visible), tuple(seen.items()), frozenset(missed))
+        before = self.p
+        met = before.tobytes()
+        if self._last is not None and self._last[0] == key and self._last[1] == met:
+            self.p = self._last[2].copy()
+            return
+        mask, elsewhere = self._view(visible)
+        kept = np.where(mask, 0.0, before)
+        totals = kept.sum(axis=1)
+        after = np.divide(kept, totals[:, None], out=before.copy(), where=totals[:, None] > 0)
+        if elsewhere is not None:  # believed in view but gone: anywhere out of view
+            after[totals <= 0] = elsewhere
+        for item, where in seen.items():
+            k = self._row[item]
+            after[k] = 0.0
+            after[k, self._column[where]] = 1.0
+        for item in missed:
+            after[self._row[item]] = before[self._row[item]]
+        self.p = after
+        self._last = (key, met, after.copy())
 
     def start(self, truth: Mapping[str, str], knows: float, stale: float, rng: np.random.Generator) -> None:
         """Draw what the person knows before the episode (``Autonomy.knows``,

@@ -48,6 +48,8 @@ class Physics:
         self.space.collision_slop = 0.01  # metres of overlap allowed at a contact
         self.bodies: dict[str, pymunk.Body] = {}
         self._pins: dict[str, pymunk.Constraint] = {}
+        self._controlled: dict[str, Callable[[pymunk.Body, object, float, float], None]] = {}
+        self._still: set[str] = set()
         static = self.space.static_body
         wall_filter = pymunk.ShapeFilter(categories=WALL_CATEGORY, mask=AGENT_CATEGORY)
         for a, b in walls:
@@ -69,12 +71,33 @@ class Physics:
         shape.elasticity = 0.0
 
         def velocity_func(body: pymunk.Body, gravity: object, damping: float, dt: float) -> None:
-            body.velocity = controller((body.position.x, body.position.y), dt)
+            body.velocity = controller(body.position, dt)
 
         body.velocity_func = velocity_func
+        self._controlled[agent_id] = velocity_func
         self.space.add(body, shape)
         self.bodies[agent_id] = body
         return body
+
+    def hold_still(self, agent_id: str, still: bool) -> None:
+        """Whether an agent's controller sits out the next :meth:`step`: only for an agent at
+        rest (zero velocity, no contact, nothing pinned to it) whose controller would answer
+        zero every substep, so that the trajectory is the same to the bit; pymunk's own
+        velocity update (in C) then keeps it at rest, without a Python call per substep."""
+        if still == (agent_id in self._still):
+            return
+        body = self.bodies[agent_id]
+        if still:
+            body.velocity_func = pymunk.Body.update_velocity
+            self._still.add(agent_id)
+        else:
+            body.velocity_func = self._controlled[agent_id]
+            self._still.discard(agent_id)
+
+    def at_rest(self, body_id: str) -> bool:
+        """Whether a body's velocity is exactly zero."""
+        v = self.bodies[body_id].velocity
+        return v.x == 0.0 and v.y == 0.0
 
     def add_item(self, item_id: str, position: tuple[float, float], radius: float = 0.12) -> pymunk.Body:
         """A small body that collides with nothing."""

@@ -191,6 +191,22 @@ class World:
 
         return velocity
 
+    def step_physics(self) -> None:
+        """One tick of physics, then :meth:`after_physics`. An agent standing still on its
+        cell's centre with no path and empty hands skips its controller (which would answer
+        zero every substep): most agents stand still most ticks."""
+        for agent_id, agent in self.agents.items():
+            self.physics.hold_still(agent_id, self._standing_still(agent))
+        self.physics.step()
+        self.after_physics()
+
+    def _standing_still(self, agent: Agent) -> bool:
+        if agent.path or agent.holding is not None or not self.physics.at_rest(agent.id):
+            return False
+        x, y = self.physics.position(agent.id)
+        cx, cy = self.map.centre(agent.cell)
+        return math.hypot(cx - x, cy - y) < ARRIVED
+
     def after_physics(self) -> None:
         """Update cells and regions from the bodies; emit enter/leave events."""
         for agent_id, agent in self.agents.items():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import pytest
 
@@ -51,3 +52,41 @@ def test_walls_leave_door_gaps() -> None:
         if y0 == y1 and y0 in (7.0, 8.0):
             assert not (min(x0, x1) < 5.5 < max(x0, x1)), f"a wall blocks the S1-E door: {(x0, y0, x1, y1)}"
     assert not math.isnan(sum(x for (x, _), _ in segments))
+
+
+def test_an_agent_held_still_skips_its_controller_and_moves_as_without() -> None:
+    """``hold_still`` is an optimisation only: a resting agent's trajectory is the same to the
+    bit with its controller sitting out as with it answering zero every substep; once let go,
+    the controller runs again."""
+    game_map = load_map("paper")
+    calls = {"held": 0, "free": 0}
+    target = {"x": game_map.centre((6, 10))}
+
+    def controller(name: str) -> Callable[[tuple[float, float], float], tuple[float, float]]:
+        def velocity(position: tuple[float, float], sub_dt: float) -> tuple[float, float]:
+            calls[name] += 1
+            dx, dy = target["x"][0] - position[0], target["x"][1] - position[1]
+            dist = math.hypot(dx, dy)
+            if dist < 1e-3:
+                return (0.0, 0.0)
+            speed = min(1.5, dist / sub_dt)
+            return (dx / dist * speed, dy / dist * speed)
+
+        return velocity
+
+    worlds = {}
+    for name in calls:
+        physics = Physics(wall_segments(game_map.walkable, game_map.cell_size), dt=0.1)
+        physics.add_agent("a", game_map.centre((6, 10)), 0.25, controller(name))
+        worlds[name] = physics
+    for tick in range(40):
+        if tick == 10:
+            target["x"] = game_map.centre((5, 9))  # a new goal: the held agent must be let go
+        for name, physics in worlds.items():
+            if name == "held":
+                physics.hold_still("a", tick < 10 and physics.at_rest("a"))
+            physics.step()
+        assert worlds["held"].position("a") == worlds["free"].position("a"), f"tick {tick}"
+    assert calls["free"] == 40 * 5, calls
+    assert calls["held"] == 30 * 5, f"expected the controller to sit out 10 ticks of 5 substeps, {calls}"
+    assert worlds["held"].position("a") == pytest.approx(game_map.centre((5, 9)))
