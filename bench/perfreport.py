@@ -17,6 +17,9 @@ from pathlib import Path
 from typing import Any
 
 START, END = "<!-- perf:start -->", "<!-- perf:end -->"
+REVIEW_ENGINE_STEP_US = (154, 430)
+"""The engine's tick alone as the review measured it (``../shared/REVIEW.md``, section 6),
+the anchor of the target "halved"."""
 
 
 def plot(numbers: dict[str, Any], path: Path) -> None:
@@ -104,11 +107,56 @@ def _eval_rows(numbers: dict[str, Any]) -> list[str]:
     ]
 
 
+def _engine_against_review(profile: dict[str, Any]) -> list[str]:
+    """The engine's tick against the review's commit, interleaved in the same run."""
+    then = profile.get("engine_step_vs_review")
+    if then is None:
+        return []
+    return [
+        f"| the same, CPU time per tick now / at the review's `{then['commit']}`, interleaved "
+        f"(`bench/engine_ab.py`) | {then['now_us']:.0f} / {then['then_us']:.0f} "
+        f"| <= 0.5 x: {then['ratio']:.2f} x [{then['ratio_lo']:.2f}, {then['ratio_hi']:.2f}] |"
+    ]
+
+
+def _household_rows(numbers: dict[str, Any]) -> list[str]:
+    """The households table: the default (graded) model per tick for all people together,
+    its smoother and its memory (rows from runs that measured them)."""
+    rows = [r for r in numbers["scaling"] if "tick_us" in r]
+    if not rows:
+        return []
+    lines = [
+        "",
+        "Households: the default (graded) model per tick for all people together (mean, median, "
+        "p99 over the episode's ticks; target: mean <= 20 ms), the time to smooth every person's "
+        "whole episode, the smoothed estimate's TV against the exact model's forward-backward "
+        "(graded; point in brackets) where that fits, and the tracker's memory per person at the "
+        "end (its filters, and every step's record and estimate, which `mind.csv` and the "
+        "smoother read).",
+        "",
+        "| rooms | items | people | model | tick ms: mean / median / p99 | smoothing s "
+        "| smoothed tv vs exact (point) | memory per person MB |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        smoothed = r["smoothed"]
+        tv = "-" if smoothed["tv_vs_exact"] is None else f"{smoothed['tv_vs_exact']:.4f}"
+        if smoothed["point_tv_vs_exact"] is not None:
+            tv += f" ({smoothed['point_tv_vs_exact']:.4f})"
+        lines.append(
+            f"| {r['rooms']} | {r['items']} | {r['people']} | {'exact' if r['exact'] else 'factored'} "
+            f"| {r['tick_us'] / 1e3:.1f} / {r['tick_median_us'] / 1e3:.1f} / {r['tick_p99_us'] / 1e3:.1f} "
+            f"| {smoothed['seconds']:.2f} | {tv} | {r['memory_per_person_bytes'] / 2**20:.1f} |"
+        )
+    return lines
+
+
 def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
     """The section's text."""
     zenoh = numbers["zenoh_rtt_us"]
     step = numbers["brain_step_us"]
     profile = numbers["lockstep_profile"]
+    query = profile["zenoh_query_two_processes_us"]
     lines = [
         f"Measured on this project's 2-core machine by `{command}`; every number below is from "
         "one run (compare ratios, not absolute times, across machines).",
@@ -118,11 +166,14 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         f"| `zenoh_rtt_us`: raw zenoh-python ping-pong, {numbers['payload_bytes']} B | {zenoh:.0f} | |",
         f"| `bridge_rtt_us`: the same with typed messages | {numbers['bridge_rtt_us']:.0f} | |",
         f"| `lockstep_tick_us`: step one tick, get its state | {numbers['lockstep_tick_us']:.0f} "
-        f"| <= {2 * zenoh:.0f} (2 x zenoh) |",
+        f"| <= {1.5 * query:.0f} (1.5 x the raw query): "
+        f"{numbers['lockstep_tick_us'] / query:.2f} x |",
         f"| `lockstep_ticks_per_s` | {numbers['lockstep_ticks_per_s']:.0f} | |",
         f"| of which: raw ping-pong between two processes | {profile['zenoh_rtt_two_processes_us']:.0f} | |",
         f"| of which: raw query between two processes | {profile['zenoh_query_two_processes_us']:.0f} | |",
-        f"| of which: the engine's tick alone (`paper-auto`) | {profile['engine_step_us']:.0f} | |",
+        f"| of which: the engine's tick alone (`paper-auto`) | {profile['engine_step_us']:.0f} "
+        f"| half the review's {REVIEW_ENGINE_STEP_US[0]}-{REVIEW_ENGINE_STEP_US[1]} |",
+        *_engine_against_review(profile),
         *_gateway_rows(numbers),
         *_eval_rows(numbers),
         "| `brain_step_us` median / p99, paper map, point beliefs | "
@@ -155,6 +206,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
             f"| {r['planner_s']:.2f} | {r['step_us']:.0f} ({r['step_p99_us']:.0f}) | {exact} | {tv} | {ptv} "
             f"| {graded} | {gtv} |"
         )
+    lines += _household_rows(numbers)
     paper = numbers["paper_tv_vs_exact"]
     lines += [
         "",
@@ -168,6 +220,14 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
             f"{name} {v['graded_tv_vs_exact']:.4f} (preferences {v['graded_preference_tv_vs_exact']:.4f})"
             for name, v in paper.items()
             if "graded_tv_vs_exact" in v
+        )
+        + "; smoothed, factored against exact forward-backward (point, graded): "
+        + ", ".join(
+            f"{name} {v['smoothed_tv_vs_exact']:.4f}, {v['graded_smoothed_tv_vs_exact']:.4f} "
+            f"(preferences {v['smoothed_preference_tv_vs_exact']:.4f}, "
+            f"{v['graded_smoothed_preference_tv_vs_exact']:.4f})"
+            for name, v in paper.items()
+            if "smoothed_tv_vs_exact" in v
         )
         + ".",
         "",

@@ -20,6 +20,8 @@ import argparse
 import statistics
 import tempfile
 import time
+import tracemalloc
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -37,9 +39,11 @@ from sim2d.engine import Engine
 from sim2d.generate import write_house_episode
 from sim2d.scenario import load_scenario
 
-FAMILY = ((4, 2), (5, 3), (6, 3), (8, 4), (10, 6), (12, 6))
-"""(rooms, items) of the generated houses, smallest first."""
-QUICK_FAMILY = ((4, 2), (5, 3), (8, 4), (10, 6))
+FAMILY = ((4, 2, 2), (5, 3, 2), (6, 3, 2), (8, 4, 2), (10, 6, 2), (12, 6, 2), (16, 8, 6), (20, 10, 8))
+"""(rooms, items, people) of the generated houses, smallest first: the last, households of
+up to eight (target: at most ``HOUSEHOLD_TICK_MS`` per tick for all people together)."""
+QUICK_FAMILY = ((4, 2, 2), (5, 3, 2), (8, 4, 2), (10, 6, 2), (20, 10, 8))
+HOUSEHOLD_TICK_MS = 20.0
 EXACT_FITS = 2000
 """The largest ``W`` for which the benchmark also runs the exact model (its planner takes
 seconds and its step tens of milliseconds there; beyond, it does not fit in memory)."""
@@ -59,15 +63,58 @@ def record(engine: Engine, max_ticks: int) -> Ticks:
     return ticks
 
 
-def follow(engine: Engine, ticks: Ticks, settings: ModelSettings) -> tuple[MindTracker, float, list[float]]:
-    """A tracker over ``ticks`` from a cold cache: (tracker, planner seconds, seconds per person-step)."""
+@dataclass
+class Followed:
+    """A tracker that followed an episode, and what it took."""
+
+    tracker: MindTracker
+    planner_s: float
+    """The person model built from a cold cache."""
+    per_step: list[float]
+    """Seconds per person-step, each tick where someone stepped."""
+    per_tick: list[float]
+    """Seconds per tick, all people together (nobody stepping included)."""
+
+
+def follow(engine: Engine, ticks: Ticks, settings: ModelSettings) -> Followed:
+    """A tracker over ``ticks`` from a cold cache."""
     cached_policy.cache_clear()
     cached_factored_policy.cache_clear()
     start = time.perf_counter()
     tracker = MindTracker(engine.scene(), settings)
     planner = time.perf_counter() - start
-    per_step = [t for t in (timed_observe(tracker, s, e) for s, e in ticks) if t is not None]
-    return tracker, planner, per_step
+    per_step, per_tick = [], []
+    for state, events in ticks:
+        started = time.perf_counter()
+        elapsed = timed_observe(tracker, state, events)
+        per_tick.append(time.perf_counter() - started)
+        if elapsed is not None:
+            per_step.append(elapsed)
+    return Followed(tracker, planner, per_step, per_tick)
+
+
+def memory_per_person(engine: Engine, ticks: Ticks, settings: ModelSettings) -> float:
+    """Bytes a tracker holds per person after ``ticks`` (its filters and the records its
+    smoother needs; the planner, shared by everyone, is cached before and not counted)."""
+    MindTracker(engine.scene(), settings)  # the planner, into its cache
+    tracemalloc.start()
+    try:
+        before = tracemalloc.get_traced_memory()[0]
+        tracker = MindTracker(engine.scene(), settings)
+        for state, events in ticks:
+            tracker.observe(state, events)
+        held = tracemalloc.get_traced_memory()[0] - before
+    finally:
+        tracemalloc.stop()
+    return held / max(1, len(tracker.people))
+
+
+def smoothing(tracker: MindTracker) -> float:
+    """Seconds to smooth every person's whole episode."""
+    start = time.perf_counter()
+    for person in tracker.people:
+        tracker.smoothed(person)
+    return time.perf_counter() - start
 
 
 def divergence(engine: Engine, ticks: Ticks, belief_model: str = "point") -> dict[str, float]:
@@ -91,9 +138,16 @@ def divergence(engine: Engine, ticks: Ticks, belief_model: str = "point") -> dic
                 continue
             beliefs.extend(0.5 * np.abs(a.beliefs - b.beliefs).sum(axis=1))
             preferences.append(0.5 * float(np.abs(a.preference - b.preference).sum()))
+    smoothed_beliefs, smoothed_preferences = [], []
+    for person in exact.people:
+        for a, b in zip(exact.smoothed(person), factored.smoothed(person), strict=True):
+            smoothed_beliefs.extend(0.5 * np.abs(a.beliefs - b.beliefs).sum(axis=1))
+            smoothed_preferences.append(0.5 * float(np.abs(a.preference - b.preference).sum()))
     return {
         "tv_vs_exact": float(np.mean(beliefs)),
         "preference_tv_vs_exact": float(np.mean(preferences)),
+        "smoothed_tv_vs_exact": float(np.mean(smoothed_beliefs)),
+        "smoothed_preference_tv_vs_exact": float(np.mean(smoothed_preferences)),
         "exact_planner_s": planner,
         "exact_step_us": statistics.median(per_step) * 1e6,
     }
@@ -104,45 +158,58 @@ def percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, int(q * (len(ordered) - 1)))]
 
 
-def house(rooms: int, items: int, ticks: int, directory: Path, seed: int = 7) -> dict[str, Any]:
+def house(rooms: int, items: int, people: int, ticks: int, directory: Path, seed: int = 7) -> dict[str, Any]:
     """Every number of one house of the family."""
-    path = write_house_episode(directory, rooms, items, seed, max_ticks=ticks)
+    path = write_house_episode(directory, rooms, items, seed, max_ticks=ticks, people=people)
     engine = Engine(load_scenario(str(path)), robot="observe")
     recorded = record(engine, ticks)
-    tracker, planner, per_step = follow(engine, recorded, ModelSettings(belief_model="point"))
-    model = tracker.model
+    point = follow(engine, recorded, ModelSettings(belief_model="point"))
+    model = point.tracker.model
     row: dict[str, Any] = {
         "rooms": rooms,
         "items": items,
+        "people": len(point.tracker.people),
         "locations": model.n_locations,
         "cells": model.n_cells,
         "worlds": model.n_worlds,
-        "exact": tracker.exact,
-        "planner_s": planner,
-        "step_us": statistics.median(per_step) * 1e6,
-        "step_p99_us": percentile(per_step, 0.99) * 1e6,
-        "steps": len(per_step),
+        "exact": point.tracker.exact,
+        "planner_s": point.planner_s,
+        "step_us": statistics.median(point.per_step) * 1e6,
+        "step_p99_us": percentile(point.per_step, 0.99) * 1e6,
+        "steps": len(point.per_step),
         "tv_vs_exact": None,
         "preference_tv_vs_exact": None,
         "exact_planner_s": None,
         "exact_step_us": None,
     }
+    smoothed: dict[str, Any] = dict.fromkeys(("tv_vs_exact", "preference_tv_vs_exact", "point_tv_vs_exact"))
     if model.n_worlds <= EXACT_FITS:
-        row.update(divergence(engine, recorded))
-    _, graded_planner, graded_steps = follow(engine, recorded, ModelSettings())
+        numbers = divergence(engine, recorded)
+        smoothed["point_tv_vs_exact"] = numbers.pop("smoothed_tv_vs_exact")
+        numbers.pop("smoothed_preference_tv_vs_exact")
+        row.update(numbers)
+    graded = follow(engine, recorded, ModelSettings())
+    smoothed["seconds"] = smoothing(graded.tracker)
     row |= {
-        "graded_planner_s": graded_planner,
-        "graded_step_us": statistics.median(graded_steps) * 1e6,
-        "graded_step_p99_us": percentile(graded_steps, 0.99) * 1e6,
+        "graded_planner_s": graded.planner_s,
+        "graded_step_us": statistics.median(graded.per_step) * 1e6,
+        "graded_step_p99_us": percentile(graded.per_step, 0.99) * 1e6,
+        "tick_us": statistics.mean(graded.per_tick) * 1e6,
+        "tick_median_us": statistics.median(graded.per_tick) * 1e6,
+        "tick_p99_us": percentile(graded.per_tick, 0.99) * 1e6,
+        "memory_per_person_bytes": memory_per_person(engine, recorded, ModelSettings()),
         "graded_tv_vs_exact": None,
         "graded_preference_tv_vs_exact": None,
+        "smoothed": smoothed,
     }
     if model.n_worlds <= GRADED_EXACT_FITS:
-        graded = divergence(engine, recorded, "graded")
+        numbers = divergence(engine, recorded, "graded")
         row |= {
-            "graded_tv_vs_exact": graded["tv_vs_exact"],
-            "graded_preference_tv_vs_exact": graded["preference_tv_vs_exact"],
+            "graded_tv_vs_exact": numbers["tv_vs_exact"],
+            "graded_preference_tv_vs_exact": numbers["preference_tv_vs_exact"],
         }
+        smoothed["tv_vs_exact"] = numbers["smoothed_tv_vs_exact"]
+        smoothed["preference_tv_vs_exact"] = numbers["smoothed_preference_tv_vs_exact"]
     return row
 
 
@@ -154,10 +221,9 @@ def paper(ticks: int) -> dict[str, dict[str, float]]:
         recorded = record(engine, ticks)
         numbers = divergence(engine, recorded)
         graded = divergence(engine, recorded, "graded")
-        out[name] = {k: numbers[k] for k in ("tv_vs_exact", "preference_tv_vs_exact")} | {
-            "graded_tv_vs_exact": graded["tv_vs_exact"],
-            "graded_preference_tv_vs_exact": graded["preference_tv_vs_exact"],
-        }
+        kept = ("tv_vs_exact", "preference_tv_vs_exact")
+        kept += tuple(f"smoothed_{k}" for k in kept)
+        out[name] = {k: numbers[k] for k in kept} | {f"graded_{k}": graded[k] for k in kept}
     return out
 
 
@@ -165,14 +231,15 @@ def main(quick: bool = False) -> dict[str, Any]:
     ticks = 400 if quick else 1000
     family = QUICK_FAMILY if quick else FAMILY
     with tempfile.TemporaryDirectory(prefix="toyroom-scaling-") as tmp:
-        rows = [house(rooms, items, ticks, Path(tmp)) for rooms, items in family]
+        rows = [house(rooms, items, people, ticks, Path(tmp)) for rooms, items, people in family]
     numbers = {"scaling": rows, "paper_tv_vs_exact": paper(ticks)}
     table = Table(
         title=f"the brain on generated houses ({ticks} ticks each; factored above W = "
         f"{ModelSettings().exact_max_worlds})"
     )
     columns = ("rooms", "items", "worlds", "model", "planner s", "step us (p99)", "exact: planner s, step us")
-    for column in (*columns, "tv vs exact", "graded step us", "graded tv"):
+    more = ("tv vs exact", "graded step us", "graded tv", "people", "tick ms (p99)", "smoothed tv")
+    for column in (*columns, *more):
         table.add_column(column, justify="right")
     for r in rows:
         tv = "-" if r["tv_vs_exact"] is None else f"{r['tv_vs_exact']:.4f}"
@@ -187,12 +254,16 @@ def main(quick: bool = False) -> dict[str, Any]:
             tv,
             f"{r['graded_step_us']:.0f}",
             "-" if r["graded_tv_vs_exact"] is None else f"{r['graded_tv_vs_exact']:.4f}",
+            str(r["people"]),
+            f"{r['tick_us'] / 1e3:.1f} ({r['tick_p99_us'] / 1e3:.1f})",
+            "-" if r["smoothed"]["tv_vs_exact"] is None else f"{r['smoothed']['tv_vs_exact']:.4f}",
         )
-    Console(width=160).print(table)
+    Console(width=200).print(table)
     for name, v in numbers["paper_tv_vs_exact"].items():
         print(
             f"{name}: tv_vs_exact {v['tv_vs_exact']:.4f}, preferences {v['preference_tv_vs_exact']:.4f}; "
-            f"graded: {v['graded_tv_vs_exact']:.4f}, preferences {v['graded_preference_tv_vs_exact']:.4f}"
+            f"graded: {v['graded_tv_vs_exact']:.4f}, preferences {v['graded_preference_tv_vs_exact']:.4f}; "
+            f"smoothed {v['smoothed_tv_vs_exact']:.4f}, graded {v['graded_smoothed_tv_vs_exact']:.4f}"
         )
     return numbers
 

@@ -4,7 +4,7 @@
   between two sessions on loopback (the floor for this language);
 - ``lockstep_profile``: what a lock-step tick is made of: the same raw ping-pong and a raw
   query between two processes (as the brain and the engine are), and the engine core's
-  tick alone;
+  tick alone (``engine_step_vs_review``: against the review's commit, interleaved);
 - ``bridge_rtt_us``: the same through the bridge's typed messages (encode, decode);
 - ``lockstep_tick_us`` / ``lockstep_ticks_per_s``: a lock-step client asks a sim2d engine
   process for one tick and gets its state back;
@@ -46,6 +46,7 @@ from rich.table import Table
 sys.path.insert(0, str(Path(__file__).parent))
 
 import brain_bench  # noqa: E402
+import engine_ab  # noqa: E402
 import gateway_bench  # noqa: E402
 import perfreport  # noqa: E402
 import scaling  # noqa: E402
@@ -149,6 +150,25 @@ def engine_step(rounds: int) -> list[float]:
     return times
 
 
+REVIEW_COMMIT = "83c38ee"
+"""The commit the review measured (``../shared/REVIEW.md``): the engine's tick is compared
+with its, interleaved in this run (``bench/engine_ab.py``)."""
+
+
+def engine_against_review() -> dict[str, Any] | None:
+    """The engine's tick on ``paper-auto`` now and at :data:`REVIEW_COMMIT`, interleaved
+    (``None`` where git or that commit is missing, as in an exported tree)."""
+    try:
+        with tempfile.TemporaryDirectory(prefix="toyroom-ab-") as folder:
+            from sim2d.engine import Engine
+
+            then = engine_ab.other_engine(REVIEW_COMMIT, Path(folder))
+            return {"commit": REVIEW_COMMIT, **engine_ab.compare(then, Engine, "paper-auto")}
+    except (OSError, subprocess.CalledProcessError) as err:
+        print(f"engine against the review's commit: skipped ({err})")
+        return None
+
+
 def bridge_rtt(rounds: int, state: State) -> list[float]:
     """The same through typed messages: encode, publish, decode, and back."""
     world = f"bench{uuid.uuid4().hex[:6]}"
@@ -218,6 +238,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     pubsub_times, query_times = cross_process(rounds, payload)
     tick_times = lockstep(rounds)
     engine_times = engine_step(rounds)
+    engine_then = engine_against_review()
     gateway = gateway_bench.main(rounds // 2, state)
     evaluation = eval_speed(2 if quick else 8)
     brain = brain_bench.main(repeats=1 if quick else 5)
@@ -233,6 +254,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
             "zenoh_rtt_two_processes_us": statistics.median(pubsub_times) * 1e6,
             "zenoh_query_two_processes_us": statistics.median(query_times) * 1e6,
             "engine_step_us": statistics.median(engine_times) * 1e6,
+            "engine_step_vs_review": engine_then,
         },
         "gateway": gateway,
         "eval_seconds_per_episode": evaluation["seconds_per_episode"],
@@ -257,16 +279,25 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     table.add_column("target", justify="right")
     table.add_row("zenoh_rtt_us (raw, median)", f"{numbers['zenoh_rtt_us']:.0f}", "")
     table.add_row("bridge_rtt_us (typed, median)", f"{numbers['bridge_rtt_us']:.0f}", "")
+    query = numbers["lockstep_profile"]["zenoh_query_two_processes_us"]
     table.add_row(
         "lockstep_tick_us (median)",
         f"{numbers['lockstep_tick_us']:.0f}",
-        f"<= {2 * numbers['zenoh_rtt_us']:.0f} (2 x zenoh)",
+        f"<= {1.5 * query:.0f} (1.5 x raw query): {numbers['lockstep_tick_us'] / query:.2f} x",
     )
     table.add_row("lockstep_ticks_per_s", f"{numbers['lockstep_ticks_per_s']:.0f}", "")
     profile = numbers["lockstep_profile"]
     table.add_row("  raw ping-pong, two processes", f"{profile['zenoh_rtt_two_processes_us']:.0f}", "")
     table.add_row("  raw query, two processes", f"{profile['zenoh_query_two_processes_us']:.0f}", "")
-    table.add_row("  engine tick alone (paper-auto)", f"{profile['engine_step_us']:.0f}", "")
+    low, high = perfreport.REVIEW_ENGINE_STEP_US
+    step = f"{profile['engine_step_us']:.0f}"
+    table.add_row("  engine tick alone (paper-auto)", step, f"half of {low}-{high}")
+    if engine_then is not None:
+        table.add_row(
+            f"  the same against {REVIEW_COMMIT} (interleaved, CPU time)",
+            f"{engine_then['now_us']:.0f} / {engine_then['then_us']:.0f}",
+            f"<= 0.5 x: {engine_then['ratio']:.2f} x",
+        )
     ticks = gateway["lockstep_tick_us"]
     table.add_row("gateway: query answered over WebSocket", f"{gateway['query_rtt_us']:.0f}", "")
     table.add_row("grid engine tick, Zenoh", f"{ticks['direct']:.0f}", "")

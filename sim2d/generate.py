@@ -29,6 +29,8 @@ ITEM_SHAPES = (
     ("frisbee", "ball"),
     ("kite", "board"),
     ("top", "marble"),
+    ("puzzle", "block"),
+    ("yoyo", "marble"),
 )
 """Item ids and shapes, in the order episodes use them (at most this many items)."""
 
@@ -197,11 +199,15 @@ def episode(
     max_ticks: int = 1500,
     minds: str = "simple",
     kind: str = "everyday",
+    people: int = 2,
 ) -> str:
     """The TOML text of a random episode on the map at ``map_path``, which the file names as
     ``map_ref`` (a bundled map's name, or a file name beside the episode: no absolute paths,
     so a folder of episodes can be moved or shared); ``minds``: one of :data:`MINDS`;
-    ``kind``: one of :data:`KINDS`."""
+    ``kind``: one of :data:`KINDS`; ``people``: how many (everyday episodes; people past the
+    second get homes of their own draw, so the first two's episode is the same)."""
+    if people < 1 or (kind == "tasks" and people != 2):
+        raise ValueError(f"an episode has at least 1 person (tasks: 2), not {people}")
     if minds not in MINDS:
         raise ValueError(f"minds must be one of {', '.join(MINDS)}, not {minds!r}")
     if kind not in KINDS:
@@ -244,8 +250,9 @@ def episode(
     if kind == "tasks":
         lines += task_agents(game_map, placed, homes, seed)
     else:
-        for person, home in zip(("A1", "A2"), homes[:2], strict=True):
-            lines += person_lines(person, home)
+        more = np.random.default_rng([seed, 1]).choice(len(cells), size=max(0, people - 2))
+        for n, home in enumerate([*homes[: min(people, 2)], *(cells[int(i)] for i in more)]):
+            lines += person_lines(f"A{n + 1}", home)
     lines += ["[[agents]]", 'id = "robot"', 'kind = "robot"', f"home = [{homes[2][0]}, {homes[2][1]}]", ""]
     return "\n".join(lines)
 
@@ -285,9 +292,11 @@ def write_house_episode(
     max_ticks: int = 1500,
     minds: str = "simple",
     kind: str = "everyday",
+    people: int = 2,
 ) -> Path:
     """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
-    ``items`` items on it (the scaling family of ``toyroom bench``); return its path."""
+    ``items`` items and ``people`` people on it (the scaling family of ``toyroom bench``);
+    return its path."""
     if rooms < 2:
         raise ValueError(f"a house has at least 2 rooms, not {rooms}")
     directory.mkdir(parents=True, exist_ok=True)
@@ -297,7 +306,17 @@ def write_house_episode(
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
     path.write_text(
-        episode(name, map_path.name, map_path, items, seed, max_ticks=max_ticks, minds=minds, kind=kind)
+        episode(
+            name,
+            map_path.name,
+            map_path,
+            items,
+            seed,
+            max_ticks=max_ticks,
+            minds=minds,
+            kind=kind,
+            people=people,
+        )
     )
     return path
 

@@ -76,8 +76,25 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     assert numbers["graded"]["brain_step_us"]["median"] > 0 and numbers["graded"]["planner_cold_s"] > 0
     rows = numbers["scaling"]
     for row in rows:
-        for field in ("rooms", "items", "worlds", "step_us", "planner_s", "exact", "tv_vs_exact"):
+        for field in (
+            "rooms",
+            "items",
+            "people",
+            "worlds",
+            "step_us",
+            "tick_us",
+            "smoothed",
+            "memory_per_person_bytes",
+            "planner_s",
+            "exact",
+            "tv_vs_exact",
+        ):
             assert field in row, f"scaling rows need '{field}', got {sorted(row)}"
+    assert max(r["people"] for r in rows) == 8, "the family should reach households of eight"
+    small = rows[0]["smoothed"]
+    assert 0 <= small["tv_vs_exact"] <= 0.05 and small["seconds"] > 0, small
+    against = numbers["lockstep_profile"]["engine_step_vs_review"]
+    assert against is None or against["now_us"] > 0 < against["then_us"], against
     sizes = [(r["rooms"], r["items"]) for r in rows]
     assert sizes[0] == (4, 2) and max(sizes) >= (10, 6), (
         f"the family should span 4r/2i to 10r/6i, got {sizes}"

@@ -197,7 +197,7 @@ class FactoredBeliefs:
         g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
         if predict:
             g = g / g.sum(axis=1, keepdims=True)
-        new = np.einsum("kij,knj->kni", g, beliefs) * likelihood[:, None, :]
+        new = (beliefs @ g.transpose(0, 2, 1)) * likelihood[:, None, :]  # batched (N, V) @ (V, V)
         total = new.sum(axis=2, keepdims=True)
         return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
 

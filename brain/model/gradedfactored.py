@@ -10,12 +10,14 @@ Q-values of that item's MDP. The robot's posterior is ``alpha[d] * prod_k w[d, k
 given the preference the items' hypotheses are independent, an action is evidence about
 the wanted item's hypothesis only, and a preference switch mixes the per-preference
 weights, projected back onto per-item ones (assumed-density filtering, as the factored
-model does). It filters only. Shapes: ``alpha`` ``(D,)``, ``w`` ``(D, K, P)``, ``beta``
+model does); it is smoothed in the same product form (:mod:`brain.model.factoredsmoother`).
+Shapes: ``alpha`` ``(D,)``, ``w`` ``(D, K, P)``, ``beta``
 ``(K, P, V)``. The error against the exact graded model is measured by ``toyroom bench``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -30,8 +32,10 @@ from .belief import Percept
 from .desires import Desires, favourite_utilities
 from .estimates import Estimate, reread
 from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy
-from .graded import choice_likelihood, expected_q, initial_points
-from .inference import hazard_matrix
+from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
+from .graded import choice_likelihood, initial_points
+from .inference import hazard_matrix, log_of
+from .planner import Move
 
 if TYPE_CHECKING:
     from .personmodel import StepRecord
@@ -71,17 +75,18 @@ class GradedFactoredModel:
 
     def decision_likelihood(self, beliefs: FloatArray, cell: int, held: int, action: int) -> FloatArray:
         """``(D, P)`` the QMDP probability of ``action`` for each preference and hypothesis of
-        its wanted item (``out``: the same for every hypothesis)."""
-        K = self.model.n_items
-        relative = self.policy.relative(held)
-        out = np.empty((K + 1, beliefs.shape[1]))
-        for d in range(K + 1):
-            q = self.policy.q[d, cell, relative[d]]  # (V_d, A)
-            if d == K:
-                out[d] = choice_likelihood(q[0], action, self.settings.beta, self.settings.epsilon)
-                continue
-            values = expected_q(beliefs[d], q)  # (P, A) under each hypothesis's belief about d
-            out[d] = choice_likelihood(values, action, self.settings.beta, self.settings.epsilon)
+        its wanted item (``out``: the same for every hypothesis): every item's ``(P, V)`` beliefs
+        times its ``(V, A)`` Q-values in one batched product."""
+        K, D = self.model.n_items, self.model.n_items + 1
+        q = self.policy.q[np.arange(D), cell, self.policy.relative(held)]  # (D, V, A)
+        feasible = np.isfinite(q[:K])
+        stay = q[:K, :, Move.STAY]
+        values = np.where(feasible, q[:K], np.where(np.isfinite(stay), stay, 0.0)[..., None])
+        possible = beliefs @ feasible.astype(np.float64) > 1e-12  # (K, P, A)
+        expected = np.where(possible, beliefs @ values, -np.inf)
+        out = np.empty((D, beliefs.shape[1]))
+        out[:K] = choice_likelihood(expected, action, self.settings.beta, self.settings.epsilon)
+        out[K] = choice_likelihood(q[K, 0], action, self.settings.beta, self.settings.epsilon)
         return out
 
     def revise(self, beliefs: FloatArray, truth: tuple[int, ...], percept: Percept) -> FloatArray:
@@ -90,8 +95,52 @@ class GradedFactoredModel:
             return np.einsum("kij,knj->kni", self.beliefs.true_world(truth, percept), beliefs)
         return self.beliefs.revise(beliefs, percept, predict=self.settings.belief_update == "predict")
 
-    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
-        return list(online)
+    def smoothed(
+        self, records: Sequence[StepRecord], online: Sequence[Estimate], lag: int | None = None
+    ) -> list[Estimate]:
+        """Each step's estimate given every step (``lag``: given the next ``lag`` only), by
+        forward-backward over the hypotheses' weights (:mod:`brain.model.factoredsmoother`);
+        a hypothesis's own belief follows the percepts whatever the weights, so it is replayed."""
+        run, forward, likelihoods = self.new_filter(), [], []
+        for record in records:
+            likelihoods.append(run.advance(record))
+            forward.append(ProductPosterior(run.alpha, run.weights))
+
+        def step_at(t: int) -> BackwardStep:
+            return BackwardStep(likelihoods[t], records[t].switch)
+
+        smoothed = smooth_products(forward, step_at, lag)
+        beliefs, out = self.new_filter().beliefs, []
+        for record, posterior, est in zip(records, smoothed, online, strict=True):
+            beliefs = self.revise(beliefs, record.truth, record.percept)
+            read = self.read(posterior.alpha, posterior.weights, beliefs, record.truth)
+            out.append(dataclasses.replace(read, log_evidence=est.log_evidence))
+        return out
+
+    def read(
+        self, alpha: FloatArray, weights: FloatArray, beliefs: FloatArray, truth: tuple[int, ...]
+    ) -> Estimate:
+        """The estimate of a posterior ``alpha`` ``(D,)``, ``weights`` ``(D, K, P)`` over the
+        hypotheses whose own beliefs are ``beliefs`` ``(K, P, V)``."""
+        model = self.model
+        K, L = model.n_items, model.n_locations
+        own = beliefs.reshape(K, -1, L, 2).sum(axis=3)  # (K, P, L) each hypothesis's own belief
+        per_item = (weights.transpose(1, 0, 2) @ own).transpose(1, 0, 2)  # (D, K, L), batched over k
+        best: tuple[int | None, int | None, float] = (None, None, float(alpha[K]))
+        for k in range(K):
+            joint = alpha[k] * per_item[k, k]
+            location = int(np.argmax(joint))
+            if joint[location] > best[2]:
+                best = (k, location, float(joint[location]))
+        est = Estimate(
+            beliefs=np.tensordot(alpha, per_item, axes=1),
+            preference=alpha.copy(),
+            intention=best,
+            false_belief=np.zeros(K),
+            hypotheses=(np.tensordot(alpha, weights, axes=1), own),
+            desire=self.desires.summarise(alpha),
+        )
+        return reread(est, truth, self.settings.false_belief_mass)
 
 
 @dataclass
@@ -105,6 +154,11 @@ class GradedFactoredFilter:
     log_evidence: float = 0.0
 
     def step(self, record: StepRecord) -> None:
+        self.advance(record)
+
+    def advance(self, record: StepRecord) -> FloatArray | None:
+        """One step; returns the decision's ``(D, P)`` likelihood (``None`` for a percept alone)."""
+        likelihood = None
         if record.decision is not None:
             likelihood = self.owner.decision_likelihood(self.beliefs, *record.decision)  # (D, P)
             K = self.owner.model.n_items
@@ -112,7 +166,7 @@ class GradedFactoredFilter:
             wanted = self.weights[items, items] * likelihood[:K]  # (K, P)
             evidence = np.append(wanted.sum(axis=1), likelihood[K].mean())
             weighted = self.alpha * evidence
-            self.log_evidence += float(np.log(weighted.sum())) if weighted.sum() > 0 else float("-inf")
+            self.log_evidence += log_of(float(weighted.sum()))
             if weighted.sum() > 0:
                 self.weights = self.weights.copy()
                 self.weights[items, items] = wanted / np.where(
@@ -125,29 +179,11 @@ class GradedFactoredFilter:
         if switch > 0 and D > 1:
             h = hazard_matrix(D, switch)
             mixed = self.alpha @ h
-            self.weights = np.einsum("e,ed,ekp->dkp", self.alpha, h, self.weights) / mixed[:, None, None]
+            joint = h.T @ (self.alpha[:, None] * self.weights.reshape(D, -1))  # (D, K P)
+            self.weights = joint.reshape(self.weights.shape) / mixed[:, None, None]
             self.alpha = mixed / mixed.sum()
+        return likelihood
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        model = self.owner.model
-        K, L = model.n_items, model.n_locations
-        own = self.beliefs.reshape(K, -1, L, 2).sum(axis=3)  # (K, P, L) each hypothesis's own belief
-        per_item = np.einsum("dkp,kpl->dkl", self.weights, own)  # (D, K, L)
-        beliefs = np.einsum("d,dkl->kl", self.alpha, per_item)
-        best: tuple[int | None, int | None, float] = (None, None, float(self.alpha[K]))
-        for k in range(K):
-            joint = self.alpha[k] * per_item[k, k]
-            location = int(np.argmax(joint))
-            if joint[location] > best[2]:
-                best = (k, location, float(joint[location]))
-        weights = np.einsum("d,dkp->kp", self.alpha, self.weights)  # (K, P)
-        est = Estimate(
-            beliefs=beliefs,
-            preference=self.alpha.copy(),
-            intention=best,
-            false_belief=np.zeros(K),
-            hypotheses=(weights, own),
-            desire=self.owner.desires.summarise(self.alpha),
-            log_evidence=self.log_evidence,
-        )
-        return reread(est, truth, self.owner.settings.false_belief_mass)
+        est = self.owner.read(self.alpha, self.weights, self.beliefs, truth)
+        return dataclasses.replace(est, log_evidence=self.log_evidence)

@@ -49,6 +49,12 @@ def hazard_matrix(n_preferences: int, switch: float) -> FloatArray:
     return h
 
 
+def log_of(evidence: float) -> float:
+    """The log of a step's evidence, ``-inf`` for none (the likelihood's floor keeps it
+    positive in practice)."""
+    return float(np.log(evidence)) if evidence > 0 else float("-inf")
+
+
 def switch_probability(hazard: float, elapsed_decisions: float) -> float:
     """The chance of at least one switch over ``elapsed_decisions`` decision times (at least one)."""
     return 1.0 - (1.0 - hazard) ** max(1.0, elapsed_decisions)

@@ -27,20 +27,12 @@ from protocol import Scene
 from ..settings import ModelSettings
 from .arrays import FloatArray
 from .belief import BeliefModel, Percept
-from .desires import Desires, favourite_utilities
+from .desires import Desires
 from .estimates import Estimate, estimate, reread
-from .factored import (
-    FactoredBeliefs,
-    FactoredPolicy,
-    FactoredPosterior,
-    cached_factored_policy,
-    factored_estimate,
-    factored_prior,
-    factored_step,
-)
+from .factoredperson import FactoredModel
 from .graded import drift, expected_joint, prior_beliefs, qmdp_likelihood, update_beliefs
 from .gradedfactored import GradedFactoredModel
-from .inference import HmmStep, forward_step, hazard_matrix, smooth
+from .inference import HmmStep, forward_step, hazard_matrix, log_of, smooth
 from .lookahead import cached_lookahead
 from .planner import Policy, cached_policy
 from .world import WorldModel, build_world_model
@@ -158,66 +150,12 @@ class ExactFilter:
 
     def step(self, record: StepRecord) -> None:
         if record.likelihood is not None:
-            self.log_evidence += _log(float((self.posterior * record.likelihood).sum()))
+            self.log_evidence += log_of(float((self.posterior * record.likelihood).sum()))
         self.posterior = forward_step(self.posterior, self.owner.hmm_step(record))
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
         est = estimate(self.owner.model, self.posterior, truth, self.owner.desires)
         return dataclasses.replace(est, log_evidence=self.log_evidence)
-
-
-class FactoredModel:
-    """The factored model (:mod:`brain.model.factored`); it filters only, so its "smoothed"
-    estimates are the online ones."""
-
-    exact = False
-
-    def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
-        self.policy: FactoredPolicy = cached_factored_policy(scene, settings)
-        self.model = self.policy.model
-        self.desires = Desires(favourite_utilities(settings, self.model.n_items))
-        self.beliefs = FactoredBeliefs(self.model, settings.r, settings.delta)
-        self.true_world = true_world
-
-    def new_filter(self) -> FactoredFilter:
-        return FactoredFilter(self, factored_prior(self.model))
-
-    def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
-        return self.policy.action_likelihood(cell, held, action)
-
-    def transition(self, record: StepRecord) -> FloatArray:
-        """``(K, V, V)`` per-item belief transitions of the step's percept."""
-        if self.true_world:
-            return self.beliefs.true_world(record.truth, record.percept)
-        return self.beliefs.transition(record.percept)
-
-    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
-        return list(online)
-
-
-@dataclass
-class FactoredFilter:
-    """The factored forward pass of one person."""
-
-    owner: FactoredModel
-    posterior: FactoredPosterior
-    log_evidence: float = 0.0
-
-    def step(self, record: StepRecord) -> None:
-        if record.likelihood is not None:
-            K = self.owner.model.n_items
-            items = np.arange(K)
-            wanted = (self.posterior.beliefs[items, items, :] * record.likelihood[:K]).sum(axis=1)
-            evidence = np.append(wanted, record.likelihood[K].mean())
-            self.log_evidence += _log(float(self.posterior.alpha @ evidence))
-        self.posterior = factored_step(
-            self.posterior, self.owner.transition(record), record.likelihood, record.switch
-        )
-
-    def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        est = factored_estimate(self.owner.model, self.posterior, truth)
-        desire = self.owner.desires.summarise(self.posterior.alpha)
-        return dataclasses.replace(est, desire=desire, log_evidence=self.log_evidence)
 
 
 class GradedModel:
@@ -331,11 +269,6 @@ class GradedModel:
         return reread(graded, truth, self.settings.false_belief_mass)
 
 
-def _log(evidence: float) -> float:
-    """The log of a step's evidence (``-inf`` never: the likelihood's floor keeps it positive)."""
-    return float(np.log(evidence)) if evidence > 0 else float("-inf")
-
-
 def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
     """``(G, U)`` posterior after a step: the decision's likelihood, then the preference switch."""
     if likelihood is not None:
@@ -359,7 +292,7 @@ class GradedFilter:
     def step(self, record: StepRecord) -> None:
         likelihood = self.owner.decision_likelihood(self.beliefs, record)
         if likelihood is not None:
-            self.log_evidence += _log(float((self.posterior * likelihood).sum()))
+            self.log_evidence += log_of(float((self.posterior * likelihood).sum()))
         self.posterior = _filter_step(self.posterior, likelihood, record.switch)
         self.beliefs = self.owner.revise(self.beliefs, record)
 

@@ -171,7 +171,8 @@ def report_markdown(rows: list[MindRow], scenario: str, agent: str, observer: st
 
 FACTORED_NOTE = (
     "\n*This house has too many worlds for the exact model: the brain ran the factored model "
-    "(docs/model.md), which filters only, so `p_smoothed` repeats the online estimate.*\n"
+    "(docs/model.md), whose `p_smoothed` comes from forward-backward in its product form, an "
+    "approximation of the exact smoother.*\n"
 )
 
 

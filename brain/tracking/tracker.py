@@ -362,8 +362,8 @@ class MindTracker:
         return track.estimates[-1].log_evidence if track.estimates else 0.0
 
     def smoothed(self, person: str) -> list[Estimate]:
-        """Smoothed estimates after each of ``person``'s steps (the online ones when the
-        factored model is used: it only filters); embodied, each branch smoothed and the
+        """Smoothed estimates after each of ``person``'s steps (the factored models'
+        approximately, :mod:`brain.model.factoredsmoother`); embodied, each branch smoothed and the
         branches mixed by their weights given everything."""
         track = self.tracks[person]
         if len(track.chains) == 1:

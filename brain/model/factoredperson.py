@@ -1,0 +1,107 @@
+"""The factored model as a person model (:mod:`brain.model.personmodel`'s interface): the
+filter of :mod:`brain.model.factored`, and its smoother (:mod:`brain.model.factoredsmoother`)."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from protocol import Scene
+
+from ..settings import ModelSettings
+from .arrays import FloatArray
+from .desires import Desires, favourite_utilities
+from .estimates import Estimate
+from .factored import (
+    FactoredBeliefs,
+    FactoredPolicy,
+    FactoredPosterior,
+    cached_factored_policy,
+    factored_estimate,
+    factored_prior,
+    factored_step,
+)
+from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
+from .inference import log_of
+
+if TYPE_CHECKING:
+    from .personmodel import StepRecord
+
+
+class FactoredModel:
+    """The factored model (:mod:`brain.model.factored`), smoothed by forward-backward in its
+    product form (:mod:`brain.model.factoredsmoother`)."""
+
+    exact = False
+
+    def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
+        self.policy: FactoredPolicy = cached_factored_policy(scene, settings)
+        self.model = self.policy.model
+        self.desires = Desires(favourite_utilities(settings, self.model.n_items))
+        self.beliefs = FactoredBeliefs(self.model, settings.r, settings.delta)
+        self.true_world = true_world
+
+    def new_filter(self) -> FactoredFilter:
+        return FactoredFilter(self, factored_prior(self.model))
+
+    def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
+        return self.policy.action_likelihood(cell, held, action)
+
+    def transition(self, record: StepRecord) -> FloatArray:
+        """``(K, V, V)`` per-item belief transitions of the step's percept."""
+        if self.true_world:
+            return self.beliefs.true_world(record.truth, record.percept)
+        return self.beliefs.transition(record.percept)
+
+    def smoothed(
+        self, records: Sequence[StepRecord], online: Sequence[Estimate], lag: int | None = None
+    ) -> list[Estimate]:
+        """Each step's estimate given every step (``lag``: given the next ``lag`` only)."""
+        posterior, forward = factored_prior(self.model), []
+        for record in records:
+            posterior = factored_step(posterior, self.transition(record), record.likelihood, record.switch)
+            forward.append(ProductPosterior(posterior.alpha, posterior.beliefs))
+
+        def step_at(t: int) -> BackwardStep:
+            record = records[t]
+            return BackwardStep(record.likelihood, record.switch, self.transition(record))
+
+        out = []
+        for record, smoothed, est in zip(
+            records, smooth_products(forward, step_at, lag), online, strict=True
+        ):
+            read = factored_estimate(
+                self.model, FactoredPosterior(smoothed.alpha, smoothed.weights), record.truth
+            )
+            desire = self.desires.summarise(smoothed.alpha)
+            out.append(dataclasses.replace(read, desire=desire, log_evidence=est.log_evidence))
+        return out
+
+
+@dataclass
+class FactoredFilter:
+    """The factored forward pass of one person."""
+
+    owner: FactoredModel
+    posterior: FactoredPosterior
+    log_evidence: float = 0.0
+
+    def step(self, record: StepRecord) -> None:
+        if record.likelihood is not None:
+            K = self.owner.model.n_items
+            items = np.arange(K)
+            wanted = (self.posterior.beliefs[items, items, :] * record.likelihood[:K]).sum(axis=1)
+            evidence = np.append(wanted, record.likelihood[K].mean())
+            self.log_evidence += log_of(float(self.posterior.alpha @ evidence))
+        self.posterior = factored_step(
+            self.posterior, self.owner.transition(record), record.likelihood, record.switch
+        )
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        est = factored_estimate(self.owner.model, self.posterior, truth)
+        desire = self.owner.desires.summarise(self.posterior.alpha)
+        return dataclasses.replace(est, desire=desire, log_evidence=self.log_evidence)
