@@ -35,9 +35,11 @@ from protocol import Observer, Scene
 
 from .errors import BrainError
 from .fitting.command import fit_main, fit_parser
+from .model.planner import use_store
 from .node import BrainNode
 from .outputs.policytable import write_policy_table
 from .outputs.results import write_outputs
+from .outputs.valuestore import ValueDirectory
 from .robot.tree import RobotTree
 from .settings import Settings, load_settings, settings_toml
 from .tracking.tracker import MindTracker
@@ -90,6 +92,12 @@ def run_parser() -> argparse.ArgumentParser:
     parser.add_argument("--print-tree", action="store_true", help="print the robot's behaviour tree and exit")
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
+    )
+    parser.add_argument(
+        "--values-cache",
+        type=Path,
+        metavar="DIR",
+        help="keep solved Q-values in DIR and read them from there (brains sharing DIR solve each map once)",
     )
     add_settings_args(parser)
     add_log_level(parser)
@@ -169,6 +177,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())
             return 0
+        if args.values_cache is not None:
+            use_store(ValueDirectory(args.values_cache))
         if args.out is not None:  # first, so a recorder of this run finds them
             args.out.mkdir(parents=True, exist_ok=True)
             (args.out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")

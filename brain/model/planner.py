@@ -14,9 +14,11 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Protocol
 
 import msgspec
 import numpy as np
@@ -28,6 +30,8 @@ from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
 from .desires import utilities
 from .world import WorldModel, build_world_model
+
+log = logging.getLogger(__name__)
 
 INFEASIBLE = -1
 TERMINAL = -2
@@ -270,11 +274,42 @@ PLANNING = (
 """The settings value iteration reads: policies that agree on them share Q-values."""
 
 
+class ValueStore(Protocol):
+    """Solved Q-values kept beyond this process (:class:`brain.outputs.valuestore.ValueDirectory`),
+    by the scene without its agents and the :data:`PLANNING` settings."""
+
+    def load(self, scene: Scene, key: tuple[object, ...]) -> tuple[FloatArray, FloatArray] | None: ...
+
+    def save(self, scene: Scene, key: tuple[object, ...], u: FloatArray, qs: FloatArray) -> None: ...
+
+
+_store: list[ValueStore] = []
+
+
+def use_store(store: ValueStore | None) -> None:
+    """Look solved Q-values up in ``store`` before solving, and keep them there after (the
+    brains of one evaluation then solve each map once); ``None``: this process's cache only."""
+    _store[:] = [] if store is None else [store]
+    _cached_values.cache_clear()
+    cached_policy.cache_clear()
+
+
 @lru_cache(maxsize=16)
 def _cached_values(scene: Scene, key: tuple[object, ...]) -> tuple[WorldModel, FloatArray, FloatArray]:
     model = build_world_model(scene)
     settings: ModelSettings = dataclasses.replace(ModelSettings(), **dict(zip(PLANNING, key, strict=True)))  # type: ignore[arg-type]
-    return (model, *solve(model, settings))
+    store = _store[0] if _store else None
+    stored = store.load(scene, key) if store is not None else None
+    if stored is not None:
+        u, qs = stored
+        expected = (model.n_cells * (model.n_items + 1) * model.n_worlds, n_actions(model.n_items))
+        if u.shape[1:] == (model.n_items + 1,) and qs.shape[0] == len(u) and qs.shape[1:] == expected:
+            return model, u, qs
+        log.warning("stored Q-values of shape %s do not fit this scene %s: solving again", qs.shape, expected)
+    u, qs = solve(model, settings)
+    if store is not None:
+        store.save(scene, key, u, qs)
+    return model, u, qs
 
 
 @lru_cache(maxsize=8)

@@ -158,7 +158,8 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
     logs.mkdir(parents=True, exist_ok=True)
     out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
     failures: list[str] = []
-    args = (*job.condition.brain_args(), *job.brain_args)
+    values = ("--values-cache", str(Path(job.workdir) / "values"))  # each map solved once per evaluation
+    args = (*job.condition.brain_args(), *job.brain_args, *values)
     engine_args: tuple[str, ...] = ()
     if job.condition.minds == "model":  # people act by the planner under the run's settings
         engine_args = ("--policy", str(policy_table(scenario, job.brain_args, directory / "policies")))

@@ -97,3 +97,36 @@ def test_boltzmann_likelihoods_are_distributions_with_a_floor() -> None:
     policy = plan(build_world_model(tiny_scene()), settings)
     assert np.allclose(policy.likelihood.sum(axis=2), 1.0)
     assert policy.likelihood.min() >= settings.epsilon / policy.likelihood.shape[2] - 1e-15
+
+
+def test_solved_values_are_shared_through_a_folder(tmp_path, monkeypatch, caplog) -> None:
+    """A second process (here: an emptied cache) reads what the first solved instead of
+    solving again; an unreadable file is solved again, with a warning naming it."""
+    import numpy as np
+
+    from brain.model import planner
+    from brain.outputs.valuestore import ValueDirectory
+    from brain.settings import ModelSettings
+    from sim2d.engine import Engine
+
+    solved = []
+    real_solve = planner.solve
+    monkeypatch.setattr(planner, "solve", lambda *a: solved.append(1) or real_solve(*a))
+    scene = Engine("paper-1").scene()
+    try:
+        planner.use_store(ValueDirectory(tmp_path))
+        first = planner.cached_policy(scene, ModelSettings())
+        assert len(solved) == 1 and len(list(tmp_path.glob("*.npz"))) == 1, (solved, list(tmp_path.iterdir()))
+        planner.use_store(ValueDirectory(tmp_path))  # as a new process: nothing cached in memory
+        second = planner.cached_policy(scene, ModelSettings(beta=3.0))  # beta is not planning
+        assert len(solved) == 1, "the stored values should have been read, not solved again"
+        assert np.array_equal(first.q, second.q)
+        (stored,) = tmp_path.glob("*.npz")
+        stored.write_bytes(b"not a zip")
+        planner.use_store(ValueDirectory(tmp_path))
+        with caplog.at_level("WARNING"):
+            third = planner.cached_policy(scene, ModelSettings())
+        assert len(solved) == 2 and np.array_equal(first.q, third.q)
+        assert "cannot read the stored Q-values" in caplog.text and stored.name in caplog.text, caplog.text
+    finally:
+        planner.use_store(None)
