@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import logging
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -240,7 +241,10 @@ def evaluate(
         for i in range(episodes)
     ]
     started = time.monotonic()
-    results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
+    try:
+        results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
+    finally:  # the solved Q-values (--values-cache) are a cache of this evaluation only
+        shutil.rmtree(Path(workdir) / "values", ignore_errors=True)
     took = time.monotonic() - started
     measured = []
     for condition, chunk in zip(conditions, _chunks(results, episodes), strict=True):
