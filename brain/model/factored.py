@@ -267,9 +267,9 @@ def factored_step(
 
 def factored_estimate(model: WorldModel, posterior: FactoredPosterior, truth: tuple[int, ...]) -> Estimate:
     """The estimate (same fields as the exact model's) of a factored posterior."""
-    K, L = model.n_items, model.n_locations
+    K = model.n_items
     alpha, b = posterior.alpha, posterior.beliefs
-    by_location = b.reshape(K + 1, K, L, 2).sum(axis=3)  # (D, K, L)
+    by_location = b[..., 0::2] + b[..., 1::2]  # (D, K, L): resting at l, or held near it
     beliefs = np.einsum("d,dkl->kl", alpha, by_location)
     best: tuple[int | None, int | None, float] = (None, None, float(alpha[K]))
     for k in range(K):

@@ -154,9 +154,13 @@ def choice_likelihood(
 ) -> FloatArray:
     """``q.shape[:-1]`` the Boltzmann probability of ``action`` over the last axis of ``q``
     (``-inf``: impossible), with the floor ``epsilon`` spread over every action."""
-    scaled = beta * q
-    top = scaled.max(axis=-1, keepdims=True)
-    weights = np.where(np.isfinite(scaled), np.exp(scaled - np.where(np.isfinite(top), top, 0.0)), 0.0)
+    weights = beta * q
+    top = weights.max(axis=-1, keepdims=True)
+    top[~np.isfinite(top)] = 0.0  # every action impossible: all weights come out 0
+    weights -= top
+    possible = np.isfinite(weights)  # exp only there: numpy's exp is slow on -inf, most entries
+    weights[possible] = np.exp(weights[possible])
+    weights[~possible] = 0.0
     total = weights.sum(axis=-1)
     soft = np.where(total > 0, weights[..., action] / np.where(total > 0, total, 1.0), 0.0)
     return (1.0 - epsilon) * soft + epsilon / q.shape[-1]

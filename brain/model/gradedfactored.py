@@ -123,8 +123,8 @@ class GradedFactoredModel:
         """The estimate of a posterior ``alpha`` ``(D,)``, ``weights`` ``(D, K, P)`` over the
         hypotheses whose own beliefs are ``beliefs`` ``(K, P, V)``."""
         model = self.model
-        K, L = model.n_items, model.n_locations
-        own = beliefs.reshape(K, -1, L, 2).sum(axis=3)  # (K, P, L) each hypothesis's own belief
+        K = model.n_items
+        own = beliefs[..., 0::2] + beliefs[..., 1::2]  # (K, P, L) each hypothesis's own: resting + held
         per_item = (weights.transpose(1, 0, 2) @ own).transpose(1, 0, 2)  # (D, K, L), batched over k
         best: tuple[int | None, int | None, float] = (None, None, float(alpha[K]))
         for k in range(K):
