@@ -265,21 +265,28 @@ def factored_step(
     return FactoredPosterior(alpha=alpha / alpha.sum(), beliefs=b)
 
 
-def factored_estimate(model: WorldModel, posterior: FactoredPosterior, truth: tuple[int, ...]) -> Estimate:
-    """The estimate (same fields as the exact model's) of a factored posterior."""
-    K = model.n_items
-    alpha, b = posterior.alpha, posterior.beliefs
-    by_location = b[..., 0::2] + b[..., 1::2]  # (D, K, L): resting at l, or held near it
-    beliefs = np.einsum("d,dkl->kl", alpha, by_location)
+def factored_intention(alpha: FloatArray, per_item: FloatArray) -> tuple[int | None, int | None, float]:
+    """The likeliest (wanted item, where the person believes it is, probability), or ``out``
+    (``None, None``) when that is likelier: from ``(D,)`` preferences and ``(D, K, L)`` each
+    preference's belief about each item."""
+    K = per_item.shape[1]
     best: tuple[int | None, int | None, float] = (None, None, float(alpha[K]))
     for k in range(K):
-        joint = alpha[k] * by_location[k, k]
+        joint = alpha[k] * per_item[k, k]
         location = int(np.argmax(joint))
         if joint[location] > best[2]:
             best = (k, location, float(joint[location]))
+    return best
+
+
+def factored_estimate(model: WorldModel, posterior: FactoredPosterior, truth: tuple[int, ...]) -> Estimate:
+    """The estimate (same fields as the exact model's) of a factored posterior."""
+    alpha, b = posterior.alpha, posterior.beliefs
+    by_location = b[..., 0::2] + b[..., 1::2]  # (D, K, L): resting at l, or held near it
+    beliefs = np.einsum("d,dkl->kl", alpha, by_location)
     return Estimate(
         beliefs=beliefs,
         preference=alpha.copy(),
-        intention=best,
+        intention=factored_intention(alpha, by_location),
         false_belief=point_false_belief(beliefs, truth),
     )

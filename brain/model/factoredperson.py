@@ -70,16 +70,20 @@ class FactoredModel:
             record = records[t]
             return BackwardStep(record.likelihood, record.switch, self.transition(record))
 
-        out = []
-        for record, smoothed, est in zip(
-            records, smooth_products(forward, step_at, lag), online, strict=True
-        ):
-            read = factored_estimate(
-                self.model, FactoredPosterior(smoothed.alpha, smoothed.weights), record.truth
+        return [
+            dataclasses.replace(
+                self.read(FactoredPosterior(smoothed.alpha, smoothed.weights), record.truth),
+                log_evidence=est.log_evidence,
             )
-            desire = self.desires.summarise(smoothed.alpha)
-            out.append(dataclasses.replace(read, desire=desire, log_evidence=est.log_evidence))
-        return out
+            for record, smoothed, est in zip(
+                records, smooth_products(forward, step_at, lag), online, strict=True
+            )
+        ]
+
+    def read(self, posterior: FactoredPosterior, truth: tuple[int, ...]) -> Estimate:
+        """The estimate of a factored posterior, with its desire summary."""
+        est = factored_estimate(self.model, posterior, truth)
+        return dataclasses.replace(est, desire=self.desires.summarise(posterior.alpha))
 
 
 @dataclass
@@ -102,6 +106,4 @@ class FactoredFilter:
         )
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        est = factored_estimate(self.owner.model, self.posterior, truth)
-        desire = self.owner.desires.summarise(self.posterior.alpha)
-        return dataclasses.replace(est, desire=desire, log_evidence=self.log_evidence)
+        return dataclasses.replace(self.owner.read(self.posterior, truth), log_evidence=self.log_evidence)

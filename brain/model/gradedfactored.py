@@ -31,7 +31,7 @@ from .arrays import FloatArray
 from .belief import Percept
 from .desires import Desires, favourite_utilities
 from .estimates import Estimate, reread
-from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy
+from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy, factored_intention
 from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
 from .graded import choice_likelihood, initial_points
 from .inference import hazard_matrix, log_of
@@ -126,16 +126,10 @@ class GradedFactoredModel:
         K = model.n_items
         own = beliefs[..., 0::2] + beliefs[..., 1::2]  # (K, P, L) each hypothesis's own: resting + held
         per_item = (weights.transpose(1, 0, 2) @ own).transpose(1, 0, 2)  # (D, K, L), batched over k
-        best: tuple[int | None, int | None, float] = (None, None, float(alpha[K]))
-        for k in range(K):
-            joint = alpha[k] * per_item[k, k]
-            location = int(np.argmax(joint))
-            if joint[location] > best[2]:
-                best = (k, location, float(joint[location]))
         est = Estimate(
             beliefs=np.tensordot(alpha, per_item, axes=1),
             preference=alpha.copy(),
-            intention=best,
+            intention=factored_intention(alpha, per_item),
             false_belief=np.zeros(K),
             hypotheses=(np.tensordot(alpha, weights, axes=1), own),
             desire=self.desires.summarise(alpha),
