@@ -188,10 +188,26 @@ def start_gateway(
     raise BridgeError(f"the gateway did not start (exit status {process.returncode}); see {log_path}")
 
 
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+"""The variables that set how many threads numpy's BLAS uses in a node (one, unless the user
+set them): the nodes of a run or an evaluation already keep every core busy as processes, and
+BLAS threads spinning beside them halved ``toyroom eval``'s throughput on 2 cores (same
+metrics, 209 s against 106 s for 6 embodied episodes) for a 5% gain in a brain alone."""
+
+
+def node_environment() -> dict[str, str]:
+    """The environment a node starts with: this one, with single-threaded BLAS unless set."""
+    env = dict(os.environ)
+    for name in BLAS_THREADS:
+        env.setdefault(name, "1")
+    return env
+
+
 def start_node(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
-    """Start a node with its output going to ``log_path`` (kept with the results)."""
+    """Start a node with its output going to ``log_path`` (kept with the results), with
+    :func:`node_environment`."""
     with log_path.open("wb") as handle:
-        return subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT)
+        return subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT, env=node_environment())
 
 
 def stop_node(process: subprocess.Popen[bytes], grace: float = 10.0) -> None:

@@ -216,6 +216,9 @@ class GradedModel:
             rest = (beliefs @ self.rest_of).reshape(len(beliefs), self.model.n_items, self.model.n_locations)
             return self.lookahead.likelihood(rest, cell, held, action, beta, epsilon)
         q = self.policy.q[:, self.policy.state_slice(cell, held), :]
+        if _one_world(beliefs):  # truebelief: every hypothesis sits in the one true world
+            one = qmdp_likelihood(beliefs[:1], q, action, beta, epsilon)
+            return np.repeat(one, len(beliefs), axis=0)
         return qmdp_likelihood(beliefs, q, action, beta, epsilon)
 
     def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
@@ -267,6 +270,20 @@ class GradedModel:
         base = estimate(model, expected_joint(beliefs, posterior), truth, self.desires)
         graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
         return reread(graded, truth, self.settings.false_belief_mass)
+
+
+def _one_world(beliefs: FloatArray) -> bool:
+    """Whether every row of ``(G, W)`` beliefs is the same and puts all its mass on one world
+    (as ``truebelief``'s do after the first step): one row's likelihood is then every row's,
+    to the bit (each product has one nonzero term). Cheap to refute on the first and last
+    rows, which differ under any observer that keeps graded hypotheses apart."""
+    first = beliefs[0]
+    return (
+        len(beliefs) > 1
+        and bool(np.array_equal(first, beliefs[-1]))
+        and np.count_nonzero(first) == 1
+        and bool((beliefs == first).all())
+    )
 
 
 def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..evaluation.conditions import POLICIES, Condition
 from ..flags import PROG_ENV, settings_argv
-from ..processes import stop_on_signals, wait_for_stop
+from ..processes import node_environment, stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
 
 CSHARP_MESSAGES = "clients/unity/Runtime/Protocol/Messages.g.cs"
@@ -174,8 +174,9 @@ def exec_node(command: str, argv: Sequence[str], prog: str | None = None) -> int
     """Replace this process with the node of ``command`` (signals go straight to it); its
     help and errors name ``prog`` (default: ``toyroom COMMAND``)."""
     package, leading = NODES[command]
-    os.environ[PROG_ENV] = prog or f"toyroom {command}"
-    os.execv(sys.executable, [sys.executable, "-m", package, *leading, *argv])
+    env = node_environment()  # single-threaded BLAS: fit's worker processes use every core
+    env[PROG_ENV] = prog or f"toyroom {command}"
+    os.execve(sys.executable, [sys.executable, "-m", package, *leading, *argv], env)
     return 0  # pragma: no cover - execv does not return
 
 

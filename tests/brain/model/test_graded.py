@@ -255,3 +255,25 @@ def test_the_joint_says_what_is_nowhere() -> None:
     p1 = tracker.model.locations.index("P1")
     nothing_in_p1 = est.worlds[np.all(tracker.model.place != p1, axis=1)].sum()
     assert nothing_in_p1 > 0.99, f"P(nothing in P1) = {nothing_in_p1:.4f}"
+
+
+def test_truebelief_likelihood_of_one_world_rows_is_every_rows_to_the_bit(paper):
+    """``truebelief`` puts every hypothesis in the one true world after its first step; the
+    decision likelihood is then read off one row, and must equal the full ``(G, W)`` product."""
+    from brain.model.personmodel import GradedModel, StepRecord
+
+    scene, model, s2, _, cell = paper
+    graded = GradedModel(scene, SETTINGS, true_world=True)
+    beliefs = np.zeros((len(graded.initial), model.n_worlds))
+    beliefs[:, 7] = 1.0
+    q = graded.policy.q[:, graded.policy.state_slice(cell, 0), :]
+    unseen = Percept(cell, (NOT_IN_VIEW,) * model.n_items)
+    for action in range(q.shape[-1]):
+        record = StepRecord(0, unseen, (0,) * model.n_items, None, 0.0, (cell, 0, action))
+        full = qmdp_likelihood(beliefs, q, action, SETTINGS.beta, SETTINGS.epsilon)
+        got = graded.decision_likelihood(beliefs, record)
+        assert np.array_equal(got, full), f"action {action}: off by {np.abs(got - full).max()}"
+    spread = graded.initial.copy()  # graded hypotheses: no shortcut, the full product
+    record = StepRecord(0, unseen, (0,) * model.n_items, None, 0.0, (cell, 0, 0))
+    full = qmdp_likelihood(spread, q, 0, SETTINGS.beta, SETTINGS.epsilon)
+    assert np.array_equal(graded.decision_likelihood(spread, record), full)
