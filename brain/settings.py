@@ -153,6 +153,14 @@ class RobotSettings:
             for anyone with a false belief about it: the robot walks, nobody is interrupted).
         put_back_harm: no put-back when someone else who may want the item believes it where
             it is now (their belief there times their preference at least this).
+        inform_mass: a person heading for a wrong place is told where the item they want
+            is when they probably hold a false belief about it, or when their belief gives
+            its true place less than this (they do not know where it is: searching).
+        swap_accept: a swap is asked for only when the holder probably accepts (their
+            preference for the offered item at least this) or the person does not know who
+            holds the item.
+        confirm_seconds: engine seconds a task must be seen, tick after tick, before the
+            robot starts it (a passing blip of the online estimates starts nothing).
         attempts: how often the robot tries one task before giving up on it.
         navigate_timeout: engine seconds a navigation may take.
         action_timeout: engine seconds a pick, place, give, say or request may take.
@@ -166,6 +174,9 @@ class RobotSettings:
     belief_threshold: float = 0.6
     put_back_preference: float = 0.0
     put_back_harm: float = 0.3
+    inform_mass: float = 0.5
+    swap_accept: float = 0.5
+    confirm_seconds: float = 0.5
     attempts: int = 2
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0

@@ -72,10 +72,11 @@ class AutonomousPerson:
         self.started = False
         self.attention: dict[str, tuple[str, bool]] = {}
         """Item in view -> (where it is seen, whether the person noticed it there)."""
-        self.errand = setup.errand
-        self.errand_after = setup.errand_after
-        self.moves = setup.moves
-        """The first jobs of a task episode (``AgentSetup.errand``, ``AgentSetup.moves``)."""
+        self.errand = setup.jobs.errand
+        self.errand_after = setup.jobs.errand_after
+        self.moves = setup.jobs.moves
+        self.move_after = setup.jobs.move_after
+        """The first jobs of a task episode (:class:`~sim2d.jobs.Jobs`)."""
         self._mind: tuple[bytes, str, TrueMind] | None = None
         """The last :meth:`mind`, with the belief and preference it was made of."""
 
@@ -229,12 +230,14 @@ class AutonomousPerson:
             source = world.item_location(item)
             if source in world.locations and world.items[item].holder is None and source != target:
                 src, dst = world.locations[source], world.locations[target]
-                self.plan.extend(
+                if self.move_after > 0:
+                    self.plan.append(Primitive("wait", ticks=self.move_after, errand=True))
+                self.plan.extend(  # carried through: no replanning, wandering or news stops the job
                     [
-                        Primitive("goto", cell=(src.cell.col, src.cell.row)),
-                        Primitive("take", item=item),
-                        Primitive("goto", cell=(dst.cell.col, dst.cell.row)),
-                        Primitive("drop", location=target),
+                        Primitive("goto", cell=(src.cell.col, src.cell.row), errand=True),
+                        Primitive("take", item=item, errand=True),
+                        Primitive("goto", cell=(dst.cell.col, dst.cell.row), errand=True),
+                        Primitive("drop", location=target, errand=True),
                     ]
                 )
                 return True

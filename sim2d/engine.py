@@ -121,9 +121,13 @@ class Engine:
         """What ``person`` knows before the episode (``Autonomy.knows`` and ``stale``; their
         own draws, so people who start not knowing draw exactly as before)."""
         autonomy = self.scenario.autonomy
+        truth = {i.id: i.location for i in self.world.items.values() if i.location is not None}
         if autonomy.knows > 0 or autonomy.stale > 0:
-            truth = {i.id: i.location for i in self.world.items.values() if i.location is not None}
             person.belief.start(truth, autonomy.knows, autonomy.stale, rng)
+        setup = next(a for a in self.scenario.agents if a.id == person.id)
+        for item in setup.jobs.knows:  # a task's owner knows where they left their item
+            if truth.get(item) is not None:
+                person.belief.told(item, truth[item])
 
     # ----- description ----------------------------------------------------------------
 

@@ -183,6 +183,9 @@ def rich_autonomy(seed: int) -> list[str]:
     ]
 
 
+TICK_SECONDS = 0.1
+"""A generated episode's tick (s)."""
+
 KINDS = ("everyday", "tasks")
 """Kinds of episodes: ``everyday`` (people with random habits) or ``tasks`` (built around the
 robot's jobs, :data:`TASKS`, with people who never change their minds, put nothing away and
@@ -214,6 +217,8 @@ def episode(
         raise ValueError(f"kind must be one of {', '.join(KINDS)}, not {kind!r}")
     rng = np.random.default_rng(seed)
     game_map = load_map(str(map_path))
+    rich = rich_autonomy(seed) if minds == "rich" else []
+    search = next((line.split('"')[1] for line in rich if line.startswith("search")), "likely")
     spots = [loc.id for loc in game_map.locations]
     cells = sorted(
         c
@@ -227,7 +232,7 @@ def episode(
         f'name = "{name}"',
         f'map = "{map_ref}"',
         'robot = "act"',
-        "tick_seconds = 0.1",
+        f"tick_seconds = {TICK_SECONDS}",
         f"max_ticks = {max_ticks}",
         "",
         "[autonomy]",
@@ -236,7 +241,7 @@ def episode(
         f"put_away = {rng.uniform(0.3, 0.8) * (kind != 'tasks'):.3f}",
         "play_ticks = [60, 200]",
         "wait_ticks = [20, 60]",
-        *(rich_autonomy(seed) if minds == "rich" else []),
+        *rich,
         *(['planner = "model"'] if minds == "model" else []),
         "",
     ]
@@ -248,7 +253,7 @@ def episode(
         placed[item] = spots[int(rng.integers(len(spots)))]
         lines += ["[[items]]", f'id = "{item}"', f'shape = "{shape}"', f'at = "{placed[item]}"', ""]
     if kind == "tasks":
-        lines += task_agents(game_map, placed, homes, seed)
+        lines += task_agents(game_map, placed, homes, seed, tick_seconds=TICK_SECONDS, search=search)
     else:
         more = np.random.default_rng([seed, 1]).choice(len(cells), size=max(0, people - 2))
         for n, home in enumerate([*homes[: min(people, 2)], *(cells[int(i)] for i in more)]):

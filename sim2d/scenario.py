@@ -11,6 +11,7 @@ from typing import Any, Literal
 from protocol import AgentKind, GridCell, ItemShape
 
 from .errors import ScenarioError
+from .jobs import Jobs, job_items, parse_jobs
 from .maps import SCENARIO_DIR, GameMap, load_map, parse_cell, read_toml
 from .script import Step, Take, parse_step
 
@@ -48,12 +49,8 @@ class AgentSetup:
     """A simulated person with a true mind and a policy of their own (no script)."""
     prefers: str | None = None
     """An autonomous person's first preference (an item or ``out``); ``None``: drawn from the seed."""
-    errand: int = 0
-    """An autonomous person's errand first: this many ticks outside before anything else."""
-    errand_after: int = 0
-    """Ticks the person stays where they are (watching) before the errand."""
-    moves: tuple[str, str] | None = None
-    """An autonomous person's first job: move this item to this location (``move = [item, loc]``)."""
+    jobs: Jobs = Jobs()
+    """An autonomous person's first jobs in a task episode (:mod:`sim2d.jobs`)."""
 
 
 @dataclass(frozen=True)
@@ -206,18 +203,9 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
     answers = table.get("answers", "no")
     if answers not in ("yes", "no"):
         raise ScenarioError(path, entry, f"expected answers = 'yes' or 'no', got {answers!r}")
-    errand, after, moves = table.get("errand", 0), table.get("errand_after", 0), table.get("move")
-    for key, value in (("errand", errand), ("errand_after", after)):
-        if not isinstance(value, int) or value < 0:
-            raise ScenarioError(path, entry, f"expected {key} = a number of ticks >= 0, got {value!r}")
-    if moves is not None and not (
-        isinstance(moves, list) and len(moves) == 2 and all(isinstance(m, str) for m in moves)
-    ):
-        raise ScenarioError(path, entry, f"expected move = [item, location], got {moves!r}")
-    if moves is not None and moves[1] not in {loc.id for loc in game_map.locations}:
-        raise ScenarioError(path, entry, f"move: unknown location {moves[1]!r}")
-    if (errand or after or moves) and not autonomous:
-        raise ScenarioError(path, entry, "errand and move are for autonomous people")
+    jobs = parse_jobs(table, game_map, path, entry)
+    if jobs.any and not autonomous:
+        raise ScenarioError(path, entry, "errand, move and knows are for autonomous people")
     return AgentSetup(
         id=aid,
         kind=kind,
@@ -228,9 +216,7 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
         script=script,
         autonomous=autonomous,
         prefers=table.get("prefers"),
-        errand=errand,
-        errand_after=after,
-        moves=(moves[0], moves[1]) if moves is not None else None,
+        jobs=jobs,
     )
 
 
@@ -308,8 +294,9 @@ def _check_references(agents: list[AgentSetup], item_ids: set[str], path: Path) 
             raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"wants unknown item {agent.wants!r}")
         if agent.prefers is not None and agent.prefers not in item_ids | {"out"}:
             raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"prefers unknown item {agent.prefers!r}")
-        if agent.moves is not None and agent.moves[0] not in item_ids:
-            raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"move: unknown item {agent.moves[0]!r}")
+        for key, item in job_items(agent.jobs):
+            if item not in item_ids:
+                raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"{key}: unknown item {item!r}")
         for j, step in enumerate(agent.script):
             entry = f"agents[{i}] '{agent.id}'.script[{j}]"
             if isinstance(step, Take) and step.item not in item_ids:

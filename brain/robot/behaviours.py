@@ -38,7 +38,7 @@ class FindTask(py_trees.behaviour.Behaviour):
             return Status.FAILURE
         if ctx.task is not None:
             return Status.SUCCESS if ctx.branch == self.branch else Status.FAILURE
-        task = first_task(self.finder, ctx.snapshot, ctx.settings, ctx.skip())
+        task = first_task(self.finder, ctx.snapshot, ctx.settings, ctx.confirmed(self.branch, self.finder))
         if task is None:
             return Status.FAILURE
         ctx.task, ctx.branch, ctx.finder = task, self.branch, self.finder

@@ -44,6 +44,8 @@ class RobotContext:
     activity: str = "idle"
     detail: str = ""
     utterance: str | None = None
+    seen_since: dict[tuple[str, Task], float] = field(default_factory=dict)
+    """``(branch, task)`` -> the engine time a finder has seen the task since, tick after tick."""
 
     @property
     def now(self) -> float:
@@ -58,6 +60,24 @@ class RobotContext:
     def skip(self) -> set[Task]:
         tired = {t for t, n in self.attempts.items() if n >= self.settings.attempts}
         return self.done | tired
+
+    def confirmed(self, branch: str, finder: Finder) -> set[Task]:
+        """The tasks ``branch`` must not start now: :meth:`skip`'s, and those ``finder`` has not
+        seen for ``confirm_seconds`` in a row (hysteresis: a blip of the estimates starts
+        nothing). Remembers what it sees now, and forgets what it does not."""
+        skip = self.skip()
+        if self.settings.confirm_seconds <= 0 or self.snapshot is None:
+            return skip
+        now = self.now
+        seen = {task for task in finder(self.snapshot, self.settings) if task not in skip}
+        for key in [k for k in self.seen_since if k[0] == branch and k[1] not in seen]:
+            del self.seen_since[key]
+        young = set()
+        for task in seen:
+            since = self.seen_since.setdefault((branch, task), now)
+            if now - since < self.settings.confirm_seconds:
+                young.add(task)
+        return skip | young
 
     def cell_of(self, agent: str) -> GridCell | None:
         assert self.snapshot is not None

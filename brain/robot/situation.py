@@ -104,8 +104,11 @@ class Snapshot:
 
 
 def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
-    """People with empty hands heading for an item about which they probably hold a false
-    belief (at least ``belief_threshold``), and nobody holds it."""
+    """People with empty hands heading for a place where the item they want is not, and who
+    probably do not know where it is: a false belief about it (at least ``belief_threshold``),
+    or a belief that gives where it is less than ``inform_mass`` (they are searching: after a
+    place found empty, ignorance is not a false belief, but telling still saves the search);
+    nobody holds it."""
     model = snap.model
     for person in snap.people:
         est = snap.estimates.get(person)
@@ -116,7 +119,10 @@ def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
             continue
         item = model.items[k]
         location, holder = snap.item(item)
-        if holder is not None or location is None or est.false_belief[k] < settings.belief_threshold:
+        if holder is not None or location is None or model.locations[believed] == location:
+            continue
+        knows = est.beliefs[k, model.locations.index(location)] >= settings.inform_mass
+        if est.false_belief[k] < settings.belief_threshold and knows:
             continue
         if not snap.approaching(person, believed):
             continue
@@ -126,7 +132,9 @@ def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
 def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied]:
     """People with empty hands who most likely want an item another person holds, and are
     heading for where they believe it is; the swap offers the holder the free item they most
-    probably want (their inferred desire, not the order of the items)."""
+    probably want (their inferred desire, not the order of the items). Not when the person
+    knows who holds it (no false belief about it) and the holder most likely declines (their
+    preference for the offer below ``swap_accept``): that would interrupt both for nothing."""
     model = snap.model
     people = set(snap.people)
     for person in snap.people:
@@ -146,7 +154,13 @@ def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied
         holder_est = snap.estimates.get(holder)
         if holder_est is not None:  # offer what the holder most probably wants of what is free
             free.sort(key=lambda i: -float(holder_est.preference[model.items.index(i)]))
-        yield Occupied(person=person, item=item, holder=holder, offer=free[0] if free else None)
+        offer = free[0] if free else None
+        accept = (
+            0.0 if holder_est is None or offer is None else holder_est.preference[model.items.index(offer)]
+        )
+        if est.false_belief[d] < settings.belief_threshold and accept < settings.swap_accept:
+            continue  # they know who has it, and the holder would most likely say no: nothing to gain
+        yield Occupied(person=person, item=item, holder=holder, offer=offer)
 
 
 def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:

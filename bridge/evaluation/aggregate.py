@@ -104,6 +104,10 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
         "failed_runs_retried": sum(len(e.get("failed_runs") or []) for e in episodes),
         "observers": {name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
         "paired_differences": differences,
+        "false_belief_causes": {
+            name: counts.recall_by_cause()
+            for name, counts in {**totals, MAJORITY: majority_counts(totals[BTOM], goal)}.items()
+        },
         "robot": robot,
         "robot_differences": robot_differences,
     }

@@ -15,11 +15,15 @@ Per tick, person and item, from the brain's online ``mind`` and the engine's ``t
 - ``goal_false_belief_f1``: the same F1 over the beliefs about the item each person wants
   now (their true preference, when it is an item): the false beliefs behaviour can reveal
   and the robot's help depends on. A false belief about an item nobody is after shows in
-  no action, so no observer can do better there than its prior.
+  no action, so no observer can do better there than its prior;
+- false beliefs by how they arose (:data:`CAUSES`, :func:`false_belief_causes`), each with
+  its ticks and the ticks an observer flagged: what share of the false beliefs could be seen
+  at all, and by whom.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from protocol import Mind, Truth
@@ -27,6 +31,42 @@ from protocol import Mind, Truth
 FALSE_BELIEF_MASS = 0.1
 """A person has a false belief about an item when their true belief gives its true location
 less than this (the brain's default ``false_belief_mass``)."""
+
+
+CAUSES = ("start", "moved", "unmoved")
+"""How a false belief arose, read off the truth at its first tick: ``start`` (held from the
+person's first tick: a belief from before the episode), ``moved`` (the item changed place that
+tick, unseen by the person: the classic false belief) or ``unmoved`` (the item stayed put and
+the person's belief left it: what they were told, overlooked or forgot; nothing the robot
+sees happen)."""
+
+
+def false_belief_causes(truths: Mapping[int, Truth]) -> dict[int, dict[tuple[str, str], str]]:
+    """Tick -> ``(person, item)`` -> the :data:`CAUSES` entry of each false belief held then
+    (by :data:`FALSE_BELIEF_MASS`), its cause fixed at its first tick."""
+    out: dict[int, dict[tuple[str, str], str]] = {}
+    current: dict[tuple[str, str], str] = {}
+    before: dict[str, str] | None = None
+    for tick in sorted(truths):
+        truth = truths[tick]
+        where = {place.item: place.location for place in truth.items}
+        held: dict[tuple[str, str], str] = {}
+        for person in truth.agents:
+            for belief in person.beliefs:
+                true = {p.id: p.p for p in belief.locations}
+                place = where.get(belief.item)
+                if place is None or true.get(place, 0.0) >= FALSE_BELIEF_MASS:
+                    continue
+                key = (person.agent, belief.item)
+                if key in current:
+                    held[key] = current[key]
+                elif before is None:
+                    held[key] = "start"
+                else:
+                    held[key] = "moved" if before.get(belief.item) != place else "unmoved"
+        current, before = held, where
+        out[tick] = held
+    return out
 
 
 @dataclass
@@ -48,12 +88,35 @@ class Counts:
     """The false-belief counts restricted to the item each person wants."""
     pref_truth: dict[str, int] = field(default_factory=dict)
     """How often each preference was the true one, over the ticks ``pref_n`` counts."""
+    cause_fb: dict[str, int] = field(default_factory=dict)
+    """False-belief ticks by how they arose (:data:`CAUSES`)."""
+    cause_tp: dict[str, int] = field(default_factory=dict)
+    """Of those, the ticks the observer flagged."""
 
     def add(self, other: Counts) -> None:
         for name in SUMS:
             setattr(self, name, getattr(self, name) + getattr(other, name))
-        for goal, n in other.pref_truth.items():
-            self.pref_truth[goal] = self.pref_truth.get(goal, 0) + n
+        for mine, theirs in (
+            (self.pref_truth, other.pref_truth),
+            (self.cause_fb, other.cause_fb),
+            (self.cause_tp, other.cause_tp),
+        ):
+            for key, n in theirs.items():
+                mine[key] = mine.get(key, 0) + n
+
+    def recall_by_cause(self) -> dict[str, dict[str, float | int | None]]:
+        """Per cause of :data:`CAUSES`: its false-belief ticks, their share of all, and the
+        observer's recall on them."""
+        total = sum(self.cause_fb.values())
+        out: dict[str, dict[str, float | int | None]] = {}
+        for cause in CAUSES:
+            ticks, caught = self.cause_fb.get(cause, 0), self.cause_tp.get(cause, 0)
+            out[cause] = {
+                "ticks": ticks,
+                "share": ticks / total if total else None,
+                "recall": caught / ticks if ticks else None,
+            }
+        return out
 
     def majority(self) -> Counts:
         """:func:`majority_counts` with the most common true preference of these counts."""
@@ -112,10 +175,17 @@ def majority_counts(counts: Counts, goal: str) -> Counts:
         tn=negatives,
         goal_fn=counts.goal_tp + counts.goal_fn,
         goal_tn=counts.goal_fp + counts.goal_tn,
+        cause_fb=dict(counts.cause_fb),
     )
 
 
-def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: set[str]) -> Counts:
+def score_tick(
+    mind: Mind,
+    truth: Truth,
+    true_location: dict[str, str],
+    took: set[str],
+    causes: Mapping[tuple[str, str], str] | None = None,
+) -> Counts:
     """Score one tick.
 
     Args:
@@ -123,6 +193,8 @@ def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: se
         truth: the people's true minds at this tick.
         true_location: where each item is now (a carried item at its carrier's location).
         took: people who have taken an item by now (preference accuracy counts from then on).
+        causes: how each false belief held now arose (:func:`false_belief_causes`; none:
+            not counted by cause).
     """
     counts = Counts()
     estimates = {a.agent: a for a in mind.agents}
@@ -141,6 +213,10 @@ def score_tick(mind: Mind, truth: Truth, true_location: dict[str, str], took: se
             where = true_location.get(belief.item)
             actual = where is not None and true.get(where, 0.0) < FALSE_BELIEF_MASS
             flagged = belief.item in est.false_beliefs
+            cause = (causes or {}).get((person.agent, belief.item)) if actual else None
+            if cause is not None:
+                counts.cause_fb[cause] = counts.cause_fb.get(cause, 0) + 1
+                counts.cause_tp[cause] = counts.cause_tp.get(cause, 0) + flagged
             cell = ("tp" if flagged else "fn") if actual else ("fp" if flagged else "tn")
             for name in (cell, f"goal_{cell}") if belief.item == person.preference else (cell,):
                 setattr(counts, name, getattr(counts, name) + 1)

@@ -61,6 +61,7 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             "",
             *_rows(differences, names, "observer"),
         ]
+    lines += _causes(metrics.get("false_belief_causes"))
     if metrics.get("robot"):
         lines += [
             "",
@@ -73,6 +74,26 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
         if metrics.get("robot_differences"):
             lines += ["", "tom minus each other policy, paired by episode:", ""]
             lines += _rows(metrics["robot_differences"], list(HELP[1:]), "policy")
+    return lines
+
+
+CAUSE_NOTE = (
+    "False beliefs by how they arose (`start`: held from the person's first tick, a belief from "
+    "before the episode; `moved`: the item changed place unseen; `unmoved`: the item stayed put "
+    "and the belief left it: told, overlooked or forgotten). Share of false-belief ticks, and "
+    "each observer's recall on them:"
+)
+
+
+def _causes(causes: Mapping[str, Mapping[str, Any]] | None) -> list[str]:
+    """The table of false beliefs by cause (none when there were none)."""
+    if not causes or not any(v["ticks"] for v in next(iter(causes.values())).values()):
+        return []
+    first = next(iter(causes.values()))
+    names = [f"{cause} ({_cell(v['share'])} of {v['ticks']})" for cause, v in first.items()]
+    lines = ["", CAUSE_NOTE, "", "| observer | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
+    for observer, by_cause in causes.items():
+        lines.append(f"| {observer} | " + " | ".join(_cell(v["recall"]) for v in by_cause.values()) + " |")
     return lines
 
 

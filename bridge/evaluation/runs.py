@@ -27,7 +27,7 @@ from ..pubsub import Received
 from ..session import SessionSettings
 from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
-from .metrics import Counts, Outcome, score_tick
+from .metrics import Counts, Outcome, false_belief_causes, score_tick
 from .outcome import judge
 
 MOTION = "motion"
@@ -204,12 +204,13 @@ def _score(
     """Score every tick that has both a mind and the truth (channels that are never dropped)."""
     result = RunResult(outcome=outcome)
     seen: set[str] = set()
+    causes = false_belief_causes(truths)
     for tick in sorted(truths):
         seen |= {p for t, people in took.items() if t <= tick for p in people}
         if tick not in minds:
             continue
         where = {place.item: place.location for place in truths[tick].items}
-        result.counts.add(score_tick(minds[tick], truths[tick], where, seen))
+        result.counts.add(score_tick(minds[tick], truths[tick], where, seen, causes[tick]))
         result.ticks += 1
     return result
 

@@ -138,8 +138,15 @@ def _broken_scenario(tmp_path: Path, old: str, new: str) -> ScenarioError:
             'id = "A1"',
             'id = "A1"\nerrand = 10',
             "agents[0] 'A1'",
-            "errand and move are for autonomous people",
+            "errand, move and knows are for autonomous people",
         ),
+        (
+            'id = "A1"',
+            'id = "A1"\nmove_after = 2.5',
+            "agents[0] 'A1'",
+            "expected move_after = a number of ticks",
+        ),
+        ('id = "A1"', 'id = "A1"\nknows = "ball"', "agents[0] 'A1'", "expected knows = [item, ...]"),
         ('id = "A1"', 'id = "A1"\nerrand = -1', "agents[0] 'A1'", "expected errand = a number of ticks >= 0"),
         ('id = "A1"', 'id = "A1"\nmove = ["ball"]', "agents[0] 'A1'", "expected move = [item, location]"),
         (

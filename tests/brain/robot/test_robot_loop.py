@@ -53,6 +53,11 @@ def test_paper_robot_swaps_the_toys(tmp_path: Path) -> None:
     agents = {a["id"]: a for a in state["agents"]}
     assert agents["A1"]["holding"] == "skate" and agents["A1"]["activity"] == "playing"
     assert agents["A2"]["holding"] == "ball" and agents["A2"]["activity"] == "playing"
+    first = min(int(r["tick"]) for r in events.find(actor="robot", kind="command"))
+    assert first > told - 60, (
+        f"the robot's first command came at tick {first}, long before the swap's task "
+        f"({told}): a blip of the online estimates (A1 leaving at tick 56) started a task"
+    )
 
 
 def test_paper_robot_decline(tmp_path: Path) -> None:

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import msgspec
 import pytest
 
-from bridge.evaluation.metrics import Counts, score_tick
-from protocol import AgentMind, ItemBelief, Mind, Prob, TrueMind, Truth
+from bridge.evaluation.metrics import Counts, false_belief_causes, score_tick
+from protocol import AgentMind, ItemBelief, ItemPlace, Mind, Prob, TrueMind, Truth
 
 
 def mind(tick: int, basket: float, flagged: bool, prefers: str) -> Mind:
@@ -122,3 +123,43 @@ def test_paired_bootstrap_intervals() -> None:
     assert differences["other"]["belief_tv"]["hi"] < 0, "btom's belief_tv is lower"
     again, _ = intervals({"btom": good, "other": bad}, seed=1, resamples=200)
     assert again == bounds, "the same seed should give the same intervals"
+
+
+def placed(tick: int, basket: float, where: str) -> Truth:
+    """:func:`truth` (Sally wants the marble) with the marble truly at ``where``."""
+    return msgspec.structs.replace(truth(tick, basket, "marble"), items=(ItemPlace("marble", where),))
+
+
+def test_false_beliefs_by_how_they_arose() -> None:
+    """Tick 1: Sally sure of the box, the marble in the basket (from before the episode:
+    ``start``). Tick 2: she saw it (true belief). Tick 3: Anne moved it to the box unseen
+    (``moved``). Tick 4: still. Tick 5: she looked, knows the box. Tick 6: told wrongly it is
+    in the basket, nothing moved (``unmoved``). The brain flags ticks 3 and 6 only."""
+    truths = {
+        1: placed(1, 0.0, "basket"),
+        2: placed(2, 1.0, "basket"),
+        3: placed(3, 1.0, "box"),
+        4: placed(4, 1.0, "box"),
+        5: placed(5, 0.0, "box"),
+        6: placed(6, 1.0, "box"),
+    }
+    causes = false_belief_causes(truths)
+    key = ("sally", "marble")
+    assert {t: c.get(key) for t, c in causes.items()} == {
+        1: "start",
+        2: None,
+        3: "moved",
+        4: "moved",
+        5: None,
+        6: "unmoved",
+    }
+    total = Counts()
+    for tick, t in truths.items():
+        where = {p.item: p.location for p in t.items}
+        flagged = tick in (3, 6)
+        total.add(score_tick(mind(tick, 0.5, flagged, "marble"), t, where, set(), causes[tick]))
+    by_cause = total.recall_by_cause()
+    assert by_cause["start"] == {"ticks": 1, "share": 0.25, "recall": 0.0}, by_cause
+    assert by_cause["moved"] == {"ticks": 2, "share": 0.5, "recall": 0.5}, by_cause
+    assert by_cause["unmoved"] == {"ticks": 1, "share": 0.25, "recall": 1.0}, by_cause
+    assert total.majority().recall_by_cause()["moved"]["recall"] == 0.0
