@@ -41,7 +41,7 @@ class FindTask(py_trees.behaviour.Behaviour):
         task = first_task(self.finder, ctx.snapshot, ctx.settings, ctx.confirmed(self.branch, self.finder))
         if task is None or (ctx.task is not None and not preempts(task, ctx)):
             return Status.FAILURE
-        ctx.task, ctx.branch, ctx.finder = task, self.branch, self.finder
+        ctx.task, ctx.branch, ctx.finder, ctx.unneeded_since = task, self.branch, self.finder, None
         ctx.attempts[task] += 1
         ctx.activity, ctx.detail = self.branch, describe(task)
         self.feedback_message = ctx.detail
@@ -131,7 +131,7 @@ class Act(py_trees.behaviour.Behaviour):
         ctx: RobotContext = self.board.context
         assert self.command is not None
         status = ctx.book.status(self.command)
-        if self.guarded and not ctx.task_needed() and (status is None or not status.state.final):
+        if self.guarded and (status is None or not status.state.final) and ctx.give_up():
             ctx.book.cancel(self.command)
             self.feedback_message = "no longer needed"
             return Status.FAILURE

@@ -46,6 +46,8 @@ class RobotContext:
     utterance: str | None = None
     seen_since: dict[tuple[str, Task], float] = field(default_factory=dict)
     """``(branch, task)`` -> the engine time a finder has seen the task since, tick after tick."""
+    unneeded_since: float | None = None
+    """The engine time since which the current task has not been called for (:meth:`give_up`)."""
 
     @property
     def now(self) -> float:
@@ -56,6 +58,16 @@ class RobotContext:
         if self.task is None or self.finder is None or self.snapshot is None:
             return False
         return still_needed(self.finder, self.task, self.snapshot, self.settings)
+
+    def give_up(self) -> bool:
+        """Whether to give up the current task: it has not been called for, tick after tick,
+        for ``confirm_seconds`` (hysteresis both ways: a blip neither starts nor stops one)."""
+        if self.task_needed():
+            self.unneeded_since = None
+            return False
+        if self.unneeded_since is None:
+            self.unneeded_since = self.now
+        return self.now - self.unneeded_since >= self.settings.confirm_seconds
 
     def skip(self) -> set[Task]:
         tired = {t for t, n in self.attempts.items() if n >= self.settings.attempts}

@@ -104,29 +104,48 @@ class Snapshot:
 
 
 def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
-    """People with empty hands heading for a place where the item they want is not, and who
-    probably do not know where it is: a false belief about it (at least ``belief_threshold``),
-    or a belief that gives where it is less than ``inform_mass`` (they are searching: after a
-    place found empty, ignorance is not a false belief, but telling still saves the search);
-    nobody holds it."""
+    """People with empty hands who do not know where the free item they want is, told where
+    it is: heading for where they probably falsely believe it (a false belief at least
+    ``belief_threshold``, their intention at least ``intention_threshold``), or searching (they
+    most likely want it, their belief gives its true place less than ``inform_mass``, and
+    they are on the move but not towards it: after a place found empty, ignorance is not a
+    false belief, but telling still saves the search)."""
     model = snap.model
     for person in snap.people:
         est = snap.estimates.get(person)
         if est is None or snap.holding(person) is not None:
             continue
         k, believed, p = est.intention
-        if k is None or believed is None or p < settings.intention_threshold:
-            continue
-        item = model.items[k]
-        location, holder = snap.item(item)
-        if holder is not None or location is None or model.locations[believed] == location:
-            continue
-        knows = est.beliefs[k, model.locations.index(location)] >= settings.inform_mass
-        if est.false_belief[k] < settings.belief_threshold and knows:
-            continue
-        if not snap.approaching(person, believed):
-            continue
-        yield Inform(person=person, item=item, location=location)
+        if k is not None and believed is not None and p >= settings.intention_threshold:
+            item = model.items[k]
+            location, holder = snap.item(item)
+            mistaken = est.false_belief[k] >= settings.belief_threshold
+            if holder is None and location is not None and model.locations[believed] != location:
+                if mistaken and snap.approaching(person, believed):
+                    yield Inform(person=person, item=item, location=location)
+                    continue
+        searching = _searching(snap, settings, person, est)
+        if searching is not None:
+            yield searching
+
+
+def _searching(snap: Snapshot, settings: RobotSettings, person: str, est: Estimate) -> Inform | None:
+    """The inform for ``person`` when they search for the free item they most likely want
+    without knowing where it is (see :func:`inform_tasks`), else ``None``."""
+    model = snap.model
+    d = int(np.argmax(est.preference))
+    if d >= model.n_items or est.preference[d] < settings.preference_threshold:
+        return None
+    item = model.items[d]
+    location, holder = snap.item(item)
+    if holder is not None or location is None or est.false_belief[d] >= settings.belief_threshold:
+        return None
+    true = model.locations.index(location)
+    if est.beliefs[d, true] >= settings.inform_mass or snap.moved_from.get(person) is None:
+        return None
+    if snap.approaching(person, true):
+        return None
+    return Inform(person=person, item=item, location=location)
 
 
 def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied]:
