@@ -1,0 +1,89 @@
+"""The robot's hysteresis (``RobotSettings.confirm_seconds``) and which task takes over from
+which, on the paper scene with a finder that calls for what each test says."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import msgspec
+import pytest
+
+from brain.model.world import build_world_model
+from brain.robot.behaviours import preempts
+from brain.robot.commands import CommandBook
+from brain.robot.context import RobotContext
+from brain.robot.situation import Inform, PutBack, Snapshot, Task
+from brain.settings import RobotSettings
+from sim2d.engine import Engine
+
+TELL = Inform(person="A1", item="ball", location="P2")
+
+
+@pytest.fixture(scope="module")
+def world():
+    engine = Engine("paper-robot")
+    scene = engine.scene()
+    return scene, build_world_model(scene), engine.state()
+
+
+def context(world, confirm: float) -> RobotContext:
+    scene, _, _ = world
+    return RobotContext(
+        robot="robot", home=(7, 5), settings=RobotSettings(confirm_seconds=confirm), book=CommandBook("robot")
+    )
+
+
+def at(world, ctx: RobotContext, seconds: float, holding: str | None = None) -> None:
+    """The context's snapshot at engine time ``seconds`` (the robot holding ``holding``)."""
+    scene, model, state = world
+    agents = tuple(
+        msgspec.structs.replace(a, holding=holding) if a.id == "robot" else a for a in state.agents
+    )
+    now = msgspec.structs.replace(state, time=seconds, agents=agents)
+    ctx.snapshot = Snapshot(scene, model, now, {}, {}, {})
+
+
+def calling(*tasks: Task):
+    def finder(snap, settings):
+        yield from tasks
+
+    return finder
+
+
+def test_a_task_starts_only_once_called_for_confirm_seconds_in_a_row(world) -> None:
+    ctx = context(world, confirm=0.5)
+    finder = calling(TELL)
+    for seconds, young in ((0.0, True), (0.3, True), (0.5, False)):
+        at(world, ctx, seconds)
+        assert (TELL in ctx.confirmed("inform", finder)) is young, f"at {seconds} s"
+    at(world, ctx, 0.6)
+    ctx.confirmed("inform", calling())  # a tick without it: the count starts again
+    at(world, ctx, 0.7)
+    assert TELL in ctx.confirmed("inform", finder), "a gap restarts the wait"
+
+
+def test_no_hysteresis_when_confirm_seconds_is_zero(world) -> None:
+    ctx = context(world, confirm=0.0)
+    at(world, ctx, 0.0)
+    assert TELL not in ctx.confirmed("inform", calling(TELL))
+
+
+def test_a_task_is_given_up_only_after_confirm_seconds_without_it(world) -> None:
+    ctx = context(world, confirm=0.5)
+    ctx.task, ctx.finder = TELL, calling(TELL)
+    at(world, ctx, 1.0)
+    assert not ctx.give_up()
+    ctx.finder = calling()  # no longer called for
+    for seconds, gone in ((1.1, False), (1.4, False), (1.6, True)):
+        at(world, ctx, seconds)
+        assert ctx.give_up() is gone, f"at {seconds} s"
+
+
+def test_an_inform_takes_over_from_a_put_back_not_yet_picked_up(world) -> None:
+    ctx = context(world, confirm=0.5)
+    ctx.task = PutBack(item="ball", location="P1", owner="A1")
+    at(world, ctx, 1.0)
+    assert preempts(TELL, ctx)
+    assert not preempts(dataclasses.replace(TELL, item="skate"), ctx), "another item: no"
+    at(world, ctx, 1.0, holding="ball")
+    assert not preempts(TELL, ctx), "the robot carries it back already: it finishes the put-back"
