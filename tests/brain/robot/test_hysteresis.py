@@ -26,8 +26,7 @@ def world():
     return scene, build_world_model(scene), engine.state()
 
 
-def context(world, confirm: float) -> RobotContext:
-    scene, _, _ = world
+def context(confirm: float) -> RobotContext:
     return RobotContext(
         robot="robot", home=(7, 5), settings=RobotSettings(confirm_seconds=confirm), book=CommandBook("robot")
     )
@@ -51,7 +50,7 @@ def calling(*tasks: Task):
 
 
 def test_a_task_starts_only_once_called_for_confirm_seconds_in_a_row(world) -> None:
-    ctx = context(world, confirm=0.5)
+    ctx = context(confirm=0.5)
     finder = calling(TELL)
     for seconds, young in ((0.0, True), (0.3, True), (0.5, False)):
         at(world, ctx, seconds)
@@ -63,13 +62,13 @@ def test_a_task_starts_only_once_called_for_confirm_seconds_in_a_row(world) -> N
 
 
 def test_no_hysteresis_when_confirm_seconds_is_zero(world) -> None:
-    ctx = context(world, confirm=0.0)
+    ctx = context(confirm=0.0)
     at(world, ctx, 0.0)
     assert TELL not in ctx.confirmed("inform", calling(TELL))
 
 
 def test_a_task_is_given_up_only_after_confirm_seconds_without_it(world) -> None:
-    ctx = context(world, confirm=0.5)
+    ctx = context(confirm=0.5)
     ctx.task, ctx.finder = TELL, calling(TELL)
     at(world, ctx, 1.0)
     assert not ctx.give_up()
@@ -80,7 +79,7 @@ def test_a_task_is_given_up_only_after_confirm_seconds_without_it(world) -> None
 
 
 def test_an_inform_takes_over_from_a_put_back_not_yet_picked_up(world) -> None:
-    ctx = context(world, confirm=0.5)
+    ctx = context(confirm=0.5)
     ctx.task = PutBack(item="ball", location="P1", owner="A1")
     at(world, ctx, 1.0)
     assert preempts(TELL, ctx)
