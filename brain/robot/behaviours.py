@@ -12,7 +12,7 @@ from protocol import Cell, Navigate, Request
 
 from ..settings import RobotSettings
 from .context import RobotContext, Skip, Step
-from .situation import Finder, Inform, Occupied, PutBack, Task, first_task
+from .situation import Finder, Inform, Occupied, Task, first_task
 
 
 def _client(behaviour: py_trees.behaviour.Behaviour, namespace: str) -> py_trees.blackboard.Client:
@@ -36,30 +36,16 @@ class FindTask(py_trees.behaviour.Behaviour):
         ctx: RobotContext = self.board.context
         if ctx.snapshot is None:
             return Status.FAILURE
-        if ctx.task is not None and ctx.branch == self.branch:
-            return Status.SUCCESS
+        if ctx.task is not None:
+            return Status.SUCCESS if ctx.branch == self.branch else Status.FAILURE
         task = first_task(self.finder, ctx.snapshot, ctx.settings, ctx.confirmed(self.branch, self.finder))
-        if task is None or (ctx.task is not None and not preempts(task, ctx)):
+        if task is None:
             return Status.FAILURE
         ctx.task, ctx.branch, ctx.finder, ctx.unneeded_since = task, self.branch, self.finder, None
         ctx.attempts[task] += 1
         ctx.activity, ctx.detail = self.branch, describe(task)
         self.feedback_message = ctx.detail
         return Status.SUCCESS
-
-
-def preempts(task: Task, ctx: RobotContext) -> bool:
-    """Whether ``task`` takes over from the task under way: telling a person who is already
-    heading for the wrong place where the item is beats a put-back of that item the robot
-    has not picked up yet (they would get there first). The branch given up on is stopped by
-    the tree, its command cancelled."""
-    under_way = ctx.task
-    return (
-        isinstance(task, Inform)
-        and isinstance(under_way, PutBack)
-        and task.item == under_way.item
-        and ctx.holding(ctx.robot) != under_way.item
-    )
 
 
 class TaskBranch(py_trees.composites.Sequence):

@@ -1,19 +1,17 @@
-"""The robot's hysteresis (``RobotSettings.confirm_seconds``) and which task takes over from
-which, on the paper scene with a finder that calls for what each test says."""
+"""The robot's hysteresis (``RobotSettings.confirm_seconds``), on the paper scene with a
+finder that calls for what each test says."""
 
 from __future__ import annotations
-
-import dataclasses
 
 import msgspec
 import pytest
 
 from brain.model.world import build_world_model
-from brain.robot.behaviours import preempts
 from brain.robot.commands import CommandBook
 from brain.robot.context import RobotContext
-from brain.robot.situation import Inform, PutBack, Snapshot, Task
+from brain.robot.situation import Inform, Snapshot, Task
 from brain.settings import RobotSettings
+from protocol import Cell
 from sim2d.engine import Engine
 
 TELL = Inform(person="A1", item="ball", location="P2")
@@ -32,11 +30,19 @@ def context(confirm: float) -> RobotContext:
     )
 
 
-def at(world, ctx: RobotContext, seconds: float, holding: str | None = None) -> None:
-    """The context's snapshot at engine time ``seconds`` (the robot holding ``holding``)."""
+def at(
+    world, ctx: RobotContext, seconds: float, holding: str | None = None, **cells: tuple[int, int]
+) -> None:
+    """The context's snapshot at engine time ``seconds`` (the robot holding ``holding``;
+    agents moved to ``cells``)."""
     scene, model, state = world
     agents = tuple(
-        msgspec.structs.replace(a, holding=holding) if a.id == "robot" else a for a in state.agents
+        msgspec.structs.replace(
+            a,
+            holding=holding if a.id == "robot" else a.holding,
+            cell=Cell(*cells[a.id]) if a.id in cells else a.cell,
+        )
+        for a in state.agents
     )
     now = msgspec.structs.replace(state, time=seconds, agents=agents)
     ctx.snapshot = Snapshot(scene, model, now, {}, {}, {})
@@ -76,13 +82,3 @@ def test_a_task_is_given_up_only_after_confirm_seconds_without_it(world) -> None
     for seconds, gone in ((1.1, False), (1.4, False), (1.6, True)):
         at(world, ctx, seconds)
         assert ctx.give_up() is gone, f"at {seconds} s"
-
-
-def test_an_inform_takes_over_from_a_put_back_not_yet_picked_up(world) -> None:
-    ctx = context(confirm=0.5)
-    ctx.task = PutBack(item="ball", location="P1", owner="A1")
-    at(world, ctx, 1.0)
-    assert preempts(TELL, ctx)
-    assert not preempts(dataclasses.replace(TELL, item="skate"), ctx), "another item: no"
-    at(world, ctx, 1.0, holding="ball")
-    assert not preempts(TELL, ctx), "the robot carries it back already: it finishes the put-back"
