@@ -12,7 +12,7 @@ from protocol import Cell, Navigate, Request
 
 from ..settings import RobotSettings
 from .context import RobotContext, Skip, Step
-from .situation import Finder, Inform, Occupied, Task, first_task
+from .situation import Finder, Inform, Occupied, Task
 
 
 def _client(behaviour: py_trees.behaviour.Behaviour, namespace: str) -> py_trees.blackboard.Client:
@@ -38,7 +38,7 @@ class FindTask(py_trees.behaviour.Behaviour):
             return Status.FAILURE
         if ctx.task is not None:
             return Status.SUCCESS if ctx.branch == self.branch else Status.FAILURE
-        task = first_task(self.finder, ctx.snapshot, ctx.settings, ctx.confirmed(self.branch, self.finder))
+        task = ctx.ready(self.branch, self.finder)
         if task is None:
             return Status.FAILURE
         ctx.task, ctx.branch, ctx.finder, ctx.unneeded_since = task, self.branch, self.finder, None

@@ -73,23 +73,22 @@ class RobotContext:
         tired = {t for t, n in self.attempts.items() if n >= self.settings.attempts}
         return self.done | tired
 
-    def confirmed(self, branch: str, finder: Finder) -> set[Task]:
-        """The tasks ``branch`` must not start now: :meth:`skip`'s, and those ``finder`` has not
-        seen for ``confirm_seconds`` in a row (hysteresis: a blip of the estimates starts
-        nothing). Remembers what it sees now, and forgets what it does not."""
+    def ready(self, branch: str, finder: Finder) -> Task | None:
+        """The first task ``finder`` calls for now that is not skipped (:meth:`skip`) and has
+        been called for by it, tick after tick, for ``confirm_seconds`` (hysteresis: a blip of
+        the estimates starts nothing). Remembers what it sees now and forgets what it does not;
+        one pass of the finder."""
+        if self.snapshot is None:
+            return None
         skip = self.skip()
-        if self.settings.confirm_seconds <= 0 or self.snapshot is None:
-            return skip
+        tasks = [task for task in finder(self.snapshot, self.settings) if task not in skip]
         now = self.now
-        seen = {task for task in finder(self.snapshot, self.settings) if task not in skip}
-        for key in [k for k in self.seen_since if k[0] == branch and k[1] not in seen]:
+        for key in [k for k in self.seen_since if k[0] == branch and k[1] not in tasks]:
             del self.seen_since[key]
-        young = set()
-        for task in seen:
-            since = self.seen_since.setdefault((branch, task), now)
-            if now - since < self.settings.confirm_seconds:
-                young.add(task)
-        return skip | young
+        for task in tasks:
+            self.seen_since.setdefault((branch, task), now)
+        confirm = self.settings.confirm_seconds
+        return next((t for t in tasks if now - self.seen_since[(branch, t)] >= confirm), None)
 
     def cell_of(self, agent: str) -> GridCell | None:
         assert self.snapshot is not None

@@ -5,14 +5,15 @@ In the priority order of the paper's Section IV.B:
 2. :func:`find_occupied`: a person's preferred item is held by someone else (and they are
    heading for where they believe it is).
 3. :func:`find_put_back`: an item was moved while the person who left it was away.
-Each yields every such task it sees; :func:`first_task` picks the first not skipped (done or
-given up) and :func:`still_needed` checks a task against the world as it is now.
+Each yields every such task it sees; the robot's context picks the first not skipped (done or
+given up) and called for long enough (``RobotContext.ready``), and :func:`still_needed` checks
+a task against the world as it is now.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Collection, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -248,13 +249,6 @@ def announce_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
 
 
 Finder = Callable[[Snapshot, RobotSettings], Iterator[Task]]
-
-
-def first_task(
-    finder: Finder, snap: Snapshot, settings: RobotSettings, skip: Collection[Task]
-) -> Task | None:
-    """The first task ``finder`` sees that is not in ``skip``."""
-    return next((task for task in finder(snap, settings) if task not in skip), None)
 
 
 def still_needed(finder: Finder, task: Task, snap: Snapshot, settings: RobotSettings) -> bool:

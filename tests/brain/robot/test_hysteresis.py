@@ -60,17 +60,17 @@ def test_a_task_starts_only_once_called_for_confirm_seconds_in_a_row(world) -> N
     finder = calling(TELL)
     for seconds, young in ((0.0, True), (0.3, True), (0.5, False)):
         at(world, ctx, seconds)
-        assert (TELL in ctx.confirmed("inform", finder)) is young, f"at {seconds} s"
+        assert (ctx.ready("inform", finder) is None) is young, f"at {seconds} s"
     at(world, ctx, 0.6)
-    ctx.confirmed("inform", calling())  # a tick without it: the count starts again
+    ctx.ready("inform", calling())  # a tick without it: the count starts again
     at(world, ctx, 0.7)
-    assert TELL in ctx.confirmed("inform", finder), "a gap restarts the wait"
+    assert ctx.ready("inform", finder) is None, "a gap restarts the wait"
 
 
 def test_no_hysteresis_when_confirm_seconds_is_zero(world) -> None:
     ctx = context(confirm=0.0)
     at(world, ctx, 0.0)
-    assert TELL not in ctx.confirmed("inform", calling(TELL))
+    assert ctx.ready("inform", calling(TELL)) == TELL
 
 
 def test_a_task_is_given_up_only_after_confirm_seconds_without_it(world) -> None:
