@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from protocol import EventKind, ItemBelief, Prob, RegionKind, TrueMind
+from protocol import EventKind, ItemBelief, Prob, TrueMind
 
 from .personbelief import PersonBelief
 from .scenario import AgentSetup, Autonomy
@@ -243,7 +243,7 @@ class AutonomousPerson:
                 return True
         if self.errand > 0:
             ticks, self.errand = self.errand, 0
-            outside = [c for c, r in world.region_of.items() if r in self._outside_regions(world)]
+            outside = [c for c, r in world.region_of.items() if r in world.map.outside_regions]
             if outside:
                 agent = world.agents[self.id]
                 cell = min(outside, key=lambda c: abs(c[0] - agent.cell[0]) + abs(c[1] - agent.cell[1]))
@@ -264,7 +264,7 @@ class AutonomousPerson:
             return
         if want == OUT:
             if world.map.regions and not self._outside(world):
-                outside = [c for c, r in world.region_of.items() if r in self._outside_regions(world)]
+                outside = [c for c, r in world.region_of.items() if r in world.map.outside_regions]
                 if outside:
                     target = min(outside, key=lambda c: abs(c[0] - agent.cell[0]) + abs(c[1] - agent.cell[1]))
                     self.plan.append(Primitive("goto", cell=target))
@@ -319,11 +319,8 @@ class AutonomousPerson:
             ),
         )
 
-    def _outside_regions(self, world: World) -> set[str]:
-        return {r.id for r in world.map.regions if r.kind == RegionKind.OUTSIDE}
-
     def _outside(self, world: World) -> bool:
-        return world.agents[self.id].region in self._outside_regions(world)
+        return world.agents[self.id].region in world.map.outside_regions
 
     def _mischief(self, world: World) -> bool:
         """Plan to move an item that is not this person's wish from a spot in view to another."""

@@ -60,6 +60,11 @@ class GameMap:
         return {(c.col, c.row): r.id for r in self.regions for c in r.cells}
 
     @property
+    def outside_regions(self) -> set[str]:
+        """Ids of the regions of kind ``outside``."""
+        return {r.id for r in self.regions if r.kind == RegionKind.OUTSIDE}
+
+    @property
     def walkable(self) -> frozenset[GridCell]:
         """Region cells and door cells."""
         return frozenset(self.region_of) | {(d.cell.col, d.cell.row) for d in self.doors}

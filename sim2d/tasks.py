@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from protocol import GridCell, Location, RegionKind
+from protocol import GridCell, Location
 from protocol.carry import walking_distances
 
 from .maps import GameMap
@@ -136,7 +136,7 @@ def move_after(
     the owner, after ``errand`` ticks outside, starts back; never taken before the owner is
     outside (so they do not see it go). From walking distances on the map."""
     tpc = ticks_per_cell(game_map, tick_seconds)
-    outside = [c for c, r in game_map.region_of.items() if r in _outside_regions(game_map)]
+    outside = [c for c, r in game_map.region_of.items() if r in game_map.outside_regions]
     from_home = walking_distances(game_map.walkable, [owner_home])
     walk_out = min((from_home[c] for c in outside if c in from_home), default=0)
     from_spot = walking_distances(game_map.walkable, [_cell(spot)])
@@ -144,10 +144,6 @@ def move_after(
     carry = tpc * (to_spot + from_spot.get(_cell(target), 0)) + HANDLING_TICKS
     earliest = max(tpc * (walk_out - to_spot), 0)
     return max(tpc * walk_out + errand - lead - carry, earliest)
-
-
-def _outside_regions(game_map: GameMap) -> set[str]:
-    return {r.id for r in game_map.regions if r.kind == RegionKind.OUTSIDE}
 
 
 def person_lines(person: str, home: GridCell, *extra: str) -> list[str]:
