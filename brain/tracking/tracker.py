@@ -348,8 +348,10 @@ class MindTracker:
         if not track.estimates:
             return None
         mass = self.settings.false_belief_mass
-        if len(track.chains) == 1:
+        if self.view is None:
             return reread(track.estimates[-1], self.truth, mass)
+        # embodied: each branch's latest, mixed by the weights now (branches ruled out since
+        # the person's last step are gone, even when one is left)
         read = [
             reread(c.estimates[-1], t, mass) for c, t in zip(track.chains, self.branch_truths, strict=True)
         ]

@@ -69,3 +69,25 @@ def test_omniscient_is_one_branch_and_embodied_needs_a_robot() -> None:
     )
     with pytest.raises(ValueError, match="perception = embodied needs a robot in scene 'corridor'"):
         MindTracker(no_robot, ModelSettings(perception="embodied"))
+
+
+def test_what_the_robot_sees_later_revises_a_still_persons_estimate_at_once() -> None:
+    """The person looks at both spots, then stands still (no new step); when the robot then
+    sees the ball at A, the person's online estimate says at once that they believe it at
+    A, not the mixture over branches written at their last step (a bug until 2026-12: with
+    one branch left, the stale mixture was read)."""
+    tracker = MindTracker(corridor_scene(), ModelSettings(perception="embodied"))
+    tracker.observe(corridor_state(0, 5, ball_at="A"), [])
+    before = tracker.online("p")
+    a = tracker.model.locations.index("A")
+    assert before is not None and before.beliefs[0, a] == pytest.approx(0.5, abs=0.05), (
+        f"expected the robot unsure where the person believes the ball, got {before.beliefs[0]}"
+    )
+    steps = len(tracker.tracks["p"].estimates)
+    tracker.observe(corridor_state(1, 5, robot=3, ball_at="A"), [])  # the robot walks in and sees A
+    assert tracker.view is not None and len(tracker.view.rows) == 1
+    assert len(tracker.tracks["p"].estimates) == steps, "the person took no step"
+    after = tracker.online("p")
+    assert after is not None and after.beliefs[0, a] > 0.99, (
+        f"expected the person believed to see the ball at A, got {after.beliefs[0]}"
+    )
