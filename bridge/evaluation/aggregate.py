@@ -20,18 +20,23 @@ MAJORITY = "majority"
 ROBOT = "robot"
 """An episode's acting runs are keyed ``robot-<policy>``; ``none`` is the observing run's."""
 NONE = "none"
-HELP = ("ticks_to_goal_fb", "wasted_trips", "interruptions")
+HELP = ("ticks_to_goal_fb", "ticks_from_false_belief", "wasted_trips", "interruptions")
 
 
 def _help_sums(run: Mapping[str, Any]) -> dict[str, tuple[float, int]]:
     """One run's ``(sum, count)`` of each help measure: ticks to goal over the people who had
     a false belief (until they first played with the item it was about, from then on; the
-    episode's length when never), wasted trips and interruptions over every person."""
+    episode's length when never), counted from the episode's start and from the false
+    belief's first tick (the part a robot can shorten: an errand before it cannot be), and
+    wasted trips and interruptions over every person."""
     helped = run.get("help", {})
     fb = [h for h in helped.values() if h["false_belief"]]
     ticks = [h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"] for h in fb]
+    onsets = [h.get("false_belief_tick") for h in fb]
+    since = [t - onset for t, onset in zip(ticks, onsets, strict=True) if onset is not None]
     return {
         "ticks_to_goal_fb": (float(sum(ticks)), len(ticks)),
+        "ticks_from_false_belief": (float(sum(since)), len(since)),
         "wasted_trips": (float(sum(h["wasted_trips"] for h in helped.values())), len(helped)),
         "interruptions": (float(sum(h["interruptions"] for h in helped.values())), len(helped)),
     }

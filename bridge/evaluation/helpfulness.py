@@ -4,7 +4,8 @@ evaluator heard):
 - ``false_belief``: whether the person, at some tick, had a false belief about the item they
   wanted then (their true belief gave its true location less than
   :data:`~bridge.evaluation.metrics.FALSE_BELIEF_MASS`): the people help is for;
-  ``goal_tick``: the first tick, from then on, they played with that item (``None``: never);
+  ``false_belief_tick``: the first such tick; ``goal_tick``: the first tick, from then on,
+  they played with that item (``None``: never);
 - ``wasted_trips``: arrivals at an item location that their true belief, the tick before,
   gave at least one half of holding the item they wanted, when it did not hold it;
 - ``interruptions``: what the robot said to them or asked of them (``say``, ``request``).
@@ -28,6 +29,8 @@ class PersonHelp:
     """One person's run, as help is measured."""
 
     false_belief: bool = False
+    false_belief_tick: int | None = None
+    """The first tick of that false belief (``None``: none)."""
     goal_tick: int | None = None
     """The first tick from the first false belief on that the person played with the item
     the false belief was about (``None``: never, or no false belief)."""
@@ -63,6 +66,7 @@ def helpfulness(
             ):
                 help_.false_belief = True
                 onset.setdefault(mind.agent, (tick, mind.preference))
+                help_.false_belief_tick = onset[mind.agent][0]
             cell = cells.get(mind.agent)
             before = previous.get(mind.agent)
             if cell is not None and before is not None and cell != before[0] and cell in spot_at:

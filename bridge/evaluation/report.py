@@ -16,7 +16,7 @@ METRICS = (
     "false_belief_f1",
     "goal_false_belief_f1",
 )
-HELP = ("success", "ticks_to_goal_fb", "wasted_trips", "interruptions")
+HELP = ("success", "ticks_to_goal_fb", "ticks_from_false_belief", "wasted_trips", "interruptions")
 ORACLE = (
     "With simple minds and an omniscient robot, `perceptonly` is an oracle of people's beliefs: "
     "the simulated people update on exactly the percepts it computes, from the same true world, "
@@ -66,8 +66,9 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
         lines += [
             "",
             "Robot policies (`ticks_to_goal_fb`: mean ticks until a person who had a false belief "
-            "about what they wanted first had it, the episode's length when never; trips and "
-            "interruptions per person):",
+            "about what they wanted first had it, the episode's length when never; "
+            "`ticks_from_false_belief`: the same counted from the false belief's first tick; "
+            "trips and interruptions per person):",
             "",
             *_rows(metrics["robot"], HELP, "policy"),
         ]

@@ -67,7 +67,13 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
     assert condition["observers"]["btom"]["belief_tv"]["mean"] is not None
     assert set(condition["robot"]) == {"tom", "none"}
     for policy in condition["robot"].values():
-        assert set(policy) == {"success", "ticks_to_goal_fb", "wasted_trips", "interruptions"}, policy
+        assert set(policy) == {
+            "success",
+            "ticks_to_goal_fb",
+            "ticks_from_false_belief",
+            "wasted_trips",
+            "interruptions",
+        }, policy
         assert policy["wasted_trips"]["mean"] is not None
     report = (out / "report.md").read_text()
     assert report.startswith(f"# Evaluation: {EPISODES} episodes per condition")

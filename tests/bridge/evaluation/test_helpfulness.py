@@ -52,6 +52,7 @@ def test_a_wasted_trip_a_false_belief_and_an_interruption_by_hand() -> None:
     help_ = helpfulness(scene, states, truths, [said, by_person, played])["p"]
     assert (help_.false_belief, help_.wasted_trips, help_.interruptions) == (True, 1, 1), help_
     assert help_.goal_tick == 4, "the first play with the ball after the false belief began"
+    assert help_.false_belief_tick == 1, f"the false belief began at tick 1, got {help_.false_belief_tick}"
 
 
 def test_no_false_belief_no_trip_wasted() -> None:
@@ -77,6 +78,7 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
             "help": {
                 "A1": {
                     "false_belief": fb,
+                    "false_belief_tick": 10 if fb else None,
                     "goal_tick": tick if fb else None,
                     "wasted_trips": trips,
                     "interruptions": 0,
@@ -96,3 +98,5 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
     assert policies["tom"]["wasted_trips"]["mean"] == 0.5 and policies["none"]["wasted_trips"]["mean"] == 1.5
     assert policies["tom"]["success"] == 1.0 and policies["none"]["success"] == 0.5
     assert differences["none"]["ticks_to_goal_fb"]["mean"] == -60
+    since = {p: policies[p]["ticks_from_false_belief"]["mean"] for p in ("tom", "none")}
+    assert since == {"tom": 30, "none": 90}, f"expected ticks from the false belief's tick 10, got {since}"
