@@ -10,7 +10,9 @@ ranking), the ``world`` rows (:func:`_world_rows`) and one ``log_evidence`` row:
 marginal log-likelihood of the person's decisions up to that tick (``p_online``; natural
 log, not a probability) and over the whole run (``p_smoothed``). ``label`` is the
 scenario step the person completed at that tick, else empty. Between a person's steps the
-last estimate is carried forward (false beliefs are read against each tick's truth).
+last estimate is carried forward (false beliefs are read against each tick's truth); with an
+embodied robot that is the branches' mixture as weighed at the step, where the live ``mind``
+messages (:meth:`MindTracker.online`) re-weigh the branches every tick.
 """
 
 from __future__ import annotations
