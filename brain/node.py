@@ -41,6 +41,7 @@ from protocol import (
 )
 
 from .errors import StateError
+from .model.revisions import SharedRevisions
 from .outputs.results import mind_message
 from .outputs.shadows import ShadowMinds
 from .robot.controller import RobotBrain
@@ -110,12 +111,15 @@ class BrainNode:
         scene changes: their files hold one scene), and the robot's command channel, once
         the engine listens to it."""
         same = old is not None and old.info.scene == info.scene
+        revisions = SharedRevisions() if old is None and self.shadows else None
         tracker = (
-            old.tracker if old is not None and same else MindTracker(info.scene, self.settings, self.observer)
+            old.tracker
+            if old is not None and same
+            else MindTracker(info.scene, self.settings, self.observer, revisions)
         )
         shadow = old.shadow if old is not None and same else None
         if old is None and self.shadows:
-            shadow = ShadowMinds(info.scene, self.shadows, self.shadow_dir, self.settings)
+            shadow = ShadowMinds(info.scene, self.shadows, self.shadow_dir, self.settings, revisions)
             self._open_shadows.append(shadow)
         elif old is not None and old.shadow is not None and not same:
             log.warning("another scene: the shadow observers stop here")

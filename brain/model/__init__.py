@@ -9,6 +9,7 @@ from .estimates import OUT, Estimate, estimate, false_belief_probability, reread
 from .inference import HmmStep, forward, forward_step, smooth, switch_probability
 from .personmodel import ExactModel, FactoredModel, PersonFilter, PersonModel, StepRecord, person_model
 from .planner import TAKE, Move, Policy, cached_policy, plan
+from .revisions import SharedRevisions
 from .world import MOVE_STEPS, WorldModel, build_world_model
 
 __all__ = [
@@ -42,6 +43,7 @@ __all__ = [
     "PersonFilter",
     "PersonModel",
     "Policy",
+    "SharedRevisions",
     "StepRecord",
     "WorldModel",
 ]

@@ -35,6 +35,7 @@ from .gradedfactored import GradedFactoredModel
 from .inference import HmmStep, forward_step, hazard_matrix, log_of, smooth
 from .lookahead import cached_lookahead
 from .planner import Policy, cached_policy
+from .revisions import SharedRevisions
 from .world import WorldModel, build_world_model
 
 log = logging.getLogger(__name__)
@@ -192,6 +193,12 @@ class GradedModel:
         )
         """``(W, K L)`` one where world ``w`` has item ``k`` resting at location ``l``."""
         self.lookahead = cached_lookahead(scene, settings) if settings.person_planner == "belief" else None
+        self.revisions: SharedRevisions | None = None
+        """Revisions shared with the brain's other models that revise alike (``None``: not
+        shared; :mod:`brain.model.revisions`)."""
+        self.revision_key: tuple[object, ...] = (scene.name, settings.belief_update)
+        """What :meth:`revise` reads besides its arguments: models with equal keys revise alike."""
+        self.revision_key += (settings.r, settings.delta, settings.prior_resolution, settings.ignorance)
 
     def prior(self) -> FloatArray:
         """``(G, U)``: the hypotheses' prior weights, uniform over candidate desires."""
@@ -199,6 +206,8 @@ class GradedModel:
         return np.repeat(self.initial_weights[:, None] / U, U, axis=1)
 
     def new_filter(self) -> GradedFilter:
+        if self.revisions is not None and not self.true_world:
+            return GradedFilter(self, self.revisions.initial(self.revision_key, self.initial), self.prior())
         return GradedFilter(self, self.initial.copy(), self.prior())
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
@@ -222,7 +231,20 @@ class GradedModel:
         return qmdp_likelihood(beliefs, q, action, beta, epsilon)
 
     def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
-        """Every hypothesis's belief after the record's percept."""
+        """Every hypothesis's belief after the record's percept (taken from another model
+        of the brain that revised the same array alike, when shared)."""
+        if self.revisions is None or self.true_world:  # the truth, not only the percept, moves it
+            return self._revise(beliefs, record)
+        return self.revisions.revise(
+            self.revision_key,
+            record.tick,
+            record.percept,
+            record.forget,
+            beliefs,
+            lambda before: self._revise(before, record),
+        )
+
+    def _revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
         if self.true_world:  # every belief moves to the one true world (one row of the transition)
             out = np.zeros_like(beliefs)
             out[:, self.beliefs.true_target(record.truth, record.percept)] = beliefs.sum(axis=1)
@@ -241,7 +263,7 @@ class GradedModel:
         for record in records:
             likelihood = self.decision_likelihood(beliefs, record)
             alpha = _filter_step(alpha, likelihood, record.switch)
-            beliefs = self.revise(beliefs, record)
+            beliefs = self._revise(beliefs, record)
             alphas.append(alpha)
             steps.append((likelihood, record.switch))
         back = np.ones_like(alpha)
@@ -256,7 +278,7 @@ class GradedModel:
         posteriors.reverse()
         beliefs, out = self.initial.copy(), []
         for record, posterior in zip(records, posteriors, strict=True):
-            beliefs = self.revise(beliefs, record)
+            beliefs = self._revise(beliefs, record)
             out.append(self.read(beliefs, posterior, record.truth))
         return out
 

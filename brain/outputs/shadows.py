@@ -15,6 +15,7 @@ from typing import IO
 
 from protocol import Event, Scene, State, encode
 
+from ..model.revisions import SharedRevisions
 from ..settings import ModelSettings
 from ..tracking.tracker import MindTracker, Observer
 from .results import mind_message
@@ -33,14 +34,21 @@ class ShadowMinds:
         observers: the person models to run alongside the live one.
         directory: created if missing; one file per observer (:func:`shadow_path`).
         settings: model parameters (the live brain's).
+        revisions: belief revisions shared with the live tracker (``perceptonly`` revises
+            as ``btom`` does: :mod:`brain.model.revisions`).
     """
 
     def __init__(
-        self, scene: Scene, observers: Sequence[Observer], directory: Path, settings: ModelSettings
+        self,
+        scene: Scene,
+        observers: Sequence[Observer],
+        directory: Path,
+        settings: ModelSettings,
+        revisions: SharedRevisions | None = None,
     ) -> None:
         directory.mkdir(parents=True, exist_ok=True)
         self.scene = scene
-        self.trackers = [MindTracker(scene, settings, observer) for observer in observers]
+        self.trackers = [MindTracker(scene, settings, observer, revisions) for observer in observers]
         self.files: list[IO[bytes]] = [shadow_path(directory, o).open("wb") for o in observers]
 
     def observe(self, state: State, events: Sequence[Event]) -> None:

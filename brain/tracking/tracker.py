@@ -23,8 +23,9 @@ from ..model.arrays import FloatArray
 from ..model.belief import Percept, percept, told, true_values
 from ..model.estimates import Estimate, mix, reread
 from ..model.inference import switch_probability
-from ..model.personmodel import PersonFilter, StepRecord, person_model
+from ..model.personmodel import GradedModel, PersonFilter, StepRecord, person_model
 from ..model.planner import TAKE, Move, drop_action, play_action, use_action
+from ..model.revisions import SharedRevisions
 from ..model.world import MOVE_STEPS
 from ..settings import ModelSettings
 from .statecheck import check_items
@@ -73,15 +74,23 @@ class MindTracker:
         scene: the engine's scene description.
         settings: model parameters.
         observer: which person model to use.
+        revisions: belief revisions to share with the brain's other trackers of the same
+            scene (:mod:`brain.model.revisions`; exact graded models only, else unused).
     """
 
     def __init__(
-        self, scene: Scene, settings: ModelSettings | None = None, observer: Observer = Observer.BTOM
+        self,
+        scene: Scene,
+        settings: ModelSettings | None = None,
+        observer: Observer = Observer.BTOM,
+        revisions: SharedRevisions | None = None,
     ) -> None:
         self.scene = scene
         self.settings = settings or ModelSettings()
         self.observer = observer
         self.person_model = person_model(scene, self.settings, true_world=observer is Observer.TRUEBELIEF)
+        if isinstance(self.person_model, GradedModel):
+            self.person_model.revisions = revisions
         self.model = self.person_model.model
         self.exact = self.person_model.exact
         """Whether the exact joint model is used (else the factored one: see ``exact_max_worlds``)."""

@@ -1,0 +1,69 @@
+"""Belief revisions shared by the person models of one brain that revise alike.
+
+An observing brain runs ``btom`` live and ``perceptonly`` as a shadow on the same ticks
+(:mod:`brain.outputs.shadows`). Both follow each person's percepts with the same graded
+revision (:meth:`brain.model.personmodel.GradedModel.revise`); they differ only in how
+they weigh the hypotheses (``perceptonly`` reads no decisions). The revision is most of
+either's cost on the evaluation houses (``(G, W)`` = ``(1331, 512)`` per person and branch),
+so the second model takes the first's result instead of computing it again: bit for bit
+the same array, since the same function of the same input (the input is the very array the
+first model revised, or, at the first step, the shared prior).
+
+The memo holds one tick's revisions (the models of a brain take each tick in turn), keyed
+by what the revision reads: the models' revision settings, the tick, the percept and the
+forgetting. Arrays handed out are read-only, so no model can change another's beliefs.
+Pure numpy; no I/O.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass, field
+
+from .arrays import FloatArray
+from .belief import Percept
+
+Revise = Callable[[FloatArray], FloatArray]
+
+
+@dataclass
+class SharedRevisions:
+    """The memo (one per brain; pass it to every tracker that may share).
+
+    Attributes:
+        hits: revisions taken from the memo.
+        misses: revisions computed (and kept for the others).
+    """
+
+    hits: int = 0
+    misses: int = 0
+    _tick: int | None = None
+    _done: dict[Hashable, list[tuple[FloatArray, FloatArray]]] = field(default_factory=dict)
+    _initial: dict[Hashable, FloatArray] = field(default_factory=dict)
+
+    def initial(self, key: Hashable, beliefs: FloatArray) -> FloatArray:
+        """The prior ``(G, W)`` beliefs every model of revision settings ``key`` starts from:
+        the first one's, read-only (so revisions of it can be recognised by identity)."""
+        if key not in self._initial:
+            shared = beliefs.copy()
+            shared.flags.writeable = False
+            self._initial[key] = shared
+        return self._initial[key]
+
+    def revise(
+        self, key: Hashable, tick: int, percept: Percept, forget: float, beliefs: FloatArray, compute: Revise
+    ) -> FloatArray:
+        """``compute(beliefs)`` for a model of revision settings ``key`` at ``tick``, or the
+        same array another model computed from this very ``beliefs`` array this tick."""
+        if tick != self._tick:
+            self._tick, self._done = tick, {}
+        done = self._done.setdefault((key, percept, forget), [])
+        for before, after in done:
+            if before is beliefs:
+                self.hits += 1
+                return after
+        after = compute(beliefs)
+        after.flags.writeable = False
+        done.append((beliefs, after))
+        self.misses += 1
+        return after
