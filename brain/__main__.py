@@ -36,6 +36,7 @@ from protocol import Observer, Scene
 from .errors import BrainError
 from .fitting.command import fit_main, fit_parser
 from .model.planner import use_store
+from .model.revisions import SharedRevisions
 from .node import BrainNode
 from .outputs.policytable import write_policy_table
 from .outputs.results import write_outputs
@@ -118,7 +119,7 @@ def infer_parser() -> argparse.ArgumentParser:
 def infer_main(trace_path: Path, out: Path, observer: Observer, settings: Settings) -> int:
     """Replay a trace through the inference and write the outputs."""
     trace = read_trace(trace_path)
-    tracker = MindTracker(trace.info.scene, settings.model, observer=observer)
+    tracker = MindTracker(trace.info.scene, settings.model, observer, SharedRevisions())  # for branches
     for state, events in trace:
         tracker.observe(state, events)
     path = write_results(tracker, trace.info.scenario, out, settings)

@@ -42,7 +42,7 @@ from protocol import (
 
 from .errors import StateError
 from .model.revisions import SharedRevisions
-from .outputs.results import mind_message
+from .outputs.results import MindCache, mind_message
 from .outputs.shadows import ShadowMinds
 from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
@@ -111,7 +111,7 @@ class BrainNode:
         scene changes: their files hold one scene), and the robot's command channel, once
         the engine listens to it."""
         same = old is not None and old.info.scene == info.scene
-        revisions = SharedRevisions() if old is None and self.shadows else None
+        revisions = SharedRevisions()  # the shadows', and an embodied robot's branches'
         tracker = (
             old.tracker
             if old is not None and same
@@ -182,7 +182,8 @@ class BrainNode:
                 link.commands.put(command)
                 if link.heartbeats is None:
                     self._await_receipt(robot, link.inbox, command.id)
-        self._mind.put(mind_message(link.tracker, state, robot.activity() if robot is not None else None))
+        activity = robot.activity() if robot is not None else None
+        self._mind.put(mind_message(link.tracker, state, activity, link.minds))
         if self._on_tick is not None:
             self._on_tick(state, events)
         return state.done or (self._max_ticks is not None and state.tick >= self._max_ticks)
@@ -324,6 +325,8 @@ class _Link:
     commands: Publisher[Message] | None = None
     heartbeats: _Heartbeats | None = None
     """Real-time engines only."""
+    minds: MindCache = field(default_factory=dict)
+    """The ``mind`` message's parts kept between ticks (:func:`mind_message`)."""
 
 
 class _EventFeed:

@@ -11,12 +11,16 @@ first model revised, or, at the first step, the shared prior).
 
 The memo holds one tick's revisions (the models of a brain take each tick in turn), keyed
 by what the revision reads: the models' revision settings, the tick, the percept and the
-forgetting. Arrays handed out are read-only, so no model can change another's beliefs.
+forgetting; it holds the arrays revised only weakly, so it keeps no memory alive that the
+models let go. Arrays handed out are read-only, so no model can change another's beliefs.
+An embodied robot's branches share too: the branches of one person start from the same
+prior and revise alike while the percepts they imply agree.
 Pure numpy; no I/O.
 """
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 
@@ -38,7 +42,7 @@ class SharedRevisions:
     hits: int = 0
     misses: int = 0
     _tick: int | None = None
-    _done: dict[Hashable, list[tuple[FloatArray, FloatArray]]] = field(default_factory=dict)
+    _done: dict[Hashable, list[tuple[weakref.ref[FloatArray], FloatArray]]] = field(default_factory=dict)
     _initial: dict[Hashable, FloatArray] = field(default_factory=dict)
 
     def initial(self, key: Hashable, beliefs: FloatArray) -> FloatArray:
@@ -59,11 +63,11 @@ class SharedRevisions:
             self._tick, self._done = tick, {}
         done = self._done.setdefault((key, percept, forget), [])
         for before, after in done:
-            if before is beliefs:
+            if before() is beliefs:
                 self.hits += 1
                 return after
         after = compute(beliefs)
         after.flags.writeable = False
-        done.append((beliefs, after))
+        done.append((weakref.ref(beliefs), after))  # the memo keeps no belief alive that its models let go
         self.misses += 1
         return after

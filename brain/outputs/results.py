@@ -25,59 +25,73 @@ from protocol import (
 )
 
 from ..model.desires import DesireSummary
-from ..model.estimates import OUT
+from ..model.estimates import OUT, Estimate
 from ..tracking.tracker import MindTracker
 from .groundtruth import load_ground_truth
 from .mindtable import mind_rows, write_csv
 from .report import write_report
 
+MindCache = dict[str, tuple[Estimate, AgentMind]]
+"""Person -> their last estimate and its part of the message (reused while the tracker hands
+out the same estimate: on most ticks nobody stepped and nothing moved)."""
 
-def mind_message(tracker: MindTracker, state: State, robot: RobotActivity | None = None) -> Mind:
-    """The online estimates of every person (and what the robot does), as a ``mind`` message."""
-    model = tracker.model
+
+def mind_message(
+    tracker: MindTracker, state: State, robot: RobotActivity | None = None, cache: MindCache | None = None
+) -> Mind:
+    """The online estimates of every person (and what the robot does), as a ``mind`` message
+    (``cache``: the caller's, kept between ticks)."""
     agents = []
     for person in tracker.people:
         est = tracker.online(person)
         if est is None:
             continue
-        # rounded as arrays, then read as Python floats: a round() per number is most of the cost
-        rows = np.round(np.asarray(est.beliefs, dtype=np.float64), 6).tolist()
-        beliefs = tuple(
-            ItemBelief(item=item, locations=tuple(map(Prob, model.locations, row)))
-            for item, row in zip(model.items, rows, strict=True)
-        )
-        preference = tuple(map(Prob, (*model.items, OUT), np.round(est.preference, 6).tolist()))
-        item_index, location_index, p = est.intention
-        intention = Intention(
-            item=model.items[item_index] if item_index is not None else None,
-            location=model.locations[location_index] if location_index is not None else None,
-            p=round(min(max(p, 0.0), 1.0), 6),
-        )
-        agents.append(
-            AgentMind(
-                agent=person,
-                beliefs=beliefs,
-                preference=preference,
-                intention=intention,
-                false_beliefs=tuple(model.items[k] for k in est.false_beliefs),
-                false_belief=tuple(
-                    map(Prob, model.items, np.round(np.clip(est.false_belief, 0.0, 1.0), 6).tolist())
-                ),
-                desire=desire_message(est.desire, (*model.items, OUT)),
-                worlds=tuple(
-                    WorldBelief(
-                        items=tuple(
-                            Placement(item, model.locations[v // 2], bool(v % 2))
-                            for item, v in zip(model.items, model.worlds[w], strict=True)
-                        ),
-                        p=round(min(max(p, 0.0), 1.0), 6),
-                    )
-                    for w, p in est.top_worlds(tracker.settings.top_worlds)
-                ),
-            )
-        )
+        kept = cache.get(person) if cache is not None else None
+        if kept is not None and kept[0] is est:
+            agents.append(kept[1])
+            continue
+        agents.append(agent_mind(tracker, person, est))
+        if cache is not None:
+            cache[person] = (est, agents[-1])
     robots = (robot,) if robot is not None else ()
     return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents), robots=robots)
+
+
+def agent_mind(tracker: MindTracker, person: str, est: Estimate) -> AgentMind:
+    """One person's part of the ``mind`` message."""
+    model = tracker.model
+    # rounded as arrays, then read as Python floats: a round() per number is most of the cost
+    rows = np.round(np.asarray(est.beliefs, dtype=np.float64), 6).tolist()
+    beliefs = tuple(
+        ItemBelief(item=item, locations=tuple(map(Prob, model.locations, row)))
+        for item, row in zip(model.items, rows, strict=True)
+    )
+    preference = tuple(map(Prob, (*model.items, OUT), np.round(est.preference, 6).tolist()))
+    item_index, location_index, p = est.intention
+    intention = Intention(
+        item=model.items[item_index] if item_index is not None else None,
+        location=model.locations[location_index] if location_index is not None else None,
+        p=round(min(max(p, 0.0), 1.0), 6),
+    )
+    return AgentMind(
+        agent=person,
+        beliefs=beliefs,
+        preference=preference,
+        intention=intention,
+        false_beliefs=tuple(model.items[k] for k in est.false_beliefs),
+        false_belief=tuple(map(Prob, model.items, np.round(np.clip(est.false_belief, 0.0, 1.0), 6).tolist())),
+        desire=desire_message(est.desire, (*model.items, OUT)),
+        worlds=tuple(
+            WorldBelief(
+                items=tuple(
+                    Placement(item, model.locations[v // 2], bool(v % 2))
+                    for item, v in zip(model.items, model.worlds[w], strict=True)
+                ),
+                p=round(min(max(p, 0.0), 1.0), 6),
+            )
+            for w, p in est.top_worlds(tracker.settings.top_worlds)
+        ),
+    )
 
 
 def desire_message(summary: DesireSummary | None, goals: Sequence[str]) -> Desire | None:

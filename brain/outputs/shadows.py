@@ -18,7 +18,7 @@ from protocol import Event, Scene, State, encode
 from ..model.revisions import SharedRevisions
 from ..settings import ModelSettings
 from ..tracking.tracker import MindTracker, Observer
-from .results import mind_message
+from .results import MindCache, mind_message
 
 
 def shadow_path(directory: Path, observer: Observer) -> Path:
@@ -50,12 +50,13 @@ class ShadowMinds:
         self.scene = scene
         self.trackers = [MindTracker(scene, settings, observer, revisions) for observer in observers]
         self.files: list[IO[bytes]] = [shadow_path(directory, o).open("wb") for o in observers]
+        self.minds: list[MindCache] = [{} for _ in observers]
 
     def observe(self, state: State, events: Sequence[Event]) -> None:
         """Feed one tick to every shadow tracker and write its ``mind`` line."""
-        for tracker, file in zip(self.trackers, self.files, strict=True):
+        for tracker, file, minds in zip(self.trackers, self.files, self.minds, strict=True):
             tracker.observe(state, events)
-            file.write(encode(mind_message(tracker, state)) + b"\n")
+            file.write(encode(mind_message(tracker, state, cache=minds)) + b"\n")
 
     def close(self) -> None:
         for file in self.files:

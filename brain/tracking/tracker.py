@@ -115,6 +115,9 @@ class MindTracker:
         self.branch_truths: list[tuple[int, ...]] = []
         """Every branch's item values at the last tick observed."""
         self.labels: dict[tuple[int, str], str] = {}
+        self._online: dict[str, tuple[tuple[object, ...], Estimate]] = {}
+        """Person -> the last online estimate and what it was read from (chains are only ever
+        dropped, so their count names the set left)."""
 
     # ----- feeding --------------------------------------------------------------------
 
@@ -356,15 +359,24 @@ class MindTracker:
         track = self.tracks[person]
         if not track.estimates:
             return None
+        weights = None if self.view is None else self.branch_weights()
+        key: tuple[object, ...] = (len(track.estimates), len(track.chains), self.truth)  # what it reads
+        key += (tuple(self.branch_truths), b"" if weights is None else weights.tobytes())
+        kept = self._online.get(person)
+        if kept is not None and kept[0] == key:  # most ticks: nobody stepped, nothing moved
+            return kept[1]
         mass = self.settings.false_belief_mass
-        if self.view is None:
-            return reread(track.estimates[-1], self.truth, mass)
-        # embodied: each branch's latest, mixed by the weights now (branches ruled out since
-        # the person's last step are gone, even when one is left)
-        read = [
-            reread(c.estimates[-1], t, mass) for c, t in zip(track.chains, self.branch_truths, strict=True)
-        ]
-        return mix(read, self.branch_weights())
+        if weights is None:
+            est = reread(track.estimates[-1], self.truth, mass)
+        else:  # embodied: each branch's latest, mixed by the weights now (branches ruled out
+            # since the person's last step are gone, even when one is left)
+            read = [
+                reread(c.estimates[-1], t, mass)
+                for c, t in zip(track.chains, self.branch_truths, strict=True)
+            ]
+            est = mix(read, weights)
+        self._online[person] = (key, est)
+        return est
 
     def log_evidence(self, person: str) -> float:
         """The marginal log-likelihood of ``person``'s decisions so far under the model (0
