@@ -174,7 +174,7 @@ def exec_node(command: str, argv: Sequence[str], prog: str | None = None) -> int
     """Replace this process with the node of ``command`` (signals go straight to it); its
     help and errors name ``prog`` (default: ``toyroom COMMAND``)."""
     package, leading = NODES[command]
-    env = node_environment()  # single-threaded BLAS: fit's worker processes use every core
+    env = node_environment(child=False)  # single-threaded BLAS: fit's worker processes use every core
     env[PROG_ENV] = prog or f"toyroom {command}"
     os.execve(sys.executable, [sys.executable, "-m", package, *leading, *argv], env)
     return 0  # pragma: no cover - execv does not return
