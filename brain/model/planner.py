@@ -16,8 +16,8 @@ import dataclasses
 import enum
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass
-from functools import lru_cache
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 from typing import Protocol
 
 import msgspec
@@ -215,13 +215,21 @@ class Policy:
         model: the world model.
         utilities: ``(U, D)`` the candidate desires, one MDP each (:mod:`brain.model.desires`).
         q: ``(U, S, A)`` Q-values.
-        likelihood: ``(U, S, A)`` Boltzmann action likelihoods.
+        beta, epsilon: the choice rule's (:func:`boltzmann`).
     """
 
     model: WorldModel
     utilities: FloatArray
     q: FloatArray
-    likelihood: FloatArray
+    beta: float
+    epsilon: float
+    _blocks: dict[tuple[int, int], FloatArray] = field(default_factory=dict, compare=False, repr=False)
+
+    @cached_property
+    def likelihood(self) -> FloatArray:
+        """``(U, S, A)`` Boltzmann action likelihoods (built on first use: the graded models
+        read one ``(cell, held)`` block per decision, :meth:`action_likelihood`)."""
+        return np.stack([boltzmann(q, self.beta, self.epsilon) for q in self.q])
 
     def state_slice(self, cell: int, held: int) -> slice:
         """States of ``(cell, held)`` over all worlds (a contiguous block of ``W``)."""
@@ -230,8 +238,15 @@ class Policy:
         return slice(base, base + W)
 
     def action_likelihood(self, cell: int, held: int, action: int) -> FloatArray:
-        """``(W, U)`` likelihood of ``action`` from ``(cell, held)`` for every world and desire."""
-        return self.likelihood[:, self.state_slice(cell, held), action].T
+        """``(W, U)`` likelihood of ``action`` from ``(cell, held)`` for every world and desire
+        (the block's Boltzmann rows, the same to the bit as the whole table's: each state's
+        row is its own softmax)."""
+        block = self._blocks.get((cell, held))
+        if block is None:
+            rows = self.state_slice(cell, held)
+            block = np.stack([boltzmann(q[rows], self.beta, self.epsilon) for q in self.q])  # (U, W, A)
+            self._blocks[(cell, held)] = block
+        return block[:, :, action].T
 
 
 def solve(model: WorldModel, settings: ModelSettings) -> tuple[FloatArray, FloatArray]:
@@ -256,8 +271,7 @@ def plan(model: WorldModel, settings: ModelSettings) -> Policy:
 
 
 def _policy(model: WorldModel, u: FloatArray, qs: FloatArray, settings: ModelSettings) -> Policy:
-    likelihood = np.stack([boltzmann(q, settings.beta, settings.epsilon) for q in qs])
-    return Policy(model=model, utilities=u, q=qs, likelihood=likelihood)
+    return Policy(model=model, utilities=u, q=qs, beta=settings.beta, epsilon=settings.epsilon)
 
 
 PLANNING = (

@@ -99,6 +99,22 @@ def test_boltzmann_likelihoods_are_distributions_with_a_floor() -> None:
     assert policy.likelihood.min() >= settings.epsilon / policy.likelihood.shape[2] - 1e-15
 
 
+def test_a_decisions_likelihood_block_is_the_whole_tables_to_the_bit() -> None:
+    """The graded models read one ``(cell, held)`` block per decision, built on demand; the
+    whole table is built only when asked for, and agrees with every block exactly."""
+    policy = plan(build_world_model(tiny_scene()), ModelSettings())
+    model = policy.model
+    blocks = {
+        (cell, held, action): policy.action_likelihood(cell, held, action)
+        for cell in range(model.n_cells)
+        for held in range(model.n_items + 1)
+        for action in range(policy.q.shape[2])
+    }
+    for (cell, held, action), block in blocks.items():
+        whole = policy.likelihood[:, policy.state_slice(cell, held), action].T
+        assert np.array_equal(block, whole), f"block {(cell, held, action)} differs from the whole table's"
+
+
 def test_solved_values_are_shared_through_a_folder(tmp_path, monkeypatch, caplog) -> None:
     """A second process (here: an emptied cache) reads what the first solved instead of
     solving again; an unreadable file is solved again, with a warning naming it."""
