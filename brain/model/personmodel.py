@@ -205,9 +205,15 @@ class GradedModel:
         U = len(self.policy.utilities)
         return np.repeat(self.initial_weights[:, None] / U, U, axis=1)
 
+    @property
+    def shared(self) -> SharedRevisions | None:
+        """:attr:`revisions`, unless this model's revision reads the truth (``true_world``), not
+        only the percept: then it shares nothing."""
+        return None if self.true_world else self.revisions
+
     def new_filter(self) -> GradedFilter:
-        if self.revisions is not None and not self.true_world:
-            return GradedFilter(self, self.revisions.initial(self.revision_key, self.initial), self.prior())
+        if self.shared is not None:
+            return GradedFilter(self, self.shared.initial(self.revision_key, self.initial), self.prior())
         return GradedFilter(self, self.initial.copy(), self.prior())
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
@@ -233,9 +239,9 @@ class GradedModel:
     def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
         """Every hypothesis's belief after the record's percept (taken from another model
         of the brain that revised the same array alike, when shared)."""
-        if self.revisions is None or self.true_world:  # the truth, not only the percept, moves it
+        if self.shared is None:
             return self._revise(beliefs, record)
-        return self.revisions.revise(
+        return self.shared.revise(
             self.revision_key,
             record.tick,
             record.percept,

@@ -65,8 +65,7 @@ def helpfulness(
                 and wanted.get(true_place, 0.0) < FALSE_BELIEF_MASS
             ):
                 help_.false_belief = True
-                onset.setdefault(mind.agent, (tick, mind.preference))
-                help_.false_belief_tick = onset[mind.agent][0]
+                help_.false_belief_tick = onset.setdefault(mind.agent, (tick, mind.preference))[0]
             cell = cells.get(mind.agent)
             before = previous.get(mind.agent)
             if cell is not None and before is not None and cell != before[0] and cell in spot_at:
