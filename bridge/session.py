@@ -70,6 +70,12 @@ class SessionSettings:
         config_file: a Zenoh JSON5 config to start from (flags still override it).
         lease_ms: how long a silent link is kept, in milliseconds; a killed peer is
             noticed within this time.
+        scout_delay_ms: how long, in milliseconds, opening a peer session may wait for the
+            peers it learns of to connect (Zenoh's ``scouting/delay``). Zenoh's default, 500,
+            is paid in full by the first session of a world, which has nobody to wait for,
+            so every run of an engine and a brain started half a second late per session; a
+            session joining a world returns as soon as its peers are connected, well within
+            this.
     """
 
     mode: Mode | None = None
@@ -77,6 +83,7 @@ class SessionSettings:
     connect: tuple[str, ...] | None = None
     config_file: Path | None = None
     lease_ms: int = 800
+    scout_delay_ms: int = 100
     extra: tuple[tuple[str, str], ...] = field(default=())
     """Further ``(path, json5 value)`` config insertions, applied last."""
 
@@ -101,6 +108,7 @@ def build_config(
         config = zenoh.Config()
         _insert(config, "scouting/multicast/enabled", False)
         _insert(config, "transport/link/tx/lease", settings.lease_ms)
+        _insert(config, "scouting/delay", settings.scout_delay_ms)
         _insert(config, "transport/link/tx/keep_alive", 4)
         _insert(
             config,

@@ -181,6 +181,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     if record.truths:
         last = record.truths[max(record.truths)]
         outcome = judge(info.scene, last, record.playing, record.regions, record.reached)
+    check_complete(tag, spec.observer, record.minds, record.truths)
     results = {spec.observer: _score(record.minds, record.truths, record.took, outcome)}
     results[spec.observer].help = helpfulness(info.scene, record.states, record.truths, record.events)
     if spec.robot == "observe":
@@ -194,8 +195,27 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     for observer in spec.shadows:
         lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
         shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
+        check_complete(tag, observer, shadow, record.truths)
         results[observer] = _score(shadow, record.truths, record.took, outcome)
     return results
+
+
+def missing_ticks(minds: dict[int, Mind], truths: dict[int, Truth]) -> list[int]:
+    """The ticks of the truth that no mind was heard for, in order."""
+    return sorted(set(truths) - set(minds))
+
+
+def check_complete(tag: str, observer: str, minds: dict[int, Mind], truths: dict[int, Truth]) -> None:
+    """Raise when an observer's minds miss ticks of the truth: a mind lost on the way (say,
+    published before the evaluator's session was connected) would silently drop a tick
+    from the scores, so the run fails instead and is tried again (it is deterministic)."""
+    missing = missing_ticks(minds, truths)
+    if missing:
+        shown = ", ".join(map(str, missing[:5])) + (", ..." if len(missing) > 5 else "")
+        raise RuntimeError(
+            f"{tag}: {observer}'s minds of {len(missing)} of {len(truths)} ticks never arrived "
+            f"(ticks {shown})"
+        )
 
 
 def _score(

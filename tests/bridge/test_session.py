@@ -24,6 +24,8 @@ def test_default_config_is_loopback_peer_without_multicast(world: str) -> None:
     config = build_config(world, SessionSettings())
     assert json.loads(config.get_json("mode")) == "peer"
     assert json.loads(config.get_json("scouting/multicast/enabled")) is False
+    delay = json.loads(config.get_json("scouting/delay"))
+    assert delay == SessionSettings().scout_delay_ms == 100, f"scouting/delay {delay}, expected 100 ms"
     listen = json.loads(config.get_json("listen/endpoints"))
     connect = json.loads(config.get_json("connect/endpoints"))
     assert listen == connect == [f"tcp/127.0.0.1:{world_port(world)}"]
