@@ -96,9 +96,14 @@ def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: st
     """``(G, W)`` every hypothesis's belief after percept ``p`` (rows sum to one)."""
     if rule not in UPDATES:
         raise ValueError(f"unknown belief update {rule!r}; known: {', '.join(UPDATES)}")
-    new = model.apply_change(beliefs, p, predict=rule == "predict") * model.percept_likelihood(p)[None, :]
+    new = model.apply_change(beliefs, p, predict=rule == "predict")  # a new array: updated in place
+    new *= model.percept_likelihood(p)[None, :]
     total = new.sum(axis=1, keepdims=True)
-    return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
+    new /= np.where(total > 0, total, 1.0)
+    impossible = total[:, 0] <= 0  # a percept no world of the hypothesis explains: kept as it was
+    if impossible.any():
+        new[impossible] = beliefs[impossible]
+    return new
 
 
 def drift(beliefs: FloatArray, n_items: int, n_values: int, mass: float) -> FloatArray:

@@ -220,6 +220,7 @@ def test_the_fast_change_sum_equals_the_dense_matrix(paper, predict: bool) -> No
     beliefs_model = BeliefModel(model, SETTINGS.r, SETTINGS.delta)
     rng = np.random.default_rng(3)
     beliefs = rng.dirichlet(np.ones(model.n_worlds), size=5)
+    beliefs.setflags(write=False)  # revisions may be shared: the input is never written
     for cell in range(0, model.n_cells, 7):
         for seen in (
             (NOT_IN_VIEW,) * model.n_items,
@@ -231,6 +232,9 @@ def test_the_fast_change_sum_equals_the_dense_matrix(paper, predict: bool) -> No
                 g = g / g.sum(axis=0, keepdims=True)
             fast = beliefs_model.apply_change(beliefs, p, predict=predict)
             assert np.allclose(fast, beliefs @ g.T, atol=1e-12), f"cell {cell}, seen {seen}"
+            assert fast.flags.writeable and not np.shares_memory(fast, beliefs), (
+                f"cell {cell}, seen {seen}: expected a new array (update_beliefs writes it in place)"
+            )
 
 
 def test_the_joint_says_what_is_nowhere() -> None:
