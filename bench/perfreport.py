@@ -104,6 +104,20 @@ def _eval_rows(numbers: dict[str, Any]) -> list[str]:
         f"| `eval_seconds_per_episode`: `toyroom eval`, {timing['episodes']} episodes, "
         f"{timing['workers']} workers | {timing['seconds_per_episode']:.2f} | <= 1.2 (500 in 10 min) |",
         f"| of which, each run's mean wall time ({timing['workers']} at a time): {runs} | | |",
+        *_eval_cpu_row(timing),
+    ]
+
+
+def _eval_cpu_row(timing: dict[str, Any]) -> list[str]:
+    """The evaluation's CPU seconds per episode, when the run measured them."""
+    cpu = timing.get("cpu_seconds_per_episode")
+    if not cpu:
+        return []
+    total = sum(cpu.values())
+    return [
+        f"| CPU seconds per episode: the node processes {cpu['nodes']:.1f}, the evaluator "
+        f"{cpu['evaluator']:.1f} (so at least {total / 2:.1f} s of wall per episode on 2 cores) "
+        f"| {total:.1f} | <= 2.4 for 1.2 s on 2 cores |"
     ]
 
 

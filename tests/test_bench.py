@@ -105,3 +105,17 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     big = [r for r in rows if r["worlds"] > 10**6]
     assert big and not any(r["exact"] for r in big), f"large houses should run factored: {big}"
     assert (tmp_path / "perf.md").exists() and (tmp_path / "scaling.png").stat().st_size > 0
+
+
+def test_eval_cpu_splits_a_runs_cpu_by_process() -> None:
+    sys.path.insert(0, str(ROOT / "bench"))
+    import eval_cpu
+
+    rows = eval_cpu.main(seed=1, episodes=1)
+    assert [row["run"] for row in rows] == ["btom-observe", "btom-act-tom"], rows
+    for row in rows:
+        for part in ("engine_cpu_s", "brain_cpu_s", "evaluator_cpu_s"):
+            assert float(row[part]) > 0.05, f"{row['run']}: {part} should be measured, got {row[part]}"
+        assert float(row["brain_cpu_s"]) > float(row["engine_cpu_s"]), (
+            f"the brain infers, the engine steps: {row}"
+        )

@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import logging
+import resource
 import shutil
 import subprocess
 import sys
@@ -240,12 +241,13 @@ def evaluate(
         for c in conditions
         for i in range(episodes)
     ]
-    started = time.monotonic()
+    started, cpu = time.monotonic(), cpu_seconds()
     try:
         results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
     finally:  # the solved Q-values (--values-cache) are a cache of this evaluation only
         shutil.rmtree(Path(workdir) / "values", ignore_errors=True)
     took = time.monotonic() - started
+    used = None if backend == "ray" else {k: cpu_seconds()[k] - cpu[k] for k in cpu}
     measured = []
     for condition, chunk in zip(conditions, _chunks(results, episodes), strict=True):
         chunk.sort(key=lambda r: int(r["index"]))
@@ -259,7 +261,7 @@ def evaluate(
         "brain_args": list(brain_args),
         "policies": [*policies, "none"],
         "command": command,
-        "timing": timing(results, took, workers),
+        "timing": timing(results, took, workers, used),
         "conditions": measured,
     }
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
@@ -273,9 +275,21 @@ def evaluate(
     return metrics
 
 
-def timing(results: list[dict[str, Any]], took: float, workers: int) -> dict[str, Any]:
+def cpu_seconds() -> dict[str, float]:
+    """CPU seconds used so far by this process (the evaluator) and by its finished child
+    processes (the nodes, and the scenario generator)."""
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return {"evaluator": me.ru_utime + me.ru_stime, "nodes": children.ru_utime + children.ru_stime}
+
+
+def timing(
+    results: list[dict[str, Any]], took: float, workers: int, cpu: dict[str, float] | None = None
+) -> dict[str, Any]:
     """How long the evaluation took: wall seconds in all and per episode (with ``workers`` at
-    a time), and one episode's own seconds and each kind of run's, averaged."""
+    a time), one episode's own seconds and each kind of run's, averaged, and the CPU seconds
+    per episode of the evaluator and of the node processes (``cpu``: the whole evaluation's;
+    ``None`` with Ray, whose workers are not this process's children). The wall seconds per
+    episode can be no lower than the CPU seconds per episode over the machine's cores."""
     own = [r["seconds"] for r in results if "seconds" in r]
     runs: dict[str, list[float]] = {}
     for r in results:
@@ -287,6 +301,9 @@ def timing(results: list[dict[str, Any]], took: float, workers: int) -> dict[str
         "seconds_per_episode": took / max(1, len(results)),
         "episode_seconds_mean": sum(own) / len(own) if own else None,
         "run_seconds_mean": {name: sum(v) / len(v) for name, v in sorted(runs.items())},
+        "cpu_seconds_per_episode": (
+            None if cpu is None else {k: v / max(1, len(results)) for k, v in sorted(cpu.items())}
+        ),
     }
 
 

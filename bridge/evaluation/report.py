@@ -169,6 +169,17 @@ def _timing(timing: Mapping[str, Any]) -> str:
         f"{timing['workers']} at a time"
         + (f" (an episode's runs, one after the other: {own:.1f} s; each kind of run: {runs})" if own else "")
         + "."
+        + _cpu(timing.get("cpu_seconds_per_episode"))
+    )
+
+
+def _cpu(cpu: Mapping[str, float] | None) -> str:
+    """The report's sentence on the CPU an episode took (none with Ray)."""
+    if not cpu:
+        return ""
+    return (
+        f" CPU per episode: {sum(cpu.values()):.1f} s (the engine and brain processes "
+        f"{cpu['nodes']:.1f} s, the evaluator {cpu['evaluator']:.1f} s)."
     )
 
 

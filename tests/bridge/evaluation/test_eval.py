@@ -88,6 +88,9 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
     assert timing["seconds_per_episode"] == pytest.approx(timing["seconds"] / EPISODES)
     assert set(timing["run_seconds_mean"]) == {"btom-observe", "btom-act-tom"}, timing
     assert f"{timing['seconds_per_episode']:.2f} s per episode" in report, "report.md gives the speed"
+    cpu = timing["cpu_seconds_per_episode"]
+    assert cpu["nodes"] > cpu["evaluator"] > 0, f"the nodes infer and step, the evaluator scores: {cpu}"
+    assert f"CPU per episode: {sum(cpu.values()):.1f} s" in report, "report.md gives the CPU per episode"
 
 
 def test_local_eval_progress_advances_per_episode(local: tuple[dict, list[int], Path]) -> None:
