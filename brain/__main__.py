@@ -90,6 +90,13 @@ def run_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--shadow-out", type=Path, default=Path("."), help="directory of the shadow minds-NAME.jsonl files"
     )
+    parser.add_argument(
+        "--run-log",
+        type=Path,
+        metavar="DIR",
+        help="write every state and event handled (inputs.jsonl) and every mind published "
+        "(minds-OBSERVER.jsonl) into DIR, for scoring the run afterwards",
+    )
     parser.add_argument("--print-tree", action="store_true", help="print the robot's behaviour tree and exit")
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
@@ -206,6 +213,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 robot=args.robot,
                 shadows=[Observer(o) for o in args.shadow],
                 shadow_dir=args.shadow_out,
+                run_log=args.run_log,
             )
             scenario, tracker = node.run(args.scenario, args.seed, max_ticks=args.max_ticks)
             if args.out is not None:

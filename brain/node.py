@@ -43,6 +43,7 @@ from protocol import (
 from .errors import StateError
 from .model.revisions import SharedRevisions
 from .outputs.results import MindCache, mind_message
+from .outputs.runlog import RunLog
 from .outputs.shadows import ShadowMinds
 from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
@@ -64,6 +65,8 @@ class BrainNode:
         handshake_timeout: seconds to wait for an engine to answer.
         shadows: other observers run on the same ticks, each writing its minds to
             ``shadow_dir`` (:mod:`brain.outputs.shadows`).
+        run_log: a directory to write every state and event handled, and every ``mind``
+            message published, into (:mod:`brain.outputs.runlog`); ``None``: none.
     """
 
     def __init__(
@@ -78,8 +81,10 @@ class BrainNode:
         robot_settings: RobotSettings | None = None,
         shadows: Sequence[Observer] = (),
         shadow_dir: Path | None = None,
+        run_log: Path | None = None,
     ) -> None:
         self.bridge = bridge
+        self._run_log = RunLog(run_log, observer) if run_log is not None else None
         self.shadows = tuple(shadows)
         self.shadow_dir = shadow_dir or Path(".")
         self._open_shadows: list[ShadowMinds] = []
@@ -157,12 +162,17 @@ class BrainNode:
             for shadow in self._open_shadows:
                 shadow.close()
             self._open_shadows.clear()
+            if self._run_log is not None:
+                self._run_log.close()
+                self._run_log = None
 
     def _tick(self, link: _Link, state: State, events: tuple[Event, ...]) -> bool:
         """The per-tick pipeline of both clocks: the estimates, the shadows, the robot's tree
         and commands (in lock-step each awaited until the engine accepts or refuses it), the
         ``brain/mind`` message. Whether the episode is over. A state the tracker cannot
         follow is skipped, and logged (the first one with its reason)."""
+        if self._run_log is not None:
+            self._run_log.inputs(state, events)
         try:
             link.tracker.observe(state, events)
         except StateError as err:
@@ -183,7 +193,10 @@ class BrainNode:
                 if link.heartbeats is None:
                     self._await_receipt(robot, link.inbox, command.id)
         activity = robot.activity() if robot is not None else None
-        self._mind.put(mind_message(link.tracker, state, activity, link.minds))
+        mind = mind_message(link.tracker, state, activity, link.minds)
+        self._mind.put(mind)
+        if self._run_log is not None:
+            self._run_log.mind(mind)
         if self._on_tick is not None:
             self._on_tick(state, events)
         return state.done or (self._max_ticks is not None and state.tick >= self._max_ticks)

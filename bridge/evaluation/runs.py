@@ -1,7 +1,9 @@
 """One evaluation run: an engine and a brain process on a private loopback world, in
-lock-step, with the evaluator listening to ``brain/mind``, ``engine/truth`` and
-``engine/events``; then the brain's minds (the live observer's, and each shadow's from its
-file) scored against the truth, tick by tick."""
+lock-step, with the evaluator listening to ``engine/truth`` (the people's true minds, which
+only the evaluator reads); then the brain's minds scored against the truth, tick by tick,
+with the states, events and minds read from the brain's run log (:mod:`brain.outputs.runlog`:
+the live observer's and each shadow's minds, and what the brain handled) instead of heard
+on the wire, a message a tick to the evaluator instead of four."""
 
 from __future__ import annotations
 
@@ -72,7 +74,8 @@ class RunResult:
 
 @dataclass
 class RunRecord:
-    """What the evaluator hears during a run, on channels that are never dropped."""
+    """What the evaluator knows of a run: the truth it hears (a channel that is never
+    dropped), and the states, events and minds of the brain's run log."""
 
     minds: dict[int, Mind] = field(default_factory=dict)
     truths: dict[int, Truth] = field(default_factory=dict)
@@ -86,19 +89,11 @@ class RunRecord:
     events: list[Event] = field(default_factory=list)
     lock: threading.Lock = field(default_factory=threading.Lock)
 
-    def on_mind(self, mind: Mind, _: Received) -> None:
-        with self.lock:
-            self.minds[mind.tick] = mind
-
     def on_truth(self, truth: Truth, _: Received) -> None:
         with self.lock:
             self.truths[truth.tick] = truth
 
-    def on_state(self, state: State, _: Received) -> None:
-        with self.lock:
-            self.states[state.tick] = state
-
-    def on_event(self, event: Event, _: Received) -> None:
+    def on_event(self, event: Event, _: Received | None = None) -> None:
         """Who took what, who plays with what, who is where."""
         with self.lock:
             self.events.append(event)
@@ -118,11 +113,29 @@ class RunRecord:
                 self.reached.append((event.tick, event.actor, event.location))
 
 
+def read_log(record: RunRecord, directory: Path, observer: str) -> None:
+    """Fill ``record`` from a brain's run log (:mod:`brain.outputs.runlog`): the states and
+    events it handled, and ``observer``'s minds."""
+    for line in (directory / "inputs.jsonl").read_bytes().splitlines():
+        message = decode(line)
+        if isinstance(message, State):
+            record.states[message.tick] = message
+        elif isinstance(message, Event):
+            record.on_event(message)
+    record.minds.update(read_minds(directory, observer))
+
+
+def read_minds(directory: Path, observer: str) -> dict[int, Mind]:
+    """``observer``'s minds by tick, from its ``minds-<observer>.jsonl`` in ``directory``."""
+    lines = (directory / f"minds-{observer}.jsonl").read_bytes().splitlines()
+    return {m.tick: m for m in (decode(line, Mind) for line in lines)}
+
+
 def brain_command(spec: RunSpec, world: str, settings: SessionSettings, shadow_dir: Path) -> list[str]:
-    """The brain process of a run (with its shadow observers writing into ``shadow_dir``)."""
+    """The brain process of a run, logging what it handled and inferred into ``shadow_dir``
+    (with its shadow observers' minds)."""
     shadows = [a for o in spec.shadows for a in ("--shadow", o)]
-    if spec.shadows:
-        shadows += ["--shadow-out", str(shadow_dir)]
+    shadows += ["--shadow-out", str(shadow_dir), "--run-log", str(shadow_dir)]
     return node_command(
         "brain",
         world,
@@ -161,18 +174,14 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
             if info is None:
                 report_failure("engine", engine.returncode, engine_log)
                 raise RuntimeError(f"{tag}: the engine failed")
-            bridge.subscribe(bridge.keys.mind, record.on_mind, expected=Mind)
             bridge.subscribe(bridge.keys.truth, record.on_truth, expected=Truth)
-            bridge.subscribe(bridge.keys.state, record.on_state, expected=State)
-            bridge.subscribe(bridge.keys.events, record.on_event, expected=Event)
             brain = start_node(brain_command(spec, world, settings, shadow_dir), brain_log)
             if brain.wait(timeout=1800) != 0:
                 report_failure("brain", brain.returncode, brain_log)
                 raise RuntimeError(f"{tag}: the brain failed")
-            _settle(
-                lambda: (len(record.minds), len(record.truths)),
-                done=lambda: bool(record.minds) and max(record.minds) >= max(record.truths, default=0),
-            )
+            read_log(record, shadow_dir, spec.observer)  # the brain's own record of the run
+            final = max(record.states, default=0)
+            _settle(lambda: (len(record.truths), 0), done=lambda: max(record.truths, default=-1) >= final)
     finally:
         for process in (brain, engine):
             if process is not None:
@@ -193,8 +202,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
         }
         results[MOTION] = _score(guessed, record.truths, record.took, outcome)
     for observer in spec.shadows:
-        lines = (shadow_dir / f"minds-{observer}.jsonl").read_bytes().splitlines()
-        shadow = {m.tick: m for m in (decode(line, Mind) for line in lines)}
+        shadow = read_minds(shadow_dir, observer)
         check_complete(tag, observer, shadow, record.truths)
         results[observer] = _score(shadow, record.truths, record.took, outcome)
     return results
