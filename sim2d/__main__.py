@@ -109,6 +109,12 @@ def generate_parser() -> argparse.ArgumentParser:
         "--items", type=int, default=3, help=f"items on a --rooms house (1 to {len(ITEM_SHAPES)})"
     )
     parser.add_argument("--seed", type=int, default=0, help="the episode's seed (items, people, their minds)")
+    parser.add_argument(
+        "--episodes",
+        nargs="+",
+        metavar="MAP:SEED",
+        help="write each of these episodes (instead of --map and --seed) and print their paths, one a line",
+    )
     parser.add_argument("--max-ticks", type=int, default=1500, help="the episode ends after this many ticks")
     parser.add_argument(
         "--minds",
@@ -146,9 +152,25 @@ def generate_main(argv: Sequence[str]) -> int:
             )
         except ValueError as err:
             parser.error(str(err))
+    elif args.episodes:
+        for map_name, seed in _episode_list(parser, args.episodes):
+            print(write_episode(args.out, map_name, seed, args.max_ticks, args.minds, args.kind))
     else:
         print(write_episode(args.out, args.map, args.seed, args.max_ticks, args.minds, args.kind))
     return 0
+
+
+def _episode_list(parser: argparse.ArgumentParser, entries: Sequence[str]) -> list[tuple[str, int]]:
+    """``MAP:SEED`` entries as ``(map, seed)``; a bad one is a usage error that names it."""
+    from .generate import MAPS
+
+    out = []
+    for entry in entries:
+        map_name, _, seed = entry.partition(":")
+        if map_name not in MAPS or not seed.lstrip("-").isdigit():
+            parser.error(f"--episodes: {entry!r} is not MAP:SEED with MAP one of {', '.join(sorted(MAPS))}")
+        out.append((map_name, int(seed)))
+    return out
 
 
 def main(argv: Sequence[str] | None = None) -> int:

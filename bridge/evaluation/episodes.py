@@ -63,6 +63,9 @@ class EpisodeJob:
     """Keep every run's MCAP recording in ``recordings/<condition>/`` of the output folder."""
     max_ticks: int = 1000
     """The episode's length."""
+    scenario: str = ""
+    """The episode's scenario file when it was generated beforehand (:func:`generate_all`);
+    empty: the job generates it."""
 
 
 def map_of(index: int) -> str:
@@ -110,6 +113,33 @@ def generate(
     return Path(result.stdout.strip())
 
 
+def generate_all(
+    directory: Path,
+    episodes: int,
+    seed: int,
+    minds: str = "simple",
+    kind: str = "everyday",
+    max_ticks: int = 1000,
+) -> list[Path]:
+    """Write episodes ``0 .. episodes - 1`` of a sweep, as :func:`generate` does each, in one
+    process (a process start is most of an episode's generation)."""
+    if episodes <= 0:
+        return []
+    entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in range(episodes)]
+    result = subprocess.run(
+        [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
+        + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)],
+        capture_output=True,
+        text=True,
+        timeout=120 + 10 * episodes,
+        check=False,
+    )
+    paths = [Path(line) for line in result.stdout.splitlines() if line.strip()]
+    if result.returncode != 0 or len(paths) != episodes:
+        raise RuntimeError(f"generating {episodes} episodes: {result.stderr.strip()}")
+    return paths
+
+
 def episode_runs(
     scenario: Path,
     brain_args: tuple[str, ...] = (),
@@ -153,9 +183,11 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
     started = time.monotonic()
     directory = Path(job.workdir) / job.condition.name
     condition = job.condition
-    scenario = generate(
-        directory / "scenarios", job.index, job.seed, condition.minds, condition.kind, job.max_ticks
-    )
+    scenario = Path(job.scenario) if job.scenario else None
+    if scenario is None:
+        scenario = generate(
+            directory / "scenarios", job.index, job.seed, condition.minds, condition.kind, job.max_ticks
+        )
     logs = directory / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
@@ -236,12 +268,12 @@ def evaluate(
     episode's length)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
+    started, cpu = time.monotonic(), cpu_seconds()  # generating the episodes counts too
     jobs = [
-        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record, max_ticks)
+        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record, max_ticks, scenario)
         for c in conditions
-        for i in range(episodes)
+        for i, scenario in enumerate(_scenarios(Path(workdir), episodes, seed, c, max_ticks))
     ]
-    started, cpu = time.monotonic(), cpu_seconds()
     try:
         results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
     finally:  # the solved Q-values (--values-cache) are a cache of this evaluation only
@@ -280,6 +312,18 @@ def cpu_seconds() -> dict[str, float]:
     processes (the nodes, and the scenario generator)."""
     me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
     return {"evaluator": me.ru_utime + me.ru_stime, "nodes": children.ru_utime + children.ru_stime}
+
+
+def _scenarios(workdir: Path, episodes: int, seed: int, condition: Condition, max_ticks: int) -> list[str]:
+    """The condition's episodes, generated in one process into its ``scenarios`` folder; where
+    that fails, empty names (each job then generates its own, and fails alone)."""
+    directory = workdir / condition.name / "scenarios"
+    try:
+        paths = generate_all(directory, episodes, seed, condition.minds, condition.kind, max_ticks)
+    except (RuntimeError, OSError, subprocess.SubprocessError) as err:
+        log.warning("%s; each episode is generated on its own", err)
+        return [""] * episodes
+    return [str(path) for path in paths]
 
 
 def timing(

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from bridge.evaluation.episodes import evaluate
+from bridge.evaluation.episodes import evaluate, generate, generate_all
 
 EPISODES, SEED = 2, 5
 
@@ -135,3 +135,20 @@ def test_brain_settings_reach_every_run(tmp_path: Path) -> None:
     )
     logs = "".join(p.read_text() for p in (tmp_path / "bad").rglob("*.brain*.log"))
     assert "unknown setting 'betta'" in logs, logs[-2000:]
+
+
+def test_episodes_generated_together_are_those_generated_one_by_one(tmp_path: Path) -> None:
+    """One process writes a sweep's episodes (a process start is most of an episode's
+    generation), the very files one call per episode writes."""
+    together = generate_all(tmp_path / "together", 4, seed=7, minds="rich", kind="tasks", max_ticks=600)
+    for index, path in enumerate(together):
+        alone = generate(tmp_path / f"alone{index}", index, 7, "rich", "tasks", 600)
+        assert path.name == alone.name, f"episode {index}: {path.name}, alone {alone.name}"
+        assert path.read_text() == alone.read_text(), f"episode {index}: {path.name} differs made alone"
+    bad = subprocess.run(
+        [sys.executable, "-m", "sim2d", "generate", "--episodes", "paper:1", "attic:2", "--out", tmp_path],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert bad.returncode == 2 and "'attic:2' is not MAP:SEED" in bad.stderr, bad.stderr
