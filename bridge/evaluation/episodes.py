@@ -83,34 +83,7 @@ def generate(
 ) -> Path:
     """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
     with simulated people of ``minds``, of ``kind``, ``max_ticks`` long."""
-    map_name = map_of(index)
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "sim2d",
-            "generate",
-            "--map",
-            map_name,
-            "--seed",
-            str(seed * 1000 + index),
-            "--max-ticks",
-            str(max_ticks),
-            "--minds",
-            minds,
-            "--kind",
-            kind,
-            "--out",
-            str(directory),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=False,
-    )
-    if result.returncode != 0:
-        raise RuntimeError(f"generating episode {index}: {result.stderr.strip()}")
-    return Path(result.stdout.strip())
+    return _generate(directory, [index], seed, minds, kind, max_ticks)[0]
 
 
 def generate_all(
@@ -123,20 +96,28 @@ def generate_all(
 ) -> list[Path]:
     """Write episodes ``0 .. episodes - 1`` of a sweep, as :func:`generate` does each, in one
     process (a process start is most of an episode's generation)."""
-    if episodes <= 0:
+    return _generate(directory, range(episodes), seed, minds, kind, max_ticks)
+
+
+def _generate(
+    directory: Path, indices: Sequence[int], seed: int, minds: str, kind: str, max_ticks: int
+) -> list[Path]:
+    """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process."""
+    if not indices:
         return []
-    entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in range(episodes)]
+    entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in indices]
     result = subprocess.run(
         [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
         + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)],
         capture_output=True,
         text=True,
-        timeout=120 + 10 * episodes,
+        timeout=120 + 10 * len(indices),
         check=False,
     )
     paths = [Path(line) for line in result.stdout.splitlines() if line.strip()]
-    if result.returncode != 0 or len(paths) != episodes:
-        raise RuntimeError(f"generating {episodes} episodes: {result.stderr.strip()}")
+    if result.returncode != 0 or len(paths) != len(indices):
+        which = f"episode {indices[0]}" if len(indices) == 1 else f"{len(indices)} episodes"
+        raise RuntimeError(f"generating {which}: {result.stderr.strip()}")
     return paths
 
 

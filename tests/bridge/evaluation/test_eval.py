@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from bridge.evaluation.episodes import evaluate, generate, generate_all
+from bridge.evaluation.episodes import evaluate, generate, generate_all, map_of
 
 EPISODES, SEED = 2, 5
 
@@ -141,8 +141,17 @@ def test_episodes_generated_together_are_those_generated_one_by_one(tmp_path: Pa
     """One process writes a sweep's episodes (a process start is most of an episode's
     generation), the very files one call per episode writes."""
     together = generate_all(tmp_path / "together", 4, seed=7, minds="rich", kind="tasks", max_ticks=600)
+    assert generate(tmp_path / "one", 3, 7, "rich", "tasks", 600).read_text() == together[3].read_text()
     for index, path in enumerate(together):
-        alone = generate(tmp_path / f"alone{index}", index, 7, "rich", "tasks", 600)
+        episode = ["--map", map_of(index), "--seed", str(7000 + index), "--out", str(tmp_path / f"a{index}")]
+        options = ["--minds", "rich", "--kind", "tasks", "--max-ticks", "600"]
+        made = subprocess.run(
+            [sys.executable, "-m", "sim2d", "generate", *episode, *options],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        alone = Path(made.stdout.strip())
         assert path.name == alone.name, f"episode {index}: {path.name}, alone {alone.name}"
         assert path.read_text() == alone.read_text(), f"episode {index}: {path.name} differs made alone"
     bad = subprocess.run(
