@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import tempfile
 import threading
 import time
@@ -23,7 +22,7 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from bridge.evaluation.episodes import episode_runs, generate, map_of
+from bridge.evaluation.episodes import cpu_seconds, episode_runs, generate, map_of
 from bridge.evaluation.runs import run_once
 
 TICK_SECONDS = 1.0 / os.sysconf("SC_CLK_TCK")
@@ -77,11 +76,6 @@ class Sampler:
         return totals
 
 
-def _cpu() -> float:
-    usage = resource.getrusage(resource.RUSAGE_SELF)
-    return usage.ru_utime + usage.ru_stime
-
-
 def main(seed: int, episodes: int) -> list[dict[str, float | str]]:
     rows: list[dict[str, float | str]] = []
     with tempfile.TemporaryDirectory(prefix="toyroom-evalcpu-") as folder:
@@ -90,9 +84,9 @@ def main(seed: int, episodes: int) -> list[dict[str, float | str]]:
         for index in range(episodes):
             scenario = generate(work / "scenarios", index, seed)
             for spec in episode_runs(scenario, values):
-                sampler, cpu, started = Sampler(), _cpu(), time.monotonic()
+                sampler, cpu, started = Sampler(), cpu_seconds()["evaluator"], time.monotonic()
                 run_once(spec, work)
-                wall, evaluator = time.monotonic() - started, _cpu() - cpu
+                wall, evaluator = time.monotonic() - started, cpu_seconds()["evaluator"] - cpu
                 nodes = sampler.stop()
                 rows.append(
                     {

@@ -164,8 +164,9 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
     started = time.monotonic()
     directory = Path(job.workdir) / job.condition.name
     condition = job.condition
-    scenario = Path(job.scenario) if job.scenario else None
-    if scenario is None:
+    if job.scenario:
+        scenario = Path(job.scenario)
+    else:
         scenario = generate(
             directory / "scenarios", job.index, job.seed, condition.minds, condition.kind, job.max_ticks
         )

@@ -181,7 +181,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
                 raise RuntimeError(f"{tag}: the brain failed")
             read_log(record, shadow_dir, spec.observer)  # the brain's own record of the run
             final = max(record.states, default=0)
-            _settle(lambda: (len(record.truths), 0), done=lambda: max(record.truths, default=-1) >= final)
+            _settle(lambda: len(record.truths), done=lambda: max(record.truths, default=-1) >= final)
     finally:
         for process in (brain, engine):
             if process is not None:
@@ -244,9 +244,10 @@ def _score(
 
 
 def _settle(
-    count: Callable[[], tuple[int, int]], done: Callable[[], bool], quiet: float = 0.3, limit: float = 15.0
+    count: Callable[[], int], done: Callable[[], bool], quiet: float = 0.3, limit: float = 15.0
 ) -> None:
-    """Wait until the last messages have arrived: ``done()`` and nothing new for ``quiet`` s."""
+    """Wait until the last messages have arrived: ``done()`` and ``count()`` (of the messages
+    heard) unchanged for ``quiet`` s."""
     deadline = time.monotonic() + limit
     seen, since = count(), time.monotonic()
     while time.monotonic() < deadline:
