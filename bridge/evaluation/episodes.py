@@ -5,10 +5,11 @@ of two generated houses, with autonomous simulated people. It runs twice, each t
 engine and a brain process over loopback Zenoh in lock-step: the robot observing (the BToM
 brain live, with ``truebelief`` and ``perceptonly`` as shadow observers of the same ticks,
 :mod:`brain.outputs.shadows`), and the BToM brain with the robot acting.
-The evaluator listens to ``brain/mind`` and ``engine/truth`` and scores every
-tick (:mod:`bridge.evaluation.metrics`); robot success is whether each person ends the episode with
-what they want (playing with their preferred item, or outside if they want to leave), with
-and without the robot. Episodes run ``workers`` at a time, locally or as Ray tasks.
+The evaluator listens to ``engine/truth``, reads the brain's minds from its run log
+(:mod:`bridge.evaluation.runs`) and scores every tick (:mod:`bridge.evaluation.metrics`);
+robot success is whether each person ends the episode with what they want (playing with
+their preferred item, or outside if they want to leave), with and without the robot.
+Episodes run ``workers`` at a time, locally or as Ray tasks.
 """
 
 from __future__ import annotations
