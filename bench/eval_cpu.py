@@ -22,7 +22,8 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from bridge.evaluation.episodes import cpu_seconds, episode_runs, generate, map_of
+from bridge.evaluation.episodes import cpu_seconds, episode_runs
+from bridge.evaluation.generation import generate, map_of
 from bridge.evaluation.runs import run_once
 
 TICK_SECONDS = 1.0 / os.sysconf("SC_CLK_TCK")

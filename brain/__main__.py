@@ -1,7 +1,8 @@
 """The brain's command line (``toyroom brain`` and ``toyroom infer`` start these).
 
 - ``python -m brain [--world W] [--scenario S] [--seed N] [--out DIR] [--observer O]``:
-  the live brain node, in lock-step with the world's engine, until the episode ends.
+  the live brain node, in lock-step with the world's engine, until the episode ends
+  (``--episodes S1 S2 ...``: one episode of each scenario in turn, on the same engine).
 - ``python -m brain infer TRACE --out DIR [--observer O]``: the same outputs from a
   recorded ``trace.jsonl``, with no engine.
 - ``python -m brain fit RECORDINGS... --params beta,hazard --out DIR``: parameters fitted to
@@ -55,10 +56,19 @@ def run_parser() -> argparse.ArgumentParser:
         "real-time one) until the episode ends\n"
         "(`python -m brain infer TRACE --out DIR`: the same outputs from a recording).",
     )
-    parser.add_argument(
+    chosen = parser.add_mutually_exclusive_group()
+    chosen.add_argument(
         "--scenario",
         help="scenario to reset the engine to (default: lock-step, the engine's current one; "
         "real time, no reset: join the episode running)",
+    )
+    chosen.add_argument(
+        "--episodes",
+        nargs="+",
+        metavar="SCENARIO",
+        help="run one episode of each scenario in turn (each a fresh model), resetting the "
+        "engine to it; --out, --shadow-out and --run-log then get a folder per episode, named "
+        "by its scenario file's stem",
     )
     parser.add_argument("--seed", type=int, default=0, help="episode seed of the reset")
     parser.add_argument("--out", type=Path, help="write mind.csv, figures and report.md here at the end")
@@ -165,6 +175,67 @@ def plan_main(scene_path: Path, out: Path, settings: Settings) -> int:
     return 0
 
 
+def run_node(
+    args: argparse.Namespace, settings: Settings, episodes: Sequence[tuple[str | None, str | None]]
+) -> None:
+    """The live node: each of ``episodes`` (a scenario, and its outputs' folder or ``None``:
+    the options' folders themselves) in turn, with one session and one node."""
+    with (
+        Bridge(args.world, settings_from_args(args)) as bridge,
+        (
+            McapRecorder(
+                bridge,
+                args.record,
+                timeout=args.handshake_timeout,
+                settings=lambda: settings_toml(settings),
+            )
+            if args.record
+            else nullcontext()
+        ),
+    ):
+        node = BrainNode(
+            bridge,
+            settings=settings.model,
+            robot_settings=settings.robot,
+            observer=Observer(args.observer),
+            timeout=args.timeout or None,
+            handshake_timeout=args.handshake_timeout or None,
+            robot=args.robot,
+            shadows=[Observer(o) for o in args.shadow],
+            shadow_dir=args.shadow_out,
+            run_log=args.run_log,
+        )
+        for chosen, folder in episodes:
+            if folder is not None:
+                node.shadow_dir = args.shadow_out / folder
+                node.run_log = args.run_log / folder if args.run_log is not None else None
+            try:
+                scenario, tracker = node.run(chosen, args.seed, max_ticks=args.max_ticks)
+            except (BrainError, BridgeError, ProtocolError) as err:
+                if folder is None:
+                    raise
+                raise BrainError(f"episode of {chosen}: {err}") from err
+            if args.out is not None:
+                out = args.out / folder if folder is not None else args.out
+                path = write_results(tracker, scenario, out, settings)
+                print(f"brain: wrote {path} and the report in {out}", flush=True)
+
+
+def episode_folders(scenarios: Sequence[str]) -> list[tuple[str, str]]:
+    """Each scenario of ``--episodes`` and the folder its outputs go to (its file's stem).
+
+    Raises:
+        BrainError: two scenarios would share a folder.
+    """
+    folders: dict[str, str] = {}
+    for scenario in scenarios:
+        stem = Path(scenario).stem
+        if scenario in folders or stem in folders.values():
+            raise BrainError(f"--episodes: two scenarios named '{stem}' would share their outputs' folder")
+        folders[scenario] = stem
+    return list(folders.items())
+
+
 SUBCOMMANDS = {"infer": infer_parser, "fit": fit_parser, "plan": plan_parser}
 
 
@@ -185,40 +256,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())
             return 0
+        episodes = episode_folders(args.episodes) if args.episodes else [(args.scenario, None)]
         if args.values_cache is not None:
             use_store(ValueDirectory(args.values_cache))
         if args.out is not None:  # first, so a recorder of this run finds them
             args.out.mkdir(parents=True, exist_ok=True)
             (args.out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
-        with (
-            Bridge(args.world, settings_from_args(args)) as bridge,
-            (
-                McapRecorder(
-                    bridge,
-                    args.record,
-                    timeout=args.handshake_timeout,
-                    settings=lambda: settings_toml(settings),
-                )
-                if args.record
-                else nullcontext()
-            ),
-        ):
-            node = BrainNode(
-                bridge,
-                settings=settings.model,
-                robot_settings=settings.robot,
-                observer=Observer(args.observer),
-                timeout=args.timeout or None,
-                handshake_timeout=args.handshake_timeout or None,
-                robot=args.robot,
-                shadows=[Observer(o) for o in args.shadow],
-                shadow_dir=args.shadow_out,
-                run_log=args.run_log,
-            )
-            scenario, tracker = node.run(args.scenario, args.seed, max_ticks=args.max_ticks)
-            if args.out is not None:
-                path = write_results(tracker, scenario, args.out, settings)
-                print(f"brain: wrote {path} and the report in {args.out}", flush=True)
+        run_node(args, settings, episodes)
         return 0
     except (BrainError, BridgeError, ProtocolError) as err:
         print(f"brain: {err}", file=sys.stderr)

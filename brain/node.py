@@ -23,7 +23,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
+from typing import Literal, Protocol
 
 from bridge import Bridge, LockstepClient, NoReply, Publisher, StepTimeout, handshake
 from protocol import (
@@ -34,7 +34,6 @@ from protocol import (
     ControlReply,
     EngineInfo,
     Event,
-    Heartbeat,
     Message,
     Reset,
     State,
@@ -45,6 +44,7 @@ from .model.revisions import SharedRevisions
 from .outputs.results import MindCache, mind_message
 from .outputs.runlog import RunLog
 from .outputs.shadows import ShadowMinds
+from .realtime import EventFeed, Heartbeats
 from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
 from .tracking.tracker import MindTracker, Observer
@@ -52,6 +52,10 @@ from .tracking.tracker import MindTracker, Observer
 log = logging.getLogger("toyroom.brain")
 
 BRAIN_NAME = "toyroom-brain"
+
+
+class Closable(Protocol):
+    def close(self) -> None: ...
 
 
 class BrainNode:
@@ -67,6 +71,11 @@ class BrainNode:
             ``shadow_dir`` (:mod:`brain.outputs.shadows`).
         run_log: a directory to write every state and event handled, and every ``mind``
             message published, into (:mod:`brain.outputs.runlog`); ``None``: none.
+
+    Each :meth:`run` follows one episode with a fresh model; a node may run several in turn
+    (``python -m brain --episodes``), each into its own ``shadow_dir`` and ``run_log``
+    (attributes a caller may change between runs). What a run subscribes to and declares
+    is withdrawn when it ends.
     """
 
     def __init__(
@@ -84,7 +93,10 @@ class BrainNode:
         run_log: Path | None = None,
     ) -> None:
         self.bridge = bridge
-        self._run_log = RunLog(run_log, observer) if run_log is not None else None
+        self.run_log = run_log
+        self._run_log: RunLog | None = None
+        self._declared: list[Closable] = []
+        """What the current run subscribed to and declared (withdrawn when it ends)."""
         self.shadows = tuple(shadows)
         self.shadow_dir = shadow_dir or Path(".")
         self._open_shadows: list[ShadowMinds] = []
@@ -130,17 +142,24 @@ class BrainNode:
             log.warning("another scene: the shadow observers stop here")
         robot = self._robot(info, tracker)
         link = _Link(info, tracker, shadow, robot)
+        if self._run_log is not None:
+            self._run_log.engine(info)
         if robot is None:
             return link
         keys = self.bridge.keys
-        self.bridge.subscribe(
-            keys.status(robot.robot), lambda s, _: link.inbox.put(s), expected=CommandStatus
+        self._declared.append(
+            self.bridge.subscribe(
+                keys.status(robot.robot), lambda s, _: link.inbox.put(s), expected=CommandStatus
+            )
         )
         link.commands = self.bridge.publisher(keys.command(robot.robot))
+        self._declared.append(link.commands)
         if not link.commands.wait_matched(self.handshake_timeout):
             raise StepTimeout(f"the engine never subscribed to '{keys.command(robot.robot)}'")
         if realtime:
-            link.heartbeats = _Heartbeats(self.bridge, robot.robot)
+            link.heartbeats = Heartbeats(self.bridge, robot.robot)
+            if link.heartbeats.publisher is not None:
+                self._declared.append(link.heartbeats.publisher)
         return link
 
     def run(
@@ -153,6 +172,8 @@ class BrainNode:
     ) -> tuple[str, MindTracker]:
         """Reset the engine, follow the episode to its end, return (scenario, tracker)."""
         self._max_ticks, self._on_tick = max_ticks, on_tick
+        if self.run_log is not None:
+            self._run_log = RunLog(self.run_log, self.observer)
         try:
             first = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
             if first.clock is ClockMode.REALTIME:
@@ -165,6 +186,9 @@ class BrainNode:
             if self._run_log is not None:
                 self._run_log.close()
                 self._run_log = None
+            for declared in reversed(self._declared):
+                declared.close()
+            self._declared.clear()
 
     def _tick(self, link: _Link, state: State, events: tuple[Event, ...]) -> bool:
         """The per-tick pipeline of both clocks: the estimates, the shadows, the robot's tree
@@ -232,14 +256,19 @@ class BrainNode:
     def _watch_engine(self) -> threading.Event:
         """An event set while no engine of the world is alive."""
         lost = threading.Event()
-        self.bridge.presence("engine", lambda e: lost.clear() if e.alive else lost.set())
+        self._declared.append(
+            self.bridge.presence("engine", lambda e: lost.clear() if e.alive else lost.set())
+        )
         return lost
 
     def _free_run(self, scenario: str | None, seed: int) -> tuple[str, MindTracker]:
         """Follow a real-time engine: the newest state each time, with the events up to it."""
         states: queue.Queue[State] = queue.Queue()
-        feed = _EventFeed(self.bridge)
-        self.bridge.subscribe(self.bridge.keys.state, lambda m, _: states.put(m), expected=State)
+        feed = EventFeed(self.bridge)
+        self._declared.append(feed.subscriber)
+        self._declared.append(
+            self.bridge.subscribe(self.bridge.keys.state, lambda m, _: states.put(m), expected=State)
+        )
         episode: int | None = None
         if scenario is not None:  # a fresh episode, as in lock-step
             reset = Reset(scenario=scenario, seed=seed)
@@ -336,47 +365,7 @@ class _Link:
     inbox: queue.Queue[CommandStatus] = field(default_factory=queue.Queue)
     """The robot's command statuses, as they arrive."""
     commands: Publisher[Message] | None = None
-    heartbeats: _Heartbeats | None = None
+    heartbeats: Heartbeats | None = None
     """Real-time engines only."""
     minds: MindCache = field(default_factory=dict)
     """The ``mind`` message's parts kept between ticks (:func:`mind_message`)."""
-
-
-class _EventFeed:
-    """A real-time engine's events, handed out with the state they lead up to."""
-
-    def __init__(self, bridge: Bridge) -> None:
-        self.queue: queue.Queue[Event] = queue.Queue()
-        self.pending: list[Event] = []
-        bridge.subscribe(bridge.keys.events, lambda m, _: self.queue.put(m), expected=Event)
-
-    def up_to(self, state: State) -> tuple[Event, ...]:
-        """The events of ``state``'s episode up to its tick, not handed out before."""
-        while not self.queue.empty():
-            self.pending.append(self.queue.get_nowait())
-        now = tuple(e for e in self.pending if e.episode == state.episode and e.tick <= state.tick)
-        self.pending = [e for e in self.pending if (e.episode, e.tick) > (state.episode, state.tick)]
-        return now
-
-    def clear(self) -> None:
-        self.pending.clear()
-
-
-class _Heartbeats:
-    """Tells a real-time engine, at most every 0.25 s, that the brain still drives its robot."""
-
-    PERIOD = 0.25
-
-    def __init__(self, bridge: Bridge, robot: str) -> None:
-        self.bridge = bridge
-        self.robot = robot
-        self.seq = 0
-        self.last = 0.0
-        self.publisher = bridge.publisher(bridge.keys.heartbeat(robot)) if robot != "none" else None
-
-    def beat(self) -> None:
-        now = time.monotonic()
-        if self.publisher is not None and now - self.last >= self.PERIOD:
-            self.publisher.put(Heartbeat(robot=self.robot, seq=self.seq))
-            self.seq += 1
-            self.last = now

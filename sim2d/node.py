@@ -137,7 +137,8 @@ class EngineNode:
                     result = self.engine.reset(request.scenario, request.seed)
                 except ScenarioError as err:
                     known = ", ".join(scenario_names())
-                    if request.scenario is not None and request.scenario not in scenario_names():
+                    named = request.scenario is not None and not request.scenario.endswith(".toml")
+                    if named and request.scenario not in scenario_names():  # a name, not a file
                         raise Refused(
                             ErrorCode.UNKNOWN_SCENARIO,
                             f"no scenario named '{request.scenario}'; known: {known}",

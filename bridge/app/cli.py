@@ -203,6 +203,14 @@ def _eval_command(command: Command) -> None:
         "--max-ticks", type=int, default=1000, help="ticks per episode (default: %(default)s)"
     )
     evaluation.add_argument(
+        "--batch",
+        type=int,
+        default=10,
+        help="at most this many episodes of a condition share one engine and one brain process "
+        "per kind of run (each run still a fresh model and episode; 1: a process pair per run; "
+        "default: %(default)s)",
+    )
+    evaluation.add_argument(
         "--record",
         action="store_true",
         help="keep every run's MCAP recording in OUT/recordings/CONDITION/ (for toyroom fit and infer)",

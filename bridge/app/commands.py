@@ -89,6 +89,7 @@ def eval_main(
     policies: Sequence[str] = ("tom",),
     record: bool = False,
     max_ticks: int = 1000,
+    batch: int = 10,
 ) -> int:
     """Run the evaluation with a progress bar and print the metrics."""
     from rich.console import Console
@@ -115,6 +116,7 @@ def eval_main(
             policies=policies,
             record=record,
             max_ticks=max_ticks,
+            batch=batch,
         )
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
@@ -242,6 +244,9 @@ def _eval(args: argparse.Namespace) -> int:
     if unknown:
         print(f"toyroom eval: unknown policies {unknown} (known: {', '.join(POLICIES)})", file=sys.stderr)
         return 2
+    if args.batch < 1:
+        print(f"toyroom eval: --batch must be at least 1 episode, got {args.batch}", file=sys.stderr)
+        return 2
     command = shlex.join(["toyroom", *sys.argv[1:]])
     return eval_main(
         args.episodes,
@@ -255,6 +260,7 @@ def _eval(args: argparse.Namespace) -> int:
         policies,
         args.record,
         max_ticks=args.max_ticks,
+        batch=args.batch,
     )
 
 

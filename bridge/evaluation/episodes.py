@@ -20,7 +20,6 @@ import logging
 import resource
 import shutil
 import subprocess
-import sys
 import tempfile
 import time
 from collections.abc import Callable, Sequence
@@ -32,7 +31,9 @@ from typing import Any
 from protocol import Observer
 
 from .aggregate import ROBOT, aggregate
+from .batches import run_batch
 from .conditions import Condition
+from .generation import MAPS, generate, map_of, scenarios_of
 from .planned import policy_table
 from .report import report
 from .runs import MOTION, RunResult, RunSpec, run_once
@@ -44,8 +45,9 @@ OBSERVERS = (*BRAIN_OBSERVERS, MOTION)
 """Every observer scored: the brain's three, and the motion heuristic."""
 BTOM = Observer.BTOM.value
 RUN_ATTEMPTS = 3
+BATCH = 10
+"""Episodes of one condition whose runs share their node processes (:func:`batches`)."""
 """How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
-MAPS = ("paper", "house-a", "house-b")
 
 
 @dataclass(frozen=True)
@@ -67,59 +69,6 @@ class EpisodeJob:
     scenario: str = ""
     """The episode's scenario file when it was generated beforehand (:func:`generate_all`);
     empty: the job generates it."""
-
-
-def map_of(index: int) -> str:
-    """The map episode ``index`` of a sweep is drawn on (they cycle through ``MAPS``)."""
-    return MAPS[index % len(MAPS)]
-
-
-def generate(
-    directory: Path,
-    index: int,
-    seed: int,
-    minds: str = "simple",
-    kind: str = "everyday",
-    max_ticks: int = 1000,
-) -> Path:
-    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
-    with simulated people of ``minds``, of ``kind``, ``max_ticks`` long."""
-    return _generate(directory, [index], seed, minds, kind, max_ticks)[0]
-
-
-def generate_all(
-    directory: Path,
-    episodes: int,
-    seed: int,
-    minds: str = "simple",
-    kind: str = "everyday",
-    max_ticks: int = 1000,
-) -> list[Path]:
-    """Write episodes ``0 .. episodes - 1`` of a sweep, as :func:`generate` does each, in one
-    process (a process start is most of an episode's generation)."""
-    return _generate(directory, range(episodes), seed, minds, kind, max_ticks)
-
-
-def _generate(
-    directory: Path, indices: Sequence[int], seed: int, minds: str, kind: str, max_ticks: int
-) -> list[Path]:
-    """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process."""
-    if not indices:
-        return []
-    entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in indices]
-    result = subprocess.run(
-        [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
-        + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)],
-        capture_output=True,
-        text=True,
-        timeout=120 + 10 * len(indices),
-        check=False,
-    )
-    paths = [Path(line) for line in result.stdout.splitlines() if line.strip()]
-    if result.returncode != 0 or len(paths) != len(indices):
-        which = f"episode {indices[0]}" if len(indices) == 1 else f"{len(indices)} episodes"
-        raise RuntimeError(f"generating {which}: {result.stderr.strip()}")
-    return paths
 
 
 def episode_runs(
@@ -163,6 +112,20 @@ def run_episode(job: EpisodeJob) -> dict[str, Any]:
 
 def _episode(job: EpisodeJob) -> dict[str, Any]:
     started = time.monotonic()
+    scenario, specs = episode_specs(job)
+    logs = Path(job.workdir) / job.condition.name / "logs"
+    failures: list[str] = []
+    results, seconds = [], []
+    for spec in specs:
+        run_started = time.monotonic()
+        results.append(_run_with_retries(spec, logs, failures))
+        seconds.append(time.monotonic() - run_started)
+    return episode_entry(job, scenario, specs, results, seconds, failures, time.monotonic() - started)
+
+
+def episode_specs(job: EpisodeJob) -> tuple[Path, list[RunSpec]]:
+    """The job's scenario (generated here unless it was beforehand) and its runs
+    (:func:`episode_runs`, with the condition's and the job's options)."""
     directory = Path(job.workdir) / job.condition.name
     condition = job.condition
     if job.scenario:
@@ -171,35 +134,48 @@ def _episode(job: EpisodeJob) -> dict[str, Any]:
         scenario = generate(
             directory / "scenarios", job.index, job.seed, condition.minds, condition.kind, job.max_ticks
         )
-    logs = directory / "logs"
-    logs.mkdir(parents=True, exist_ok=True)
-    out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
-    failures: list[str] = []
+    (directory / "logs").mkdir(parents=True, exist_ok=True)
     values = ("--values-cache", str(Path(job.workdir) / "values"))  # each map solved once per evaluation
     args = (*job.condition.brain_args(), *job.brain_args, *values)
     engine_args: tuple[str, ...] = ()
     if job.condition.minds == "model":  # people act by the planner under the run's settings
         engine_args = ("--policy", str(policy_table(scenario, job.brain_args, directory / "policies")))
-    out["run_seconds"] = {}
+    specs = []
     for spec in episode_runs(scenario, args, job.condition.perception, job.policies):
         spec = dataclasses.replace(spec, engine_args=engine_args)
         if job.record:
             spec = _recorded(spec, Path(job.workdir).parent / "recordings" / job.condition.name)
-        run_started = time.monotonic()
-        results = _run_with_retries(spec, logs, failures)
-        out["run_seconds"][spec.tag.removeprefix(f"{scenario.stem}-")] = time.monotonic() - run_started
-        for observer, result in results.items():
+        specs.append(spec)
+    return scenario, specs
+
+
+def episode_entry(
+    job: EpisodeJob,
+    scenario: Path,
+    specs: Sequence[RunSpec],
+    results: Sequence[dict[str, RunResult]],
+    seconds: Sequence[float],
+    failures: list[str],
+    took: float,
+) -> dict[str, Any]:
+    """Everything about one episode, as plain data: each run's scores (``results``, in the
+    order of ``specs``), its seconds, the failed attempts, and the episode's seconds."""
+    out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
+    out["run_seconds"] = {}
+    for spec, result, run_seconds in zip(specs, results, seconds, strict=True):
+        out["run_seconds"][spec.tag.removeprefix(f"{scenario.stem}-")] = run_seconds
+        for observer, scored in result.items():
             key = observer if spec.robot == "observe" else f"{ROBOT}-{spec.policy}"
             out[key] = {
-                "counts": result.counts.__dict__,
-                "outcome": result.outcome.per_person,
-                "ticks_to_goal": result.outcome.ticks_to_goal,
-                "episode_ticks": result.outcome.ticks,
-                "ticks": result.ticks,
-                "help": {p: dataclasses.asdict(h) for p, h in result.help.items()},
+                "counts": scored.counts.__dict__,
+                "outcome": scored.outcome.per_person,
+                "ticks_to_goal": scored.outcome.ticks_to_goal,
+                "episode_ticks": scored.outcome.ticks,
+                "ticks": scored.ticks,
+                "help": {p: dataclasses.asdict(h) for p, h in scored.help.items()},
             }
     out["failed_runs"] = failures
-    out["seconds"] = time.monotonic() - started
+    out["seconds"] = took
     return out
 
 
@@ -243,22 +219,24 @@ def evaluate(
     policies: Sequence[str] = ("tom",),
     record: bool = False,
     max_ticks: int = 1000,
+    batch: int = BATCH,
 ) -> dict[str, Any]:
     """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
     and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
     ``--set belief_model=point``; ``command``: the command line, for the report;
     ``record``: keep every run's MCAP recording under ``out/recordings/``; ``max_ticks``: each
-    episode's length)."""
+    episode's length; ``batch``: at most this many episodes share their node processes, 1:
+    none do, :func:`batches`)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
     started, cpu = time.monotonic(), cpu_seconds()  # generating the episodes counts too
     jobs = [
         EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record, max_ticks, scenario)
         for c in conditions
-        for i, scenario in enumerate(_scenarios(Path(workdir), episodes, seed, c, max_ticks))
+        for i, scenario in enumerate(scenarios_of(Path(workdir), episodes, seed, c, max_ticks))
     ]
     try:
-        results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl")
+        results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl", batch)
     finally:  # the solved Q-values (--values-cache) are a cache of this evaluation only
         shutil.rmtree(Path(workdir) / "values", ignore_errors=True)
     took = time.monotonic() - started
@@ -297,18 +275,6 @@ def cpu_seconds() -> dict[str, float]:
     return {"evaluator": me.ru_utime + me.ru_stime, "nodes": children.ru_utime + children.ru_stime}
 
 
-def _scenarios(workdir: Path, episodes: int, seed: int, condition: Condition, max_ticks: int) -> list[str]:
-    """The condition's episodes, generated in one process into its ``scenarios`` folder; where
-    that fails, empty names (each job then generates its own, and fails alone)."""
-    directory = workdir / condition.name / "scenarios"
-    try:
-        paths = generate_all(directory, episodes, seed, condition.minds, condition.kind, max_ticks)
-    except (RuntimeError, OSError, subprocess.SubprocessError) as err:
-        log.warning("%s; each episode is generated on its own", err)
-        return [""] * episodes
-    return [str(path) for path in paths]
-
-
 def timing(
     results: list[dict[str, Any]], took: float, workers: int, cpu: dict[str, float] | None = None
 ) -> dict[str, Any]:
@@ -338,26 +304,77 @@ def _chunks(results: list[dict[str, Any]], size: int) -> list[list[dict[str, Any
     return [results[i : i + size] for i in range(0, len(results), size)]
 
 
+def batches(jobs: Sequence[EpisodeJob], workers: int, size: int) -> list[list[EpisodeJob]]:
+    """``jobs`` (in order, by condition) in batches of at most ``size`` episodes of one
+    condition, smaller where that leaves a worker idle; an episode that cannot share its
+    processes (its runs are recorded, or its engine has options of its own) alone."""
+    out: list[list[EpisodeJob]] = []
+    for condition in dict.fromkeys(job.condition for job in jobs):
+        chunk = [job for job in jobs if job.condition == condition]
+        if not all(_shares(job) for job in chunk):
+            out += [[job] for job in chunk]
+            continue
+        step = max(1, min(size, -(-len(chunk) // max(1, workers))))
+        out += [chunk[i : i + step] for i in range(0, len(chunk), step)]
+    return out
+
+
+def _shares(job: EpisodeJob) -> bool:
+    """Whether a job's runs can share processes with other episodes' (a recording per run,
+    or a planner table per episode for the engine, need a process each)."""
+    return not job.record and job.condition.minds != "model"
+
+
+def run_episodes(jobs: Sequence[EpisodeJob]) -> list[dict[str, Any]]:
+    """:func:`run_episode` of each job, in order, the runs of all of them sharing an engine
+    process and a brain process per kind of run (:mod:`bridge.evaluation.batches`); an
+    episode whose batch did not finish it is run again alone (its entry's ``failed_runs``
+    says so), as is every job when sharing fails as a whole."""
+    if len(jobs) == 1 or not all(_shares(job) for job in jobs):
+        return [run_episode(job) for job in jobs]
+    started = time.monotonic()
+    try:
+        prepared = [episode_specs(job) for job in jobs]
+        logs = Path(jobs[0].workdir) / jobs[0].condition.name / "logs"
+        batch = run_batch([specs for _, specs in prepared], logs)
+    except (RuntimeError, OSError, subprocess.SubprocessError) as err:
+        log.warning("a batch of %d episodes failed (%s): each is run alone", len(jobs), err)
+        return [run_episode(job) for job in jobs]
+    took = (time.monotonic() - started) / len(jobs)
+    out = []
+    for job, (scenario, specs), scores in zip(jobs, prepared, batch.scores, strict=True):
+        if scores is None:
+            entry = run_episode(job)
+            entry.setdefault("failed_runs", []).insert(0, f"episode {job.index}: its batch did not finish it")
+        else:
+            entry = episode_entry(job, scenario, specs, scores, batch.seconds, [], took)
+        out.append(entry)
+    return out
+
+
 def _run_jobs(
     jobs: list[EpisodeJob],
     workers: int,
     backend: str,
     progress: Callable[[int], None] | None,
     partial: Path,
+    batch: int = BATCH,
 ) -> list[dict[str, Any]]:
     """Every job's result, in the order of ``jobs`` (each kept in ``partial`` as it comes
-    back, locally)."""
+    back, locally; ``batch``: episodes per batch, :func:`batches`)."""
     if backend == "ray":
         from .raybackend import run_with_ray
 
         return run_with_ray(run_episode, jobs, workers, progress)
     results: dict[int, dict[str, Any]] = {}
+    order = {id(job): n for n, job in enumerate(jobs)}
     with ThreadPoolExecutor(max_workers=workers) as pool, partial.open("w") as kept:
-        futures = {pool.submit(run_episode, job): n for n, job in enumerate(jobs)}
+        futures = {pool.submit(run_episodes, chunk): chunk for chunk in batches(jobs, workers, batch)}
         for future in as_completed(futures):
-            results[futures[future]] = future.result()
-            kept.write(json.dumps(results[futures[future]]) + "\n")
-            kept.flush()
-            if progress is not None:
-                progress(1)
+            for job, entry in zip(futures[future], future.result(), strict=True):
+                results[order[id(job)]] = entry
+                kept.write(json.dumps(entry) + "\n")
+                kept.flush()
+                if progress is not None:
+                    progress(1)
     return [results[n] for n in range(len(jobs))]

@@ -10,11 +10,11 @@ from __future__ import annotations
 import threading
 import time
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from protocol import Event, EventKind, Mind, State, Truth, decode
+from protocol import EngineInfo, Event, EventKind, Mind, Scene, State, Truth, decode
 
 from ..bridge import Bridge
 from ..processes import (
@@ -87,6 +87,8 @@ class RunRecord:
     reached: list[tuple[int, str, str]] = field(default_factory=list)
     """(tick, person, item played with or region entered), in order: when goals were met."""
     events: list[Event] = field(default_factory=list)
+    info: EngineInfo | None = None
+    """The engine's handshake, as the brain logged it (its scene)."""
     lock: threading.Lock = field(default_factory=threading.Lock)
 
     def on_truth(self, truth: Truth, _: Received) -> None:
@@ -114,14 +116,16 @@ class RunRecord:
 
 
 def read_log(record: RunRecord, directory: Path, observer: str) -> None:
-    """Fill ``record`` from a brain's run log (:mod:`brain.outputs.runlog`): the states and
-    events it handled, and ``observer``'s minds."""
+    """Fill ``record`` from a brain's run log (:mod:`brain.outputs.runlog`): the engine's
+    handshake, the states and events it handled, and ``observer``'s minds."""
     for line in (directory / "inputs.jsonl").read_bytes().splitlines():
         message = decode(line)
         if isinstance(message, State):
             record.states[message.tick] = message
         elif isinstance(message, Event):
             record.on_event(message)
+        elif isinstance(message, EngineInfo):
+            record.info = message
     record.minds.update(read_minds(directory, observer))
 
 
@@ -131,16 +135,21 @@ def read_minds(directory: Path, observer: str) -> dict[int, Mind]:
     return {m.tick: m for m in (decode(line, Mind) for line in lines)}
 
 
-def brain_command(spec: RunSpec, world: str, settings: SessionSettings, shadow_dir: Path) -> list[str]:
+def brain_command(
+    spec: RunSpec, world: str, settings: SessionSettings, shadow_dir: Path, episodes: Sequence[Path] = ()
+) -> list[str]:
     """The brain process of a run, logging what it handled and inferred into ``shadow_dir``
-    (with its shadow observers' minds)."""
+    (with its shadow observers' minds); with ``episodes``, the same run of each of those
+    scenarios in turn, each logged into ``shadow_dir/<its stem>``."""
     shadows = [a for o in spec.shadows for a in ("--shadow", o)]
     shadows += ["--shadow-out", str(shadow_dir), "--run-log", str(shadow_dir)]
+    chosen = ("--episodes", *map(str, episodes)) if episodes else ("--scenario", str(spec.scenario))
     return node_command(
         "brain",
         world,
         settings,
-        *("--scenario", str(spec.scenario), "--observer", spec.observer, "--robot", spec.robot),
+        *chosen,
+        *("--observer", spec.observer, "--robot", spec.robot),
         *("--timeout", str(spec.timeout), "--log-level", "WARNING"),
         *shadows,
         *spec.brain_args,
@@ -181,20 +190,32 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
                 raise RuntimeError(f"{tag}: the brain failed")
             read_log(record, shadow_dir, spec.observer)  # the brain's own record of the run
             final = max(record.states, default=0)
-            _settle(lambda: len(record.truths), done=lambda: max(record.truths, default=-1) >= final)
+            settle(lambda: len(record.truths), done=lambda: max(record.truths, default=-1) >= final)
     finally:
         for process in (brain, engine):
             if process is not None:
                 stop_node(process)
+    return score_run(spec, info.scene, record, shadow_dir)
+
+
+def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) -> dict[str, RunResult]:
+    """Every observer's scores of a run of ``spec`` on ``scene``: the live one's from
+    ``record``, each shadow's from its file in ``shadow_dir``, and (observing) the motion
+    heuristic's.
+
+    Raises:
+        RuntimeError: an observer's minds miss ticks of the truth.
+    """
+    tag = spec.tag
     outcome = Outcome()
     if record.truths:
         last = record.truths[max(record.truths)]
-        outcome = judge(info.scene, last, record.playing, record.regions, record.reached)
+        outcome = judge(scene, last, record.playing, record.regions, record.reached)
     check_complete(tag, spec.observer, record.minds, record.truths)
     results = {spec.observer: _score(record.minds, record.truths, record.took, outcome)}
-    results[spec.observer].help = helpfulness(info.scene, record.states, record.truths, record.events)
+    results[spec.observer].help = helpfulness(scene, record.states, record.truths, record.events)
     if spec.robot == "observe":
-        heuristic = MotionHeuristic(info.scene, embodied=spec.perception == "embodied")
+        heuristic = MotionHeuristic(scene, embodied=spec.perception == "embodied")
         guessed = {
             tick: heuristic.mind(record.states[tick], record.truths[tick])
             for tick in sorted(record.states)
@@ -243,7 +264,7 @@ def _score(
     return result
 
 
-def _settle(
+def settle(
     count: Callable[[], int], done: Callable[[], bool], quiet: float = 0.3, limit: float = 15.0
 ) -> None:
     """Wait until the last messages have arrived: ``done()`` and ``count()`` (of the messages

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import queue
 import time
+from pathlib import Path
 
 import pytest
 from support import EngineProcess
@@ -65,13 +66,20 @@ def test_robot_commands_over_the_wire(world: str) -> None:
         ].reason
 
 
-def test_control_errors_and_bad_input_keep_the_engine_serving(world: str) -> None:
+def test_control_errors_and_bad_input_keep_the_engine_serving(world: str, tmp_path: Path) -> None:
     with EngineProcess(world, "--scenario", "paper-1"), Bridge(world) as client:
         handshake(client, client="test", timeout=30.0)
         key = client.keys.control
         with pytest.raises(RemoteError) as unknown:
             client.query(key, Reset(scenario="paper-99"), ControlReply)
         assert unknown.value.code is ErrorCode.UNKNOWN_SCENARIO and "paper-1" in unknown.value.message
+        broken = tmp_path / "broken.toml"
+        broken.write_text('name = "broken"\nmap = 42\n')
+        with pytest.raises(RemoteError) as bad:
+            client.query(key, Reset(scenario=str(broken)), ControlReply)
+        assert bad.value.code is ErrorCode.BAD_REQUEST and "map: expected a map name, got 42" in str(
+            bad.value
+        ), f"a broken scenario file is named with what is wrong, not as unknown: {bad.value}"
         raw = list(client.session.get(key, payload=b'{"type":"step","protocol":"1.0","n":0}', timeout=5.0))
         assert raw and raw[0].err is not None and b"$.n" in raw[0].err.payload.to_bytes()
         client.session.put(client.keys.command("robot"), b"\x00garbage")

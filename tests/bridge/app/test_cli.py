@@ -166,3 +166,9 @@ def test_console_script_points_at_the_cli() -> None:
     assert callable(getattr(importlib.import_module(module), function, None)), (
         f"pyproject's toyroom = {scripts['toyroom']!r} names no function"
     )
+
+
+def test_a_bad_eval_batch_is_named(tmp_path: Path) -> None:
+    result = _toyroom("eval", "--batch", "0", "--episodes", "1", "--out", str(tmp_path))
+    assert result.returncode == 2 and "--batch must be at least 1" in result.stderr, result.stderr
+    assert not (tmp_path / "metrics.json").exists(), "nothing ran"

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from bridge.evaluation.episodes import evaluate, generate, generate_all, map_of
+from bridge.evaluation.episodes import evaluate
+from bridge.evaluation.generation import generate, generate_all, map_of
 
 EPISODES, SEED = 2, 5
 

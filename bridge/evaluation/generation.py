@@ -1,0 +1,82 @@
+"""The episodes of an evaluation: random scenarios (``python -m sim2d generate``) on the paper
+map and two generated houses, written by one generator process per condition (a process
+start is most of an episode's generation)."""
+
+from __future__ import annotations
+
+import logging
+import subprocess
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from .conditions import Condition
+
+log = logging.getLogger("toyroom.eval")
+
+MAPS = ("paper", "house-a", "house-b")
+
+
+def map_of(index: int) -> str:
+    """The map episode ``index`` of a sweep is drawn on (they cycle through ``MAPS``)."""
+    return MAPS[index % len(MAPS)]
+
+
+def generate(
+    directory: Path,
+    index: int,
+    seed: int,
+    minds: str = "simple",
+    kind: str = "everyday",
+    max_ticks: int = 1000,
+) -> Path:
+    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
+    with simulated people of ``minds``, of ``kind``, ``max_ticks`` long."""
+    return _generate(directory, [index], seed, minds, kind, max_ticks)[0]
+
+
+def generate_all(
+    directory: Path,
+    episodes: int,
+    seed: int,
+    minds: str = "simple",
+    kind: str = "everyday",
+    max_ticks: int = 1000,
+) -> list[Path]:
+    """Write episodes ``0 .. episodes - 1`` of a sweep, as :func:`generate` does each, in one
+    process (a process start is most of an episode's generation)."""
+    return _generate(directory, range(episodes), seed, minds, kind, max_ticks)
+
+
+def _generate(
+    directory: Path, indices: Sequence[int], seed: int, minds: str, kind: str, max_ticks: int
+) -> list[Path]:
+    """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process."""
+    if not indices:
+        return []
+    entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in indices]
+    result = subprocess.run(
+        [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
+        + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)],
+        capture_output=True,
+        text=True,
+        timeout=120 + 10 * len(indices),
+        check=False,
+    )
+    paths = [Path(line) for line in result.stdout.splitlines() if line.strip()]
+    if result.returncode != 0 or len(paths) != len(indices):
+        which = f"episode {indices[0]}" if len(indices) == 1 else f"{len(indices)} episodes"
+        raise RuntimeError(f"generating {which}: {result.stderr.strip()}")
+    return paths
+
+
+def scenarios_of(workdir: Path, episodes: int, seed: int, condition: Condition, max_ticks: int) -> list[str]:
+    """The condition's episodes, generated in one process into its ``scenarios`` folder; where
+    that fails, empty names (each job then generates its own, and fails alone)."""
+    directory = workdir / condition.name / "scenarios"
+    try:
+        paths = generate_all(directory, episodes, seed, condition.minds, condition.kind, max_ticks)
+    except (RuntimeError, OSError, subprocess.SubprocessError) as err:
+        log.warning("%s; each episode is generated on its own", err)
+        return [""] * episodes
+    return [str(path) for path in paths]
