@@ -28,6 +28,8 @@ from dataclasses import dataclass, field
 
 from protocol import Mind, Truth
 
+from .scoredminds import ScoredMind
+
 FALSE_BELIEF_MASS = 0.1
 """A person has a false belief about an item when their true belief gives its true location
 less than this (the brain's default ``false_belief_mass``)."""
@@ -180,7 +182,7 @@ def majority_counts(counts: Counts, goal: str) -> Counts:
 
 
 def score_tick(
-    mind: Mind,
+    mind: Mind | ScoredMind,
     truth: Truth,
     true_location: dict[str, str],
     took: set[str],
@@ -221,7 +223,8 @@ def score_tick(
             for name in (cell, f"goal_{cell}") if belief.item == person.preference else (cell,):
                 setattr(counts, name, getattr(counts, name) + 1)
         if person.agent in took and est.preference:
-            best = max(est.preference, key=lambda p: p.p).id
+            weights = [p.p for p in est.preference]
+            best = est.preference[weights.index(max(weights))].id  # the first of the most probable
             counts.pref_n += 1
             counts.pref_hits += best == person.preference
             counts.pref_truth[person.preference] = counts.pref_truth.get(person.preference, 0) + 1

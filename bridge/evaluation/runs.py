@@ -10,7 +10,7 @@ from __future__ import annotations
 import threading
 import time
 import uuid
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,6 +31,7 @@ from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
 from .metrics import Counts, Outcome, false_belief_causes, score_tick
 from .outcome import judge
+from .scoredminds import ScoredMind, read_scored_minds
 
 MOTION = "motion"
 """The motion-heuristic observer's name (:mod:`bridge.evaluation.heuristic`)."""
@@ -77,7 +78,7 @@ class RunRecord:
     """What the evaluator knows of a run: the truth it hears (a channel that is never
     dropped), and the states, events and minds of the brain's run log."""
 
-    minds: dict[int, Mind] = field(default_factory=dict)
+    minds: dict[int, Mind | ScoredMind] = field(default_factory=dict)
     truths: dict[int, Truth] = field(default_factory=dict)
     states: dict[int, State] = field(default_factory=dict)
     took: dict[int, set[str]] = field(default_factory=dict)
@@ -129,10 +130,10 @@ def read_log(record: RunRecord, directory: Path, observer: str) -> None:
     record.minds.update(read_minds(directory, observer))
 
 
-def read_minds(directory: Path, observer: str) -> dict[int, Mind]:
-    """``observer``'s minds by tick, from its ``minds-<observer>.jsonl`` in ``directory``."""
-    lines = (directory / f"minds-{observer}.jsonl").read_bytes().splitlines()
-    return {m.tick: m for m in (decode(line, Mind) for line in lines)}
+def read_minds(directory: Path, observer: str) -> dict[int, ScoredMind]:
+    """What is scored of ``observer``'s minds, by tick, from its ``minds-<observer>.jsonl`` in
+    ``directory`` (:mod:`bridge.evaluation.scoredminds`)."""
+    return read_scored_minds(directory / f"minds-{observer}.jsonl")
 
 
 def brain_command(
@@ -229,12 +230,14 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
     return results
 
 
-def missing_ticks(minds: dict[int, Mind], truths: dict[int, Truth]) -> list[int]:
+def missing_ticks(minds: Mapping[int, Mind | ScoredMind], truths: Mapping[int, Truth]) -> list[int]:
     """The ticks of the truth that no mind was heard for, in order."""
     return sorted(set(truths) - set(minds))
 
 
-def check_complete(tag: str, observer: str, minds: dict[int, Mind], truths: dict[int, Truth]) -> None:
+def check_complete(
+    tag: str, observer: str, minds: Mapping[int, Mind | ScoredMind], truths: Mapping[int, Truth]
+) -> None:
     """Raise when an observer's minds miss ticks of the truth: a mind lost on the way (say,
     published before the evaluator's session was connected) would silently drop a tick
     from the scores, so the run fails instead and is tried again (it is deterministic)."""
@@ -248,7 +251,10 @@ def check_complete(tag: str, observer: str, minds: dict[int, Mind], truths: dict
 
 
 def _score(
-    minds: dict[int, Mind], truths: dict[int, Truth], took: dict[int, set[str]], outcome: Outcome
+    minds: Mapping[int, Mind | ScoredMind],
+    truths: dict[int, Truth],
+    took: dict[int, set[str]],
+    outcome: Outcome,
 ) -> RunResult:
     """Score every tick that has both a mind and the truth (channels that are never dropped)."""
     result = RunResult(outcome=outcome)
