@@ -85,6 +85,9 @@ class World:
         self.labels: set[tuple[str, str]] = set()
         self.agents: dict[str, Agent] = {}
         self.items: dict[str, Item] = {}
+        self._agent_states: dict[str, tuple[object, bool, AgentState]] = {}
+        self._item_states: dict[str, tuple[object, ItemState]] = {}
+        """Each body's last state and what it was made of (:meth:`agent_states`)."""
         for setup in scenario.agents:
             radius = 0.3 if setup.kind is AgentKind.ROBOT else 0.25
             agent = Agent(setup.id, setup.kind, radius, PERSON_SPEED, setup.home, self.region_of[setup.home])
@@ -332,43 +335,64 @@ class World:
     # ----- state ----------------------------------------------------------------------
 
     def agent_states(self) -> tuple[AgentState, ...]:
+        """Every agent's body now. A body's state is kept from the last tick while all it
+        is made of is unchanged (most bodies stand still most ticks): the same object, so
+        the same bytes on the wire, without building it again."""
         out = []
         for agent_id, agent in self.agents.items():
-            x, y = self.physics.position(agent_id)
-            vx, vy = self.physics.velocity(agent_id)
-            moving = abs(vx) + abs(vy) > 1e-6
-            activity = Activity.PLAYING if agent.playing else Activity.MOVING if moving else Activity.IDLE
-            out.append(
-                AgentState(
-                    id=agent_id,
-                    pose=Pose(round(x, 6), round(y, 6), round(agent.heading, 6)),
-                    velocity=Vec2(round(vx, 6), round(vy, 6)),
-                    cell=Cell(*agent.cell),
-                    region=agent.region,
-                    holding=agent.holding,
-                    activity=activity,
-                )
-            )
+            body = self.physics.bodies[agent_id]
+            made_of = (body.position, body.velocity, agent.heading, agent.cell, agent.region, agent.holding)
+            kept = self._agent_states.get(agent_id)
+            if kept is None or kept[0] != made_of or kept[1] != agent.playing:
+                kept = (made_of, agent.playing, self._agent_state(agent))
+                self._agent_states[agent_id] = kept
+            out.append(kept[2])
         return tuple(out)
 
+    def _agent_state(self, agent: Agent) -> AgentState:
+        x, y = self.physics.position(agent.id)
+        vx, vy = self.physics.velocity(agent.id)
+        moving = abs(vx) + abs(vy) > 1e-6
+        activity = Activity.PLAYING if agent.playing else Activity.MOVING if moving else Activity.IDLE
+        return AgentState(
+            id=agent.id,
+            pose=Pose(round(x, 6), round(y, 6), round(agent.heading, 6)),
+            velocity=Vec2(round(vx, 6), round(vy, 6)),
+            cell=Cell(*agent.cell),
+            region=agent.region,
+            holding=agent.holding,
+            activity=activity,
+        )
+
     def item_states(self) -> tuple[ItemState, ...]:
+        """Every item's body now (each kept from the last tick while unchanged, as agents')."""
         out = []
         for item_id, item in self.items.items():
-            x, y = self.physics.position(item_id)
-            cell = self.item_cell(item_id)
-            region = (
-                self.agents[item.holder].region
-                if item.holder is not None
-                else self.locations[item.location or ""].region
+            holder = self.agents[item.holder] if item.holder is not None else None
+            made_of = (
+                self.physics.bodies[item_id].position,
+                item.location,
+                item.holder,
+                holder.cell if holder is not None else None,
+                holder.region if holder is not None else None,
             )
-            out.append(
-                ItemState(
-                    id=item_id,
-                    pose=Pose(round(x, 6), round(y, 6)),
-                    cell=Cell(*cell),
-                    region=region,
-                    location=item.location,
-                    held_by=item.holder,
-                )
-            )
+            kept = self._item_states.get(item_id)
+            if kept is None or kept[0] != made_of:
+                kept = (made_of, self._item_state(item))
+                self._item_states[item_id] = kept
+            out.append(kept[1])
         return tuple(out)
+
+    def _item_state(self, item: Item) -> ItemState:
+        x, y = self.physics.position(item.id)
+        cell = self.item_cell(item.id)
+        holder = self.agents[item.holder] if item.holder is not None else None
+        region = holder.region if holder is not None else self.locations[item.location or ""].region
+        return ItemState(
+            id=item.id,
+            pose=Pose(round(x, 6), round(y, 6)),
+            cell=Cell(*cell),
+            region=region,
+            location=item.location,
+            held_by=item.holder,
+        )
