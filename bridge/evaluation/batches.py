@@ -51,10 +51,11 @@ class _Truths:
         with self.lock:
             self.heard[(truth.episode, truth.tick)] = truth
 
-    def of(self, episode: int) -> dict[int, Truth]:
-        """One episode's truths by tick."""
+    def take(self, episode: int) -> dict[int, Truth]:
+        """One episode's truths by tick, forgotten here (each episode is one run's)."""
         with self.lock:
-            return {tick: t for (e, tick), t in self.heard.items() if e == episode}
+            ours = [key for key in self.heard if key[0] == episode]
+            return {tick: self.heard.pop((e, tick)) for e, tick in ours}
 
 
 @dataclass
@@ -136,10 +137,11 @@ def _scored(spec: RunSpec, directory: Path, truths: _Truths) -> dict[str, RunRes
         final = max(record.states)
         # the engine publishes a tick's truth before it answers the step: once the last is
         # here, every earlier one is (one publisher, in order)
-        settle(lambda: 0, done=lambda: (episode, final) in truths.heard, quiet=0.0)
+        if (episode, final) not in truths.heard:
+            settle(lambda: 0, done=lambda: (episode, final) in truths.heard, quiet=0.0)
         if (episode, final) not in truths.heard:
             raise RuntimeError(f"the truth of its last tick ({final}) never arrived")
-        record.truths = truths.of(episode)
+        record.truths = truths.take(episode)
         return score_run(spec, record.info.scene, record, directory)
     except (RuntimeError, OSError, ValueError) as err:
         log.warning("batch run %s cannot be scored: %s", spec.tag, err)
