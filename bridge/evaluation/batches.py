@@ -38,6 +38,8 @@ log = logging.getLogger("toyroom.eval")
 
 SECONDS_PER_RUN = 900.0
 """How long one run of a batch may take before its brain is stopped."""
+ENGINE_POLL_S = 0.5
+"""How often a batch looks whether its engine is still there while a brain runs."""
 
 
 class _Truths:
@@ -87,10 +89,13 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
                 return BatchResult([None] * len(episodes), [0.0] * len(episodes[0]))
             bridge.subscribe(bridge.keys.truth, truths.on_truth, expected=Truth)
             for kind in range(len(episodes[0])):
+                if engine.poll() is not None:  # gone: no later run can finish
+                    report_failure("engine", engine.returncode, engine_log)
+                    return BatchResult([None] * len(episodes), [0.0] * len(episodes[0]))
                 specs = [runs[kind] for runs in episodes]
                 folder = logs / f"{name}-{specs[0].tag.removeprefix(f'{scenarios[0].stem}-')}"
                 started = time.monotonic()
-                finished = _run_kind(specs, world, settings, folder)
+                finished = _run_kind(specs, world, settings, folder, engine)
                 result.seconds.append((time.monotonic() - started) / len(specs))
                 for i, spec in enumerate(specs):
                     scored = _scored(spec, folder / spec.scenario.stem, truths) if i < finished else None
@@ -104,17 +109,33 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
     return result
 
 
-def _run_kind(specs: Sequence[RunSpec], world: str, settings: SessionSettings, folder: Path) -> int:
+def _run_kind(
+    specs: Sequence[RunSpec],
+    world: str,
+    settings: SessionSettings,
+    folder: Path,
+    engine: subprocess.Popen[bytes],
+) -> int:
     """One brain running ``specs`` (one kind of run, one per episode) in turn; how many of
-    them it finished (all, or those before the episode it failed on)."""
+    them it finished (all, or those before the episode it failed on). A brain whose engine
+    exited is stopped (it would wait for the engine to come back)."""
     command = brain_command(specs[0], world, settings, folder, [s.scenario for s in specs])
     brain_log = folder.with_name(folder.name + ".brain.log")
     brain = start_node(command, brain_log)
-    try:
-        code = brain.wait(timeout=SECONDS_PER_RUN * len(specs))
-    except subprocess.TimeoutExpired:
+    deadline = time.monotonic() + SECONDS_PER_RUN * len(specs)
+    code = None
+    while code is None and time.monotonic() < deadline and engine.poll() is None:
+        try:
+            code = brain.wait(timeout=ENGINE_POLL_S)
+        except subprocess.TimeoutExpired:
+            continue
+    if code is None:
+        log.warning(
+            "stopping the brain of %s: %s",
+            folder.name,
+            "its engine exited" if engine.poll() is not None else "too slow",
+        )
         stop_node(brain)
-        code = None
     if code == 0:
         return len(specs)
     report_failure("brain", brain.returncode, brain_log)

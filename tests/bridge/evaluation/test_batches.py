@@ -1,17 +1,23 @@
 """Episodes whose runs share their node processes (one engine, one brain per kind of run)
 score exactly as each run alone does; an episode its batch did not finish is run again
-alone, and says so; recorded runs and planner-driven people never share."""
+alone, and says so; a batch whose engine dies ends at once; recorded runs and
+planner-driven people never share."""
 
 from __future__ import annotations
 
 import dataclasses
+import os
+import signal
+import threading
+import time
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from bridge.evaluation.batches import run_batch
 from bridge.evaluation.conditions import Condition
-from bridge.evaluation.episodes import EpisodeJob, batches, run_episode, run_episodes
+from bridge.evaluation.episodes import EpisodeJob, batches, episode_specs, run_episode, run_episodes
 from bridge.evaluation.generation import generate_all
 
 SEED, TICKS = 7, 80
@@ -76,3 +82,48 @@ def test_recorded_or_planned_episodes_never_share() -> None:
     planned = [EpisodeJob(i, SEED, "w", Condition(minds="model")) for i in range(2)]
     plain = [dataclasses.replace(job, condition=Condition(), index=i) for i, job in enumerate(planned * 2)]
     assert [len(c) for c in batches([*planned, *plain], 2, 10)] == [1, 1, 2, 2]
+
+
+def _engine_child() -> int | None:
+    """The pid of this process's sim2d child, if one runs."""
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+            command = (entry / "cmdline").read_bytes()
+        except OSError:
+            continue
+        if int(stat[stat.rindex(")") + 2 :].split()[1]) == os.getpid() and b"sim2d" in command:
+            return int(entry.name)
+    return None
+
+
+def test_a_batch_whose_engine_dies_ends_at_once(tmp_path: Path) -> None:
+    """The engine is killed while the first brain runs: the batch ends at once, starting no
+    brain against a dead engine (and stopping one that waits for it to come back), with no
+    episode finished."""
+    jobs = _jobs(tmp_path, 2)
+    specs = [episode_specs(job)[1] for job in jobs]
+    logs = tmp_path / "logs"
+    logs.mkdir()
+
+    def kill_when_running() -> None:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            pid = _engine_child()
+            if pid is not None and any(logs.rglob("inputs.jsonl")):
+                os.kill(pid, signal.SIGKILL)
+                return
+            time.sleep(0.05)
+
+    killer = threading.Thread(target=kill_when_running, daemon=True)
+    killer.start()
+    started = time.monotonic()
+    result = run_batch(specs, logs)
+    took = time.monotonic() - started
+    killer.join(timeout=1)
+    assert result.scores == [None, None], f"no episode can be finished without its engine: {result}"
+    assert took < 60, f"the batch waited {took:.0f} s for an engine that was gone"
+    started_brains = sorted(p.name for p in logs.glob("*.brain.log"))
+    assert len(started_brains) == 1, f"expected only the first kind's brain, got {started_brains}"
