@@ -230,7 +230,7 @@ def episode_folders(scenarios: Sequence[str]) -> list[tuple[str, str]]:
     folders: dict[str, str] = {}
     for scenario in scenarios:
         stem = Path(scenario).stem
-        if scenario in folders or stem in folders.values():
+        if stem in folders.values():  # the same scenario twice, or two files of one name
             raise BrainError(f"--episodes: two scenarios named '{stem}' would share their outputs' folder")
         folders[scenario] = stem
     return list(folders.items())

@@ -68,6 +68,11 @@ class BatchResult:
     scores: list[list[dict[str, RunResult]] | None]
     seconds: list[float]
 
+    @classmethod
+    def nothing(cls, episodes: int, kinds: int) -> BatchResult:
+        """A batch that finished no episode (its engine failed)."""
+        return cls([None] * episodes, [0.0] * kinds)
+
 
 def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
     """Each episode's runs (``episodes[i][k]``: the k-th kind of run of episode i; the same
@@ -86,12 +91,12 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
         with Bridge(world, settings) as bridge:
             if wait_for_engine(bridge, engine) is None:
                 report_failure("engine", engine.returncode, engine_log)
-                return BatchResult([None] * len(episodes), [0.0] * len(episodes[0]))
+                return BatchResult.nothing(len(episodes), len(episodes[0]))
             bridge.subscribe(bridge.keys.truth, truths.on_truth, expected=Truth)
             for kind in range(len(episodes[0])):
                 if engine.poll() is not None:  # gone: no later run can finish
                     report_failure("engine", engine.returncode, engine_log)
-                    return BatchResult([None] * len(episodes), [0.0] * len(episodes[0]))
+                    return BatchResult.nothing(len(episodes), len(episodes[0]))
                 specs = [runs[kind] for runs in episodes]
                 folder = logs / f"{name}-{specs[0].tag.removeprefix(f'{scenarios[0].stem}-')}"
                 started = time.monotonic()

@@ -45,9 +45,9 @@ OBSERVERS = (*BRAIN_OBSERVERS, MOTION)
 """Every observer scored: the brain's three, and the motion heuristic."""
 BTOM = Observer.BTOM.value
 RUN_ATTEMPTS = 3
+"""How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
 BATCH = 10
 """Episodes of one condition whose runs share their node processes (:func:`batches`)."""
-"""How often one run is tried when a node process fails (a crash, not a wrong estimate)."""
 
 
 @dataclass(frozen=True)

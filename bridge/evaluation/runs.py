@@ -160,7 +160,7 @@ def brain_command(
 
 def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     """Run an engine and a brain on ``spec`` and score the brain's minds against the truth:
-    the live observer's from ``brain/mind``, each shadow's from its file.
+    the live observer's and each shadow's, from the brain's run log.
 
     Raises:
         RuntimeError: when a node process fails (its log, in ``logs``, says why).
