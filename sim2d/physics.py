@@ -7,6 +7,12 @@ being hard contacts, always win (a body driven into a wall stops at it instead o
 through), and the controller sees the position already integrated this substep, so a body
 told to cover exactly the remaining distance lands on its target.
 
+The hot calls (each agent's velocity callback every substep, the substeps after the first,
+reading a body's position) go straight to pymunk's chipmunk binding (``pymunk.cp``, the
+pinned pymunk's ``Body._body`` and ``Space._space`` handles): the same C calls that pymunk's
+properties and ``Space.step`` make, without their Python around them (a quarter of the tick;
+``tests/sim2d/test_physics.py`` checks the stream against pymunk's own calls to the bit).
+
 Agents collide with walls only (not with each other, so two people never deadlock in a
 one-cell door); items collide with nothing. Time advances in fixed steps of
 ``dt / substeps`` seconds, so the same inputs always give the same trajectory.
@@ -47,6 +53,8 @@ class Physics:
         self.space.damping = 1.0
         self.space.collision_slop = 0.01  # metres of overlap allowed at a contact
         self.bodies: dict[str, pymunk.Body] = {}
+        self._handles: dict[str, object] = {}
+        """Each body's chipmunk handle (``Body._body``), for :meth:`position`."""
         self._pins: dict[str, pymunk.Constraint] = {}
         self._controlled: dict[str, Callable[[pymunk.Body, object, float, float], None]] = {}
         self._still: set[str] = set()
@@ -70,13 +78,18 @@ class Physics:
         shape.friction = 0.0
         shape.elasticity = 0.0
 
+        handle, get_position = body._body, pymunk.cp.cpBodyGetPosition
+        set_velocity = pymunk.cp.cpBodySetVelocity
+
         def velocity_func(body: pymunk.Body, gravity: object, damping: float, dt: float) -> None:
-            body.velocity = controller(body.position, dt)
+            p = get_position(handle)  # body.position and body.velocity = ..., without their Python
+            set_velocity(handle, controller((p.x, p.y), dt))
 
         body.velocity_func = velocity_func
         self._controlled[agent_id] = velocity_func
         self.space.add(body, shape)
         self.bodies[agent_id] = body
+        self._handles[agent_id] = body._body
         return body
 
     def hold_still(self, agent_id: str, still: bool) -> None:
@@ -96,7 +109,7 @@ class Physics:
 
     def at_rest(self, body_id: str) -> bool:
         """Whether a body's velocity is exactly zero."""
-        v = self.bodies[body_id].velocity
+        v = pymunk.cp.cpBodyGetVelocity(self._handles[body_id])
         return v.x == 0.0 and v.y == 0.0
 
     def add_item(self, item_id: str, position: tuple[float, float], radius: float = 0.12) -> pymunk.Body:
@@ -107,6 +120,7 @@ class Physics:
         shape.filter = pymunk.ShapeFilter(categories=ITEM_CATEGORY, mask=0)
         self.space.add(body, shape)
         self.bodies[item_id] = body
+        self._handles[item_id] = body._body
         return body
 
     def attach(self, item_id: str, carrier_id: str) -> None:
@@ -134,15 +148,22 @@ class Physics:
         body.angular_velocity = 0.0
 
     def step(self) -> None:
-        """Advance one tick (``substeps`` fixed steps)."""
+        """Advance one tick (``substeps`` fixed steps): the first through ``Space.step``,
+        which also does pymunk's bookkeeping of bodies added or removed since the last
+        tick; the others straight through chipmunk (nothing is added or removed during a
+        tick: no callback here changes the space)."""
         sub_dt = self.dt / self.substeps
-        for _ in range(self.substeps):
-            self.space.step(sub_dt)
+        self.space.step(sub_dt)
+        space, step = self.space._space, pymunk.cp.cpSpaceStep
+        for _ in range(self.substeps - 1):
+            step(space, sub_dt)
 
     def position(self, body_id: str) -> tuple[float, float]:
-        p = self.bodies[body_id].position
-        return (float(p.x), float(p.y))
+        """A body's position (m)."""
+        p = pymunk.cp.cpBodyGetPosition(self._handles[body_id])
+        return (p.x, p.y)
 
     def velocity(self, body_id: str) -> tuple[float, float]:
-        v = self.bodies[body_id].velocity
-        return (float(v.x), float(v.y))
+        """A body's velocity (m/s)."""
+        v = pymunk.cp.cpBodyGetVelocity(self._handles[body_id])
+        return (v.x, v.y)

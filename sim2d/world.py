@@ -338,10 +338,9 @@ class World:
         """Every agent's body now. A body's state is kept from the last tick while all it
         is made of is unchanged (most bodies stand still most ticks): the same object, so
         the same bytes on the wire, without building it again."""
-        out = []
+        out, at, moving = [], self.physics.position, self.physics.velocity
         for agent_id, agent in self.agents.items():
-            body = self.physics.bodies[agent_id]
-            made_of = (body.position, body.velocity, agent.heading, agent.cell, agent.region, agent.holding)
+            made_of = (at(agent_id), moving(agent_id), agent.heading, agent.cell, agent.region, agent.holding)
             kept = self._agent_states.get(agent_id)
             if kept is None or kept[0] != made_of or kept[1] != agent.playing:
                 kept = (made_of, agent.playing, self._agent_state(agent))
@@ -370,7 +369,7 @@ class World:
         for item_id, item in self.items.items():
             holder = self.agents[item.holder] if item.holder is not None else None
             made_of = (
-                self.physics.bodies[item_id].position,
+                self.physics.position(item_id),
                 item.location,
                 item.holder,
                 holder.cell if holder is not None else None,

@@ -5,8 +5,10 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+import pymunk
 import pytest
 
+import sim2d.world
 from protocol import encode
 from sim2d.engine import Engine
 from sim2d.maps import load_map
@@ -90,3 +92,60 @@ def test_an_agent_held_still_skips_its_controller_and_moves_as_without() -> None
     assert calls["free"] == 40 * 5, calls
     assert calls["held"] == 30 * 5, f"expected the controller to sit out 10 ticks of 5 substeps, {calls}"
     assert worlds["held"].position("a") == pytest.approx(game_map.centre((5, 9)))
+
+
+class PymunkPhysics(Physics):
+    """:class:`Physics` through pymunk's own properties and ``Space.step`` alone (as it was
+    before its hot calls went straight to chipmunk): the reference the fast path must match."""
+
+    def add_agent(self, agent_id: str, position: tuple[float, float], radius: float, controller):  # type: ignore[no-untyped-def]
+        body = super().add_agent(agent_id, position, radius, controller)
+
+        def velocity_func(body: pymunk.Body, gravity: object, damping: float, dt: float) -> None:
+            body.velocity = controller(body.position, dt)
+
+        body.velocity_func = velocity_func
+        self._controlled[agent_id] = velocity_func
+        return body
+
+    def step(self) -> None:
+        for _ in range(self.substeps):
+            self.space.step(self.dt / self.substeps)
+
+    def position(self, body_id: str) -> tuple[float, float]:
+        p = self.bodies[body_id].position
+        return (float(p.x), float(p.y))
+
+    def velocity(self, body_id: str) -> tuple[float, float]:
+        v = self.bodies[body_id].velocity
+        return (float(v.x), float(v.y))
+
+    def at_rest(self, body_id: str) -> bool:
+        v = self.bodies[body_id].velocity
+        return v.x == 0.0 and v.y == 0.0
+
+
+def _stream(scenario: str, ticks: int = 400) -> list[bytes]:
+    engine = Engine(scenario, seed=3)
+    stream = [encode(engine.state())]
+    for _ in range(ticks):
+        result = engine.step()
+        stream.append(encode(result.state))
+        stream.append(encode(result.truth) if result.truth is not None else b"")
+        stream.extend(encode(e) for e in result.events)
+    return stream
+
+
+@pytest.mark.parametrize("scenario", ["paper-auto", "paper-3", "food-trucks"])
+def test_the_chipmunk_fast_path_moves_every_body_as_pymunk_does(
+    scenario: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The hot calls that skip pymunk's Python (:mod:`sim2d.physics`) give the very stream,
+    byte for byte, that pymunk's own properties and ``Space.step`` give."""
+    fast = _stream(scenario)
+    monkeypatch.setattr(sim2d.world, "Physics", PymunkPhysics)
+    plain = _stream(scenario)
+    differ = next((i for i, (a, b) in enumerate(zip(fast, plain, strict=True)) if a != b), None)
+    assert differ is None, (
+        f"message {differ} of {scenario}: fast path {fast[differ]!r}, pymunk {plain[differ]!r}"
+    )
