@@ -65,9 +65,12 @@ class Received:
     encoding: Encoding
 
 
+_ZENOH_ENCODINGS = {encoding: zenoh.Encoding(encoding.value) for encoding in Encoding}
+
+
 def zenoh_encoding(encoding: Encoding) -> zenoh.Encoding:
-    """The Zenoh encoding object that signals ``encoding``."""
-    return zenoh.Encoding(encoding.value)
+    """The Zenoh encoding object that signals ``encoding`` (one per encoding, made once)."""
+    return _ZENOH_ENCODINGS[encoding]
 
 
 def decode_payload(
@@ -78,8 +81,13 @@ def decode_payload(
 ) -> tuple[Message, Encoding]:
     """Decode a Zenoh payload; raise :class:`ProtocolError` naming the key on failure."""
     encoding = Encoding.from_mime(str(zenoh_enc) if zenoh_enc is not None else None)
+    return decode_bytes(payload.to_bytes(), encoding, key, expected), encoding
+
+
+def decode_bytes(data: bytes, encoding: Encoding, key: str, expected: type[M] | None = None) -> Message:
+    """Decode a payload's bytes; raise :class:`ProtocolError` naming the key on failure."""
     try:
-        return decode(payload.to_bytes(), expected, encoding), encoding
+        return decode(data, expected, encoding)
     except ProtocolError as err:
         raise err.on_key(key) from None
 
@@ -337,15 +345,18 @@ class Queryable(Generic[Q]):
 
     def _answer(self, query: zenoh.Query) -> None:
         key = str(query.key_expr)
-        encoding = Encoding.from_mime(str(query.encoding) if query.encoding is not None else None)
+        zenoh_enc = query.encoding
+        encoding = Encoding.from_mime(str(zenoh_enc) if zenoh_enc is not None else None)
+        payload = query.payload
+        data = payload.to_bytes() if payload is not None else b""
         request: Message | None = None
-        if query.payload is None or len(query.payload.to_bytes()) == 0:
+        if not data:
             if not self.allow_empty:
                 self._refuse(query, ErrorCode.BAD_REQUEST, f"a query on '{key}' needs a payload", encoding)
                 return
         else:
             try:
-                request, encoding = decode_payload(query.payload, query.encoding, key, None)
+                request = decode_bytes(data, encoding, key)
             except VersionMismatch as err:
                 self._drops.report(err)
                 self._refuse(query, ErrorCode.VERSION_MISMATCH, str(err), encoding)
