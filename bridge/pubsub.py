@@ -65,12 +65,9 @@ class Received:
     encoding: Encoding
 
 
-_ZENOH_ENCODINGS = {encoding: zenoh.Encoding(encoding.value) for encoding in Encoding}
-
-
 def zenoh_encoding(encoding: Encoding) -> zenoh.Encoding:
-    """The Zenoh encoding object that signals ``encoding`` (one per encoding, made once)."""
-    return _ZENOH_ENCODINGS[encoding]
+    """The Zenoh encoding object that signals ``encoding``."""
+    return zenoh.Encoding(encoding.value)
 
 
 def decode_payload(
@@ -81,13 +78,8 @@ def decode_payload(
 ) -> tuple[Message, Encoding]:
     """Decode a Zenoh payload; raise :class:`ProtocolError` naming the key on failure."""
     encoding = Encoding.from_mime(str(zenoh_enc) if zenoh_enc is not None else None)
-    return decode_bytes(payload.to_bytes(), encoding, key, expected), encoding
-
-
-def decode_bytes(data: bytes, encoding: Encoding, key: str, expected: type[M] | None = None) -> Message:
-    """Decode a payload's bytes; raise :class:`ProtocolError` naming the key on failure."""
     try:
-        return decode(data, expected, encoding)
+        return decode(payload.to_bytes(), expected, encoding), encoding
     except ProtocolError as err:
         raise err.on_key(key) from None
 
@@ -345,18 +337,15 @@ class Queryable(Generic[Q]):
 
     def _answer(self, query: zenoh.Query) -> None:
         key = str(query.key_expr)
-        zenoh_enc = query.encoding
-        encoding = Encoding.from_mime(str(zenoh_enc) if zenoh_enc is not None else None)
-        payload = query.payload
-        data = payload.to_bytes() if payload is not None else b""
+        encoding = Encoding.from_mime(str(query.encoding) if query.encoding is not None else None)
         request: Message | None = None
-        if not data:
+        if query.payload is None or len(query.payload.to_bytes()) == 0:
             if not self.allow_empty:
                 self._refuse(query, ErrorCode.BAD_REQUEST, f"a query on '{key}' needs a payload", encoding)
                 return
         else:
             try:
-                request = decode_bytes(data, encoding, key)
+                request, encoding = decode_payload(query.payload, query.encoding, key, None)
             except VersionMismatch as err:
                 self._drops.report(err)
                 self._refuse(query, ErrorCode.VERSION_MISMATCH, str(err), encoding)
