@@ -121,6 +121,48 @@ def _eval_cpu_row(timing: dict[str, Any]) -> list[str]:
     ]
 
 
+def _lockstep_rows(numbers: dict[str, Any]) -> list[str]:
+    """The lock-step tick against the raw query: interleaved in the same run where it was
+    (``bench/lockstep_bench.py``), else one after the other (runs made before)."""
+    tick, profile = numbers["lockstep_tick_us"], numbers["lockstep_profile"]
+    query = profile["zenoh_query_two_processes_us"]
+    mixed = profile.get("interleaved")
+    if mixed is None:
+        return [
+            f"| `lockstep_tick_us`: step one tick, get its state | {tick:.0f} "
+            f"| <= {1.5 * query:.0f} (1.5 x the raw query): {tick / query:.2f} x |"
+        ]
+    return [
+        f"| `lockstep_tick_us`: step one tick, get its state (interleaved with the raw query, "
+        f"{mixed['blocks']} blocks of {mixed['rounds_per_block']} of each) | {tick:.0f} "
+        f"| <= 1.5 x the raw query: {mixed['ratio']:.2f} x "
+        f"[{mixed['ratio_lo']:.2f}, {mixed['ratio_hi']:.2f}] |"
+    ]
+
+
+def _lockstep_profile_rows(profile: dict[str, Any]) -> list[str]:
+    """The raw query, the bridge's typed query with no engine behind it, and the CPU of
+    each side per round trip (rows from runs that measured them)."""
+    rows = [
+        f"| of which: raw query between two processes | {profile['zenoh_query_two_processes_us']:.0f} | |"
+    ]
+    mixed = profile.get("interleaved")
+    if mixed is None:
+        return rows
+    cpu = mixed["cpu_us_per_round_trip"]
+    return [
+        *rows,
+        f"| of which: the bridge's typed query answered with a fixed state, no engine "
+        f"(`bench/typed_echo.py`) | {profile['typed_query_us']:.0f} "
+        f"| {mixed['typed_query_ratio']:.2f} x the raw query "
+        f"[{mixed['typed_query_ratio_lo']:.2f}, {mixed['typed_query_ratio_hi']:.2f}] |",
+        f"| CPU per round trip, answering side / asking side, us: raw query {cpu['query_peer']:.0f} / "
+        f"{cpu['query_client']:.0f}, typed query {cpu['typed_query_peer']:.0f} / "
+        f"{cpu['typed_query_client']:.0f}, lock-step tick {cpu['tick_peer']:.0f} / "
+        f"{cpu['tick_client']:.0f} | | |",
+    ]
+
+
 def _engine_against_review(profile: dict[str, Any]) -> list[str]:
     """The engine's tick against the review's commit, interleaved in the same run."""
     then = profile.get("engine_step_vs_review")
@@ -170,7 +212,6 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
     zenoh = numbers["zenoh_rtt_us"]
     step = numbers["brain_step_us"]
     profile = numbers["lockstep_profile"]
-    query = profile["zenoh_query_two_processes_us"]
     lines = [
         f"Measured on this project's 2-core machine by `{command}`; every number below is from "
         "one run (compare ratios, not absolute times, across machines).",
@@ -179,12 +220,10 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         "|---|---|---|",
         f"| `zenoh_rtt_us`: raw zenoh-python ping-pong, {numbers['payload_bytes']} B | {zenoh:.0f} | |",
         f"| `bridge_rtt_us`: the same with typed messages | {numbers['bridge_rtt_us']:.0f} | |",
-        f"| `lockstep_tick_us`: step one tick, get its state | {numbers['lockstep_tick_us']:.0f} "
-        f"| <= {1.5 * query:.0f} (1.5 x the raw query): "
-        f"{numbers['lockstep_tick_us'] / query:.2f} x |",
+        *_lockstep_rows(numbers),
         f"| `lockstep_ticks_per_s` | {numbers['lockstep_ticks_per_s']:.0f} | |",
         f"| of which: raw ping-pong between two processes | {profile['zenoh_rtt_two_processes_us']:.0f} | |",
-        f"| of which: raw query between two processes | {profile['zenoh_query_two_processes_us']:.0f} | |",
+        *_lockstep_profile_rows(profile),
         f"| of which: the engine's tick alone (`paper-auto`) | {profile['engine_step_us']:.0f} "
         f"| half the review's {REVIEW_ENGINE_STEP_US[0]}-{REVIEW_ENGINE_STEP_US[1]} |",
         *_engine_against_review(profile),

@@ -2,9 +2,13 @@
 
 - ``zenoh_rtt_us``: median round trip of a raw zenoh-python ping-pong of a state-sized payload
   between two sessions on loopback (the floor for this language);
-- ``lockstep_profile``: what a lock-step tick is made of: the same raw ping-pong and a raw
-  query between two processes (as the brain and the engine are), and the engine core's
-  tick alone (``engine_step_vs_review``: against the review's commit, interleaved);
+- ``lockstep_profile``: what a lock-step tick is made of: the same raw ping-pong between two
+  processes (as the brain and the engine are); a raw query between two processes and the
+  bridge's typed query answered with a fixed state and no engine (``typed_query_us``), both
+  interleaved with the lock-step tick (``interleaved``: the ratios to the raw query per
+  round of blocks, and the CPU each side spends per round trip; ``bench/lockstep_bench.py``);
+  and the engine core's tick alone (``engine_step_vs_review``: against the review's commit,
+  interleaved);
 - ``bridge_rtt_us``: the same through the bridge's typed messages (encode, decode);
 - ``lockstep_tick_us`` / ``lockstep_ticks_per_s``: a lock-step client asks a sim2d engine
   process for one tick and gets its state back;
@@ -48,10 +52,11 @@ sys.path.insert(0, str(Path(__file__).parent))
 import brain_bench  # noqa: E402
 import engine_ab  # noqa: E402
 import gateway_bench  # noqa: E402
+import lockstep_bench  # noqa: E402
 import perfreport  # noqa: E402
 import scaling  # noqa: E402
 
-from bridge import Bridge, LockstepClient, handshake  # noqa: E402
+from bridge import Bridge  # noqa: E402
 from bridge.session import SessionSettings, build_config  # noqa: E402
 from protocol import State, encode  # noqa: E402
 
@@ -92,9 +97,10 @@ def zenoh_rtt(rounds: int, payload: bytes) -> list[float]:
         b.close()
 
 
-def cross_process(rounds: int, payload: bytes) -> tuple[list[float], list[float]]:
-    """Raw zenoh-python round trips with an echo peer in another process (as the brain and
-    the engine are): (publication ping-pong, query and reply)."""
+def cross_process(rounds: int, payload: bytes) -> list[float]:
+    """Raw zenoh-python publication ping-pong with an echo peer in another process (as the
+    brain and the engine are); the raw query is measured interleaved with the lock-step tick
+    (:mod:`lockstep_bench`)."""
     world = f"bench{uuid.uuid4().hex[:6]}"
     echo = subprocess.Popen(
         [sys.executable, str(Path(__file__).parent / "echo.py"), world],
@@ -112,22 +118,7 @@ def cross_process(rounds: int, payload: bytes) -> tuple[list[float], list[float]
         while time.monotonic() < deadline and not ping_pong(ping.put, back, payload, 1):
             time.sleep(0.1)  # until the two sessions have found each other
         ping_pong(ping.put, back, payload, 50)
-        pubsub = ping_pong(ping.put, back, payload, rounds)
-        querier = session.declare_querier("bench/query")
-
-        def ask() -> None:
-            for reply in querier.get(payload=payload):
-                reply.ok.payload.to_bytes()
-                return
-
-        for _ in range(50):
-            ask()
-        queries = []
-        for _ in range(rounds):
-            start = time.perf_counter()
-            ask()
-            queries.append(time.perf_counter() - start)
-        return pubsub, queries
+        return ping_pong(ping.put, back, payload, rounds)
     finally:
         session.close()
         if echo.stdin is not None:
@@ -183,40 +174,6 @@ def bridge_rtt(rounds: int, state: State) -> list[float]:
         return ping_pong(ping.put, back, state, rounds)
 
 
-def lockstep(rounds: int) -> list[float]:
-    world = f"bench{uuid.uuid4().hex[:6]}"
-    engine = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "sim2d",
-            "--world",
-            world,
-            "--scenario",
-            "paper-auto",
-            "--log-level",
-            "WARNING",
-        ],
-        stdout=subprocess.DEVNULL,
-    )
-    try:
-        with Bridge(world) as bridge:
-            handshake(bridge, client="bench", timeout=30.0)
-            clock = LockstepClient(bridge, timeout=10.0)
-            clock.reset(scenario="paper-auto")
-            for _ in range(50):
-                clock.step(1)
-            times = []
-            for _ in range(rounds):
-                start = time.perf_counter()
-                clock.step(1)
-                times.append(time.perf_counter() - start)
-            return times
-    finally:
-        engine.terminate()
-        engine.wait(timeout=10)
-
-
 def eval_speed(episodes: int) -> dict[str, Any]:
     """``toyroom eval``'s timing on ``episodes`` episodes with its defaults (2 workers): the
     target is 500 episodes in 10 minutes, 1.2 s per episode."""
@@ -235,8 +192,8 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     payload = encode(state)
     zenoh_times = zenoh_rtt(rounds, payload)
     bridge_times = bridge_rtt(rounds, state)
-    pubsub_times, query_times = cross_process(rounds, payload)
-    tick_times = lockstep(rounds)
+    pubsub_times = cross_process(rounds, payload)
+    ticks = lockstep_bench.measure(payload, blocks=10 if quick else 30, rounds=100 if quick else 200)
     engine_times = engine_step(rounds)
     engine_then = engine_against_review()
     gateway = gateway_bench.main(rounds // 2, state)
@@ -248,11 +205,13 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
         "payload_bytes": len(payload),
         "zenoh_rtt_us": statistics.median(zenoh_times) * 1e6,
         "bridge_rtt_us": statistics.median(bridge_times) * 1e6,
-        "lockstep_tick_us": statistics.median(tick_times) * 1e6,
-        "lockstep_ticks_per_s": 1.0 / statistics.median(tick_times),
+        "lockstep_tick_us": ticks["tick_us"],
+        "lockstep_ticks_per_s": 1e6 / ticks["tick_us"],
         "lockstep_profile": {
             "zenoh_rtt_two_processes_us": statistics.median(pubsub_times) * 1e6,
-            "zenoh_query_two_processes_us": statistics.median(query_times) * 1e6,
+            "zenoh_query_two_processes_us": ticks["query_us"],
+            "typed_query_us": ticks["typed_query_us"],
+            "interleaved": {k: v for k, v in ticks.items() if not k.endswith("_us")},
             "engine_step_us": statistics.median(engine_times) * 1e6,
             "engine_step_vs_review": engine_then,
         },
@@ -279,16 +238,24 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     table.add_column("target", justify="right")
     table.add_row("zenoh_rtt_us (raw, median)", f"{numbers['zenoh_rtt_us']:.0f}", "")
     table.add_row("bridge_rtt_us (typed, median)", f"{numbers['bridge_rtt_us']:.0f}", "")
-    query = numbers["lockstep_profile"]["zenoh_query_two_processes_us"]
+    profile = numbers["lockstep_profile"]
+    mixed = profile["interleaved"]
     table.add_row(
         "lockstep_tick_us (median)",
         f"{numbers['lockstep_tick_us']:.0f}",
-        f"<= {1.5 * query:.0f} (1.5 x raw query): {numbers['lockstep_tick_us'] / query:.2f} x",
+        f"<= 1.5 x raw query: {mixed['ratio']:.2f} x [{mixed['ratio_lo']:.2f}, {mixed['ratio_hi']:.2f}]",
     )
     table.add_row("lockstep_ticks_per_s", f"{numbers['lockstep_ticks_per_s']:.0f}", "")
-    profile = numbers["lockstep_profile"]
     table.add_row("  raw ping-pong, two processes", f"{profile['zenoh_rtt_two_processes_us']:.0f}", "")
-    table.add_row("  raw query, two processes", f"{profile['zenoh_query_two_processes_us']:.0f}", "")
+    table.add_row(
+        "  raw query, two processes (interleaved)", f"{profile['zenoh_query_two_processes_us']:.0f}", ""
+    )
+    table.add_row(
+        "  typed query, fixed state, no engine (interleaved)",
+        f"{profile['typed_query_us']:.0f}",
+        f"{mixed['typed_query_ratio']:.2f} x raw [{mixed['typed_query_ratio_lo']:.2f}, "
+        f"{mixed['typed_query_ratio_hi']:.2f}]",
+    )
     low, high = perfreport.REVIEW_ENGINE_STEP_US
     step = f"{profile['engine_step_us']:.0f}"
     table.add_row("  engine tick alone (paper-auto)", step, f"half of {low}-{high}")

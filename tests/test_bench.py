@@ -93,6 +93,12 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     assert max(r["people"] for r in rows) == 8, "the family should reach households of eight"
     small = rows[0]["smoothed"]
     assert 0 <= small["tv_vs_exact"] <= 0.05 and small["seconds"] > 0, small
+    profile = numbers["lockstep_profile"]
+    mixed = profile["interleaved"]
+    assert profile["zenoh_query_two_processes_us"] > 0 < profile["typed_query_us"], profile
+    assert 0 < mixed["ratio_lo"] <= mixed["ratio"] <= mixed["ratio_hi"], f"the tick's ratio range: {mixed}"
+    assert mixed["typed_query_ratio_lo"] <= mixed["typed_query_ratio"] <= mixed["typed_query_ratio_hi"], mixed
+    assert all(cpu > 0 for cpu in mixed["cpu_us_per_round_trip"].values()), mixed["cpu_us_per_round_trip"]
     against = numbers["lockstep_profile"]["engine_step_vs_review"]
     assert against is None or against["now_us"] > 0 < against["then_us"], against
     sizes = [(r["rooms"], r["items"]) for r in rows]
