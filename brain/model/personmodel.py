@@ -292,12 +292,20 @@ class GradedModel:
         """The estimate of ``(G, W)`` beliefs under a ``(G, U)`` posterior, with the
         hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
         model = self.model
-        marginals = (beliefs @ self.place_of.reshape(model.n_worlds, -1)).reshape(
-            len(beliefs), model.n_items, model.n_locations
-        )  # (G, K, L)
+        marginals = (  # (G, K, L), shared with the other models that hold this very array
+            self._marginals(beliefs)
+            if self.shared is None
+            else self.shared.read(("marginals", *self.revision_key), beliefs, self._marginals)
+        )
         base = estimate(model, expected_joint(beliefs, posterior), truth, self.desires)
         graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
         return reread(graded, truth, self.settings.false_belief_mass)
+
+    def _marginals(self, beliefs: FloatArray) -> FloatArray:
+        """``(G, K, L)`` each item's location under each of ``(G, W)`` beliefs."""
+        model = self.model
+        flat = beliefs @ self.place_of.reshape(model.n_worlds, -1)
+        return flat.reshape(len(beliefs), model.n_items, model.n_locations)
 
 
 def _one_world(beliefs: FloatArray) -> bool:

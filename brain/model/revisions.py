@@ -14,7 +14,8 @@ by what the revision reads: the models' revision settings, the tick, the percept
 forgetting; it holds the arrays revised only weakly, so it keeps no memory alive that the
 models let go. Arrays handed out are read-only, so no model can change another's beliefs.
 An embodied robot's branches share too: the branches of one person start from the same
-prior and revise alike while the percepts they imply agree.
+prior and revise alike while the percepts they imply agree. What is read off a shared array
+alone (each item's marginal under every hypothesis, :meth:`read`) is shared the same way.
 Pure numpy; no I/O.
 """
 
@@ -44,6 +45,7 @@ class SharedRevisions:
     _tick: int | None = None
     _done: dict[Hashable, list[tuple[weakref.ref[FloatArray], FloatArray]]] = field(default_factory=dict)
     _initial: dict[Hashable, FloatArray] = field(default_factory=dict)
+    _read: dict[Hashable, tuple[weakref.ref[FloatArray], FloatArray]] = field(default_factory=dict)
 
     def initial(self, key: Hashable, beliefs: FloatArray) -> FloatArray:
         """The prior ``(G, W)`` beliefs every model of revision settings ``key`` starts from:
@@ -71,3 +73,15 @@ class SharedRevisions:
         done.append((weakref.ref(beliefs), after))  # the memo keeps no belief alive that its models let go
         self.misses += 1
         return after
+
+    def read(self, key: Hashable, beliefs: FloatArray, compute: Revise) -> FloatArray:
+        """``compute(beliefs)`` for something read off a shared belief array alone (a model's
+        marginals, ``key`` naming what and under which settings), or the array another model
+        computed from this very array: the last one is kept per ``key`` (weakly, read-only)."""
+        kept = self._read.get(key)
+        if kept is not None and kept[0]() is beliefs:
+            return kept[1]
+        out = compute(beliefs)
+        out.flags.writeable = False
+        self._read[key] = (weakref.ref(beliefs), out)
+        return out

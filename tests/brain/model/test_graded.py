@@ -8,7 +8,14 @@ import numpy as np
 import pytest
 
 from brain.model.belief import NOT_IN_VIEW, BeliefModel, Percept
-from brain.model.graded import initial_points, prior_beliefs, qmdp_likelihood, simplex_grid, update_beliefs
+from brain.model.graded import (
+    believed_possible,
+    initial_points,
+    prior_beliefs,
+    qmdp_likelihood,
+    simplex_grid,
+    update_beliefs,
+)
 from brain.model.planner import Move, cached_policy
 from brain.model.world import build_world_model
 from brain.settings import ModelSettings
@@ -281,3 +288,32 @@ def test_truebelief_likelihood_of_one_world_rows_is_every_rows_to_the_bit(paper)
     record = StepRecord(0, unseen, (0,) * model.n_items, None, 0.0, (cell, 0, 0))
     full = qmdp_likelihood(spread, q, 0, SETTINGS.beta, SETTINGS.epsilon)
     assert np.array_equal(graded.decision_likelihood(spread, record), full)
+
+
+def test_believed_possible_is_the_plain_product_per_column(paper) -> None:
+    """``believed_possible`` computes one product per distinct feasibility column; every
+    column's answer must be the one the product over all columns gives, for beliefs of every
+    kind: the prior's, sharp ones, and ones whose mass sits just around the ``1e-12`` cut."""
+    scene, model, _, _, _ = paper
+    policy = cached_policy(scene, SETTINGS)
+    beliefs = prior_beliefs(model.worlds, model.n_locations, SETTINGS.prior_resolution, SETTINGS.ignorance)[0]
+    beliefs = beliefs / beliefs.sum(axis=1, keepdims=True)
+    rng = np.random.default_rng(3)
+    sharp = beliefs * rng.random(beliefs.shape) ** 12
+    sharp /= sharp.sum(axis=1, keepdims=True)
+    near_cut = np.where(sharp > 1e-3, sharp, rng.choice([3e-13, 1e-12, 3e-12], size=sharp.shape))
+    worlds = rng.integers(model.n_worlds, size=60)
+    faint = np.eye(model.n_worlds)[worlds] * rng.choice([5e-13, 5e-12], size=(60, 1))  # one faint world each
+    checked = 0
+    for cell in range(0, model.n_cells, 7):
+        for held in range(model.n_items + 1):
+            q = policy.q[:, policy.state_slice(cell, held), :].transpose(1, 0, 2)
+            feasible = np.isfinite(q).reshape(model.n_worlds, -1)
+            for b in (beliefs, sharp, near_cut, faint):
+                plain = (b @ feasible.astype(np.float64)) > 1e-12
+                fast = believed_possible(b, feasible)
+                assert np.array_equal(fast, plain), (
+                    f"cell {cell}, held {held}: {int((fast != plain).sum())} answers differ from the product"
+                )
+                checked += 1
+    assert checked > 30, checked
