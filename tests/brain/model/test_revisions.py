@@ -67,3 +67,24 @@ def test_shared_beliefs_are_read_only_and_other_settings_do_not_share() -> None:
     with pytest.raises(ValueError, match="read-only"):
         beliefs[0, 0] = 0.5
     assert np.allclose(beliefs.sum(axis=1), 1.0)
+
+
+def test_what_is_read_off_a_shared_array_is_computed_once_per_array() -> None:
+    """``SharedRevisions.read``: the second model holding the very same array gets the first
+    one's result (read-only) without computing it; another array, even an equal one, is
+    computed anew, and so is the same array under another key."""
+    shared = SharedRevisions()
+    calls: list[int] = []
+
+    def marginals(beliefs: np.ndarray) -> np.ndarray:
+        calls.append(id(beliefs))
+        return beliefs.sum(axis=1)
+
+    beliefs = np.full((3, 4), 0.25)
+    first = shared.read("marginals", beliefs, marginals)
+    again = shared.read("marginals", beliefs, marginals)
+    assert again is first and len(calls) == 1, f"expected the kept result, computed {len(calls)} times"
+    assert not first.flags.writeable, "a shared result must be read-only"
+    shared.read("marginals", beliefs.copy(), marginals)
+    shared.read("other", beliefs, marginals)
+    assert len(calls) == 3, f"an equal copy and another key should each be computed, got {len(calls)} calls"
