@@ -8,9 +8,9 @@ through), and the controller sees the position already integrated this substep, 
 told to cover exactly the remaining distance lands on its target.
 
 The hot calls (each agent's velocity callback every substep, the substeps after the first,
-reading a body's position) go straight to pymunk's chipmunk binding (``pymunk.cp``, the
+reading a body's position or velocity) go straight to pymunk's chipmunk binding (``pymunk.cp``, the
 pinned pymunk's ``Body._body`` and ``Space._space`` handles): the same C calls that pymunk's
-properties and ``Space.step`` make, without their Python around them (a quarter of the tick;
+properties and ``Space.step`` make, without their Python around them (a fifth of the tick;
 ``tests/sim2d/test_physics.py`` checks the stream against pymunk's own calls to the bit).
 
 Agents collide with walls only (not with each other, so two people never deadlock in a
@@ -54,7 +54,7 @@ class Physics:
         self.space.collision_slop = 0.01  # metres of overlap allowed at a contact
         self.bodies: dict[str, pymunk.Body] = {}
         self._handles: dict[str, object] = {}
-        """Each body's chipmunk handle (``Body._body``), for :meth:`position`."""
+        """Each body's chipmunk handle (``Body._body``), for reading its position and velocity."""
         self._pins: dict[str, pymunk.Constraint] = {}
         self._controlled: dict[str, Callable[[pymunk.Body, object, float, float], None]] = {}
         self._still: set[str] = set()
