@@ -15,7 +15,8 @@
 - ``gateway``: a query answered through ``toyroom gateway``, and a lock-step tick of the grid
   engine over Zenoh, through the gateway, and of the C# engine (``bench/gateway_bench.py``);
 - ``eval_seconds_per_episode``: ``toyroom eval``'s wall seconds per episode with its defaults
-  (2 workers; 8 episodes, 2 with ``--quick``), ``eval_timing`` how they split into runs;
+  (2 workers; 20 episodes, two batches of 10 as a long sweep runs them, 2 with ``--quick``),
+  ``eval_timing`` how they split into runs;
 - ``brain_step_us`` (median, p99): the online update per person per step, paper map, with
   point beliefs (``graded.brain_step_us``: with the graded default);
 - ``planner_cold_s``: the planner on the paper map with an empty cache (point; ``graded.``
@@ -197,7 +198,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     engine_times = engine_step(rounds)
     engine_then = engine_against_review()
     gateway = gateway_bench.main(rounds // 2, state)
-    evaluation = eval_speed(2 if quick else 8)
+    evaluation = eval_speed(2 if quick else 20)
     brain = brain_bench.main(repeats=1 if quick else 5)
     scaled = scaling.main(quick)
     numbers: dict[str, Any] = {
