@@ -10,7 +10,7 @@ import pytest
 from support import golden_examples
 
 from bridge.evaluation.metrics import score_tick
-from bridge.evaluation.scoredminds import read_scored_minds
+from bridge.evaluation.scoredminds import ScoredMind, read_scored_minds
 from protocol import Mind, Truth, encode
 
 
@@ -50,5 +50,29 @@ def test_the_scored_part_scores_as_the_whole(tmp_path: Path) -> None:
 def test_a_line_that_is_no_mind_is_an_error(tmp_path: Path) -> None:
     path = tmp_path / "minds-btom.jsonl"
     path.write_bytes(b'{"type":"mind","tick":"soon"}\n')
+    with pytest.raises(ValueError, match="tick"):
+        read_scored_minds(path)
+
+
+def test_a_line_ending_as_the_one_before_reads_as_decoded_in_full(tmp_path: Path) -> None:
+    """A line whose agents are byte for byte the previous line's takes its agents from that
+    line (only its tick is decoded): the minds read are those a full decode of every line
+    gives, through runs of repeats, a change and a change back, and a repeat with a bad tick
+    is still an error."""
+    mind, _ = _example()
+    anne = msgspec.structs.replace(mind.agents[0], agent="anne")
+    other = msgspec.structs.replace(mind, agents=(anne, *mind.agents[1:]))
+    sequence = [mind, mind, mind, other, other, mind, mind]
+    lines = [encode(msgspec.structs.replace(m, tick=t)) for t, m in enumerate(sequence)]
+    path = tmp_path / "minds-btom.jsonl"
+    path.write_bytes(b"".join(line + b"\n" for line in lines))
+    full = {m.tick: m for m in map(msgspec.json.Decoder(ScoredMind).decode, lines)}
+    read = read_scored_minds(path)
+    assert read == full, f"ticks read differently: {[t for t in full if read.get(t) != full[t]]}"
+    names = [read[t].agents[0].agent for t in range(len(sequence))]
+    assert names == [m.agents[0].agent for m in sequence], f"agents read by tick: {names}"
+    bad = lines[-1].replace(b'"tick":6', b'"tick":"6"')
+    assert bad != lines[-1], 'the example\'s tick should be written as "tick":6'
+    path.write_bytes(b"".join(line + b"\n" for line in [*lines[:-1], bad]))
     with pytest.raises(ValueError, match="tick"):
         read_scored_minds(path)
