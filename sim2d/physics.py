@@ -53,8 +53,6 @@ class Physics:
         self.space.damping = 1.0
         self.space.collision_slop = 0.01  # metres of overlap allowed at a contact
         self.bodies: dict[str, pymunk.Body] = {}
-        self._handles: dict[str, object] = {}
-        """Each body's chipmunk handle (``Body._body``), for reading its position and velocity."""
         self._pins: dict[str, pymunk.Constraint] = {}
         self._controlled: dict[str, Callable[[pymunk.Body, object, float, float], None]] = {}
         self._still: set[str] = set()
@@ -89,7 +87,6 @@ class Physics:
         self._controlled[agent_id] = velocity_func
         self.space.add(body, shape)
         self.bodies[agent_id] = body
-        self._handles[agent_id] = body._body
         return body
 
     def hold_still(self, agent_id: str, still: bool) -> None:
@@ -109,7 +106,7 @@ class Physics:
 
     def at_rest(self, body_id: str) -> bool:
         """Whether a body's velocity is exactly zero."""
-        v = pymunk.cp.cpBodyGetVelocity(self._handles[body_id])
+        v = pymunk.cp.cpBodyGetVelocity(self.bodies[body_id]._body)
         return v.x == 0.0 and v.y == 0.0
 
     def add_item(self, item_id: str, position: tuple[float, float], radius: float = 0.12) -> pymunk.Body:
@@ -120,7 +117,6 @@ class Physics:
         shape.filter = pymunk.ShapeFilter(categories=ITEM_CATEGORY, mask=0)
         self.space.add(body, shape)
         self.bodies[item_id] = body
-        self._handles[item_id] = body._body
         return body
 
     def attach(self, item_id: str, carrier_id: str) -> None:
@@ -160,10 +156,10 @@ class Physics:
 
     def position(self, body_id: str) -> tuple[float, float]:
         """A body's position (m)."""
-        p = pymunk.cp.cpBodyGetPosition(self._handles[body_id])
+        p = pymunk.cp.cpBodyGetPosition(self.bodies[body_id]._body)
         return (p.x, p.y)
 
     def velocity(self, body_id: str) -> tuple[float, float]:
         """A body's velocity (m/s)."""
-        v = pymunk.cp.cpBodyGetVelocity(self._handles[body_id])
+        v = pymunk.cp.cpBodyGetVelocity(self.bodies[body_id]._body)
         return (v.x, v.y)

@@ -343,14 +343,15 @@ class World:
             made_of = (at(agent_id), moving(agent_id), agent.heading, agent.cell, agent.region, agent.holding)
             kept = self._agent_states.get(agent_id)
             if kept is None or kept[0] != made_of or kept[1] != agent.playing:
-                kept = (made_of, agent.playing, self._agent_state(agent))
+                kept = (made_of, agent.playing, self._agent_state(agent, *made_of[:2]))
                 self._agent_states[agent_id] = kept
             out.append(kept[2])
         return tuple(out)
 
-    def _agent_state(self, agent: Agent) -> AgentState:
-        x, y = self.physics.position(agent.id)
-        vx, vy = self.physics.velocity(agent.id)
+    def _agent_state(
+        self, agent: Agent, position: tuple[float, float], velocity: tuple[float, float]
+    ) -> AgentState:
+        (x, y), (vx, vy) = position, velocity
         moving = abs(vx) + abs(vy) > 1e-6
         activity = Activity.PLAYING if agent.playing else Activity.MOVING if moving else Activity.IDLE
         return AgentState(
@@ -377,13 +378,13 @@ class World:
             )
             kept = self._item_states.get(item_id)
             if kept is None or kept[0] != made_of:
-                kept = (made_of, self._item_state(item))
+                kept = (made_of, self._item_state(item, made_of[0]))
                 self._item_states[item_id] = kept
             out.append(kept[1])
         return tuple(out)
 
-    def _item_state(self, item: Item) -> ItemState:
-        x, y = self.physics.position(item.id)
+    def _item_state(self, item: Item, position: tuple[float, float]) -> ItemState:
+        x, y = position
         cell = self.item_cell(item.id)
         holder = self.agents[item.holder] if item.holder is not None else None
         region = holder.region if holder is not None else self.locations[item.location or ""].region

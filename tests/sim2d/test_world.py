@@ -17,8 +17,12 @@ def test_kept_body_states_are_those_built_afresh(scenario: str) -> None:
     for _ in range(600):
         engine.step()
         agents, items = world.agent_states(), world.item_states()
-        fresh_agents = tuple(world._agent_state(a) for a in world.agents.values())
-        fresh_items = tuple(world._item_state(i) for i in world.items.values())
+        physics = world.physics
+        fresh_agents = tuple(
+            world._agent_state(a, physics.position(a.id), physics.velocity(a.id))
+            for a in world.agents.values()
+        )
+        fresh_items = tuple(world._item_state(i, physics.position(i.id)) for i in world.items.values())
         assert agents == fresh_agents, f"{scenario} tick {world.tick}: kept {agents}, afresh {fresh_agents}"
         assert items == fresh_items, f"{scenario} tick {world.tick}: kept {items}, afresh {fresh_items}"
         now = {id(s) for s in (*agents, *items)}
