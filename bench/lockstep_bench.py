@@ -61,7 +61,8 @@ def _summary(samples: list[float]) -> float:
     return statistics.median(samples) * 1e6
 
 
-def _echo(script: str, world: str) -> subprocess.Popen[str]:
+def start_echo(script: str, world: str) -> subprocess.Popen[str]:
+    """An echo peer (``bench/echo.py`` or ``bench/typed_echo.py``) on ``world``, once ready."""
     echo = subprocess.Popen(
         [sys.executable, str(Path(__file__).parent / script), world],
         stdin=subprocess.PIPE,
@@ -72,7 +73,8 @@ def _echo(script: str, world: str) -> subprocess.Popen[str]:
     return echo
 
 
-def _stop(process: subprocess.Popen[Any]) -> None:
+def stop(process: subprocess.Popen[Any]) -> None:
+    """Stop a peer: an echo by closing its stdin, any other process by SIGTERM."""
     if process.stdin is not None:
         process.stdin.close()
     else:
@@ -85,7 +87,7 @@ def measure(payload: bytes, blocks: int = 30, rounds: int = 200) -> dict[str, An
     ``typed_query_us`` (medians over every round trip), each ratio to the raw query with its
     range, and the CPU per round trip of each peer and of the client."""
     world = f"bench{uuid.uuid4().hex[:6]}"
-    processes = [_echo("echo.py", world + "-raw"), _echo("typed_echo.py", world + "-typed")]
+    processes = [start_echo("echo.py", world + "-raw"), start_echo("typed_echo.py", world + "-typed")]
     engine = subprocess.Popen(
         [
             sys.executable,
@@ -130,7 +132,7 @@ def measure(payload: bytes, blocks: int = 30, rounds: int = 200) -> dict[str, An
     finally:
         session.close()
         for process in processes:
-            _stop(process)
+            stop(process)
 
 
 def _interleave(

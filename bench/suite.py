@@ -103,15 +103,9 @@ def cross_process(rounds: int, payload: bytes) -> list[float]:
     brain and the engine are); the raw query is measured interleaved with the lock-step tick
     (:mod:`lockstep_bench`)."""
     world = f"bench{uuid.uuid4().hex[:6]}"
-    echo = subprocess.Popen(
-        [sys.executable, str(Path(__file__).parent / "echo.py"), world],
-        stdin=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        text=True,
-    )
+    echo = lockstep_bench.start_echo("echo.py", world)
     session = zenoh.open(build_config(world, SessionSettings()))
     try:
-        assert echo.stdout is not None and echo.stdout.readline().strip() == "ready"
         back = threading.Event()
         session.declare_subscriber("bench/pong", lambda s: back.set())
         ping = session.declare_publisher("bench/ping")
@@ -122,9 +116,7 @@ def cross_process(rounds: int, payload: bytes) -> list[float]:
         return ping_pong(ping.put, back, payload, rounds)
     finally:
         session.close()
-        if echo.stdin is not None:
-            echo.stdin.close()
-        echo.wait(timeout=10)
+        lockstep_bench.stop(echo)
 
 
 def engine_step(rounds: int) -> list[float]:
