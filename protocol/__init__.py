@@ -60,7 +60,7 @@ from .scene import (
 )
 from .scene_check import InvalidScene, scene_problems, validate_scene
 from .state import Activity, AgentState, ItemState, State
-from .truth import ItemPlace, TrueMind, Truth
+from .truth import ItemPlace, Pursuit, TrueMind, Truth
 from .version import PROTOCOL_VERSION, Version, check_version
 from .vocabulary import known, note_unknown, unknown_values
 
@@ -132,6 +132,7 @@ __all__ = [
     "Scene",
     "State",
     "Step",
+    "Pursuit",
     "TrueMind",
     "Truth",
     "UnknownAction",

@@ -13,13 +13,27 @@ from .message import Id, Message, Tick
 from .mind import ItemBelief
 
 
+class Pursuit(msgspec.Struct, frozen=True):
+    """What a person is doing now (protocol 1.2): the ``item`` they are going to take (none:
+    they are after no item: going out, putting something down, wandering, playing) and the
+    item ``location`` they are heading for or searching (none: a place that is not an item
+    location, such as the outside or a random cell)."""
+
+    item: Id | None = None
+    location: Id | None = None
+
+
 class TrueMind(msgspec.Struct, frozen=True):
-    """A simulated person's true belief over each item's location and true preference."""
+    """A simulated person's true belief over each item's location, true preference and,
+    optionally (protocol 1.2), what they are doing now."""
 
     agent: Id
     beliefs: tuple[ItemBelief, ...]
     preference: Id
     """The item they want, or ``out``."""
+    pursuit: Pursuit | None = None
+    """Their current plan, when the engine knows it (an evaluator reads *revealed* false
+    beliefs off it: after an item, heading for a place where it is not)."""
 
 
 class ItemPlace(msgspec.Struct, frozen=True):

@@ -129,7 +129,15 @@ def generate_parser() -> argparse.ArgumentParser:
         choices=KINDS,
         default="everyday",
         help="everyday: random habits; tasks: built around the robot's jobs (an item moved while its "
-        "owner is away, hidden where they will look last, or wanted by both)",
+        "owner is away, hidden where they will look last, or wanted by both; a wrong place told, "
+        "overlooked or remembered)",
+    )
+    parser.add_argument(
+        "--tasks",
+        type=_task_kinds,
+        default=None,
+        help="with --kind tasks: the task kinds to draw from in turn by seed, comma-separated "
+        "(moved, hidden, contested, seen, told, overlooked, stale; default: all)",
     )
     parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
     add_log_level(parser, "WARNING")
@@ -147,17 +155,34 @@ def generate_main(argv: Sequence[str]) -> int:
         try:
             print(
                 write_house_episode(
-                    args.out, args.rooms, args.items, args.seed, args.max_ticks, args.minds, args.kind
+                    args.out,
+                    args.rooms,
+                    args.items,
+                    args.seed,
+                    args.max_ticks,
+                    args.minds,
+                    args.kind,
+                    args.tasks,
                 )
             )
         except ValueError as err:
             parser.error(str(err))
     elif args.episodes:
         for map_name, seed in _episode_list(parser, args.episodes):
-            print(write_episode(args.out, map_name, seed, args.max_ticks, args.minds, args.kind))
+            print(write_episode(args.out, map_name, seed, args.max_ticks, args.minds, args.kind, args.tasks))
     else:
-        print(write_episode(args.out, args.map, args.seed, args.max_ticks, args.minds, args.kind))
+        print(write_episode(args.out, args.map, args.seed, args.max_ticks, args.minds, args.kind, args.tasks))
     return 0
+
+
+def _task_kinds(text: str) -> tuple[str, ...]:
+    """``--tasks``'s comma-separated kinds, checked (a bad one is a usage error naming it)."""
+    from .tasks import check_kinds
+
+    try:
+        return check_kinds([kind.strip() for kind in text.split(",") if kind.strip()])
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
 
 
 def _episode_list(parser: argparse.ArgumentParser, entries: Sequence[str]) -> list[tuple[str, int]]:

@@ -24,35 +24,27 @@ into view at a place, kept while it stays there), tell each other things (``hear
 :mod:`sim2d.hearsay`), look first where it is near (``search = "nearest"``), wander off
 (``wander``) and change their minds on the way (``replan``). With every knob at its default
 a person behaves exactly as the simple one does, draw for draw.
+
+Every person drops a walk that their belief has made pointless (the item they are after seen
+elsewhere, or gone from where they are heading: :func:`~sim2d.pursuit.pointless`) and decides
+again, after a lag of their own (``Autonomy.replan_lag``). What they are doing is published
+with their mind (:func:`~sim2d.pursuit.pursuit_of`).
 """
 
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass
 
 import numpy as np
 
-from protocol import EventKind, ItemBelief, Prob, TrueMind
+from protocol import EventKind, ItemBelief, Prob, Pursuit, TrueMind
 
 from .personbelief import PersonBelief
+from .pursuit import Primitive, Reconsider, pointless, pursuit_of
 from .scenario import AgentSetup, Autonomy
 from .world import World
 
 OUT = "out"
-
-
-@dataclass(frozen=True)
-class Primitive:
-    """One step of a plan: ``goto`` a cell, ``take`` / ``drop``, or ``play`` / ``wait`` for ticks."""
-
-    do: str
-    cell: tuple[int, int] | None = None
-    item: str | None = None
-    location: str | None = None
-    ticks: int = 0
-    errand: bool = False
-    """Part of an errand: carried through even when told where the wanted item is."""
 
 
 class AutonomousPerson:
@@ -76,9 +68,15 @@ class AutonomousPerson:
         self.errand_after = setup.jobs.errand_after
         self.moves = setup.jobs.moves
         self.move_after = setup.jobs.move_after
+        self.wait_first = setup.jobs.wait
+        self.tells, self.tell_after = setup.jobs.tells, setup.jobs.tell_after
+        self.overlooking = set(setup.jobs.overlooks)
         """The first jobs of a task episode (:class:`~sim2d.jobs.Jobs`)."""
-        self._mind: tuple[bytes, str, TrueMind] | None = None
-        """The last :meth:`mind`, with the belief and preference it was made of."""
+        self.reconsider = Reconsider(autonomy.replan_lag)
+        self.pursuit: Pursuit | None = None
+        """What the person is doing, as of their last update."""
+        self._mind: tuple[bytes, str, Pursuit | None, TrueMind] | None = None
+        """The last :meth:`mind`, with the belief, preference and pursuit it was made of."""
 
     @property
     def finished(self) -> bool:
@@ -86,11 +84,12 @@ class AutonomousPerson:
         return False
 
     def mind(self) -> TrueMind:
-        """The person's true belief and preference (for ``engine/truth``); made again only
-        when either has changed since the last call."""
+        """The person's true belief, preference and pursuit (for ``engine/truth``); made again
+        only when one of them has changed since the last call."""
         key = self.belief.p.tobytes()
-        if self._mind is not None and self._mind[0] == key and self._mind[1] == self.preference:
-            return self._mind[2]
+        last = self._mind
+        if last is not None and last[0] == key and last[1] == self.preference and last[2] == self.pursuit:
+            return last[3]
         beliefs = tuple(
             ItemBelief(
                 item=item,
@@ -101,8 +100,8 @@ class AutonomousPerson:
             )
             for item in self.belief.items
         )
-        mind = TrueMind(agent=self.id, beliefs=beliefs, preference=self.preference)
-        self._mind = (key, self.preference, mind)
+        mind = TrueMind(agent=self.id, beliefs=beliefs, preference=self.preference, pursuit=self.pursuit)
+        self._mind = (key, self.preference, self.pursuit, mind)
         return mind
 
     # ----- the tick ---------------------------------------------------------------------
@@ -118,9 +117,16 @@ class AutonomousPerson:
 
     def _missed(self, world: World, seen: dict[str, str]) -> set[str]:
         """The items in view the person has not noticed (``Autonomy.miss``; their own is
-        always noticed). Drawn once per item and place it is seen at."""
+        always noticed; drawn once per item and place it is seen at), and the items they
+        overlook (:attr:`~sim2d.jobs.Jobs.overlooks`) until they stand where they believe one is."""
+        if self.overlooking:
+            cell = world.agents[self.id].cell
+            spots = world.map.locations
+            here = {loc.id for loc in spots if world.within_reach(cell, (loc.cell.col, loc.cell.row))}
+            self.overlooking -= {item for item in self.overlooking if self.belief.most_likely(item) in here}
+        overlooked = {item for item in seen if item in self.overlooking}
         if self.autonomy.miss <= 0:
-            return set()
+            return overlooked
         own = world.agents[self.id].holding
         attention = {}
         for item, where in seen.items():
@@ -132,11 +138,15 @@ class AutonomousPerson:
             else:
                 attention[item] = (where, bool(self.rng.random() >= self.autonomy.miss))
         self.attention = attention
-        return {item for item, (_, noticed) in attention.items() if not noticed}
+        return overlooked | {item for item, (_, noticed) in attention.items() if not noticed}
 
     def update(self, world: World) -> None:
         self.belief.forget(self.autonomy.forget)
         self.perceive(world)
+        busy = self.current is not None and (self.current.errand or self.current.do not in ("goto", "take"))
+        if not busy and self.reconsider.check(pointless(self.pursuit, self.belief), world.tick, self.rng):
+            self.current = None
+            self.plan.clear()
         if (
             self.autonomy.replan > 0
             and self.current is not None
@@ -150,13 +160,17 @@ class AutonomousPerson:
             self.preference = str(self.rng.choice([o for o in self.options if o != self.preference]))
             if self.current is not None and self.current.do in ("play", "wait"):
                 self._stop(world)
-        if self.current is None:
-            if not self.plan:
-                self._decide(world)
-            if not self.plan:
-                return
+        if self.current is None and not self.plan:
+            self._decide(world)
+        if self.current is None and self.plan:
             self.current, self.started = self.plan.popleft(), False
-        self._carry_on(world)
+        if self.current is not None:
+            self._carry_on(world)
+        self._note_pursuit(world)
+
+    def _note_pursuit(self, world: World) -> None:
+        steps = [self.current, *self.plan] if self.current is not None else list(self.plan)
+        self.pursuit = pursuit_of(steps, world, world.agents[self.id].cell)
 
     def _stop(self, world: World) -> None:
         agent = world.agents[self.id]
@@ -223,7 +237,12 @@ class AutonomousPerson:
         return int(self.rng.integers(bounds[0], bounds[1] + 1))
 
     def _first_jobs(self, world: World) -> bool:
-        """Plan a task episode's first jobs: the move, then the errand (each once)."""
+        """Plan a task episode's first jobs: standing first, the move, then the errand (each
+        once)."""
+        if self.wait_first > 0:
+            self.plan.append(Primitive("wait", ticks=self.wait_first, errand=True))
+            self.wait_first = 0
+            return True
         if self.moves is not None:
             item, target = self.moves
             self.moves = None

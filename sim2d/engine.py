@@ -28,7 +28,7 @@ from protocol import (
 
 from .autonomous import AutonomousPerson
 from .errors import ScenarioError
-from .hearsay import exchange
+from .hearsay import exchange, tell_jobs
 from .maps import agent_spec
 from .people import Person, ScriptedPerson
 from .planned import PlannedPerson
@@ -128,6 +128,8 @@ class Engine:
         for item in setup.jobs.knows:  # a task's owner knows where they left their item
             if truth.get(item) is not None:
                 person.belief.told(item, truth[item])
+        for item, location in setup.jobs.believes:  # sure of a place from before the episode
+            person.belief.told(item, location)
 
     # ----- description ----------------------------------------------------------------
 
@@ -195,6 +197,7 @@ class Engine:
             person.update(world)
         autonomous = [p for p in self.people.values() if isinstance(p, AutonomousPerson)]
         exchange(autonomous, world, self.gossip, self.scenario.autonomy.hearsay)
+        tell_jobs(autonomous, world)
         for robot in self.robots.values():
             robot.update(world, self.people)
         world.step_physics()

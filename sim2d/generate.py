@@ -13,12 +13,13 @@ those (sim2d, the grid engine) plays them.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from .maps import SCENARIO_DIR, load_map
-from .tasks import person_lines, task_agents
+from .tasks import TASKS, check_kinds, person_lines, task_agents
 
 ITEM_SHAPES = (
     ("ball", "ball"),
@@ -203,12 +204,14 @@ def episode(
     minds: str = "simple",
     kind: str = "everyday",
     people: int = 2,
+    tasks: Sequence[str] | None = None,
 ) -> str:
     """The TOML text of a random episode on the map at ``map_path``, which the file names as
     ``map_ref`` (a bundled map's name, or a file name beside the episode: no absolute paths,
     so a folder of episodes can be moved or shared); ``minds``: one of :data:`MINDS`;
     ``kind``: one of :data:`KINDS`; ``people``: how many (everyday episodes; people past the
-    second get homes of their own draw, so the first two's episode is the same)."""
+    second get homes of their own draw, so the first two's episode is the same); ``tasks``:
+    the task kinds a ``tasks`` episode is drawn from (default: all of :data:`~sim2d.tasks.TASKS`)."""
     if people < 1 or (kind == "tasks" and people != 2):
         raise ValueError(f"an episode has at least 1 person (tasks: 2), not {people}")
     if minds not in MINDS:
@@ -253,7 +256,10 @@ def episode(
         placed[item] = spots[int(rng.integers(len(spots)))]
         lines += ["[[items]]", f'id = "{item}"', f'shape = "{shape}"', f'at = "{placed[item]}"', ""]
     if kind == "tasks":
-        lines += task_agents(game_map, placed, homes, seed, tick_seconds=TICK_SECONDS, search=search)
+        kinds = TASKS if tasks is None else check_kinds(tasks)
+        lines += task_agents(
+            game_map, placed, homes, seed, tick_seconds=TICK_SECONDS, search=search, kinds=kinds
+        )
     else:
         more = np.random.default_rng([seed, 1]).choice(len(cells), size=max(0, people - 2))
         for n, home in enumerate([*homes[: min(people, 2)], *(cells[int(i)] for i in more)]):
@@ -298,6 +304,7 @@ def write_house_episode(
     minds: str = "simple",
     kind: str = "everyday",
     people: int = 2,
+    tasks: Sequence[str] | None = None,
 ) -> Path:
     """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
     ``items`` items and ``people`` people on it (the scaling family of ``toyroom bench``);
@@ -321,6 +328,7 @@ def write_house_episode(
             minds=minds,
             kind=kind,
             people=people,
+            tasks=tasks,
         )
     )
     return path
@@ -333,8 +341,10 @@ def write_episode(
     max_ticks: int = 1500,
     minds: str = "simple",
     kind: str = "everyday",
+    tasks: Sequence[str] | None = None,
 ) -> Path:
-    """Write a random episode (and its generated map) into ``directory``; return its path."""
+    """Write a random episode (and its generated map) into ``directory``; return its path
+    (``tasks``: the task kinds of a ``tasks`` episode, default all)."""
     directory.mkdir(parents=True, exist_ok=True)
     spec = MAPS[map_name]
     if spec is None:
@@ -347,6 +357,16 @@ def write_episode(
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
     path.write_text(
-        episode(name, map_ref, map_path, ITEMS[map_name], seed, max_ticks=max_ticks, minds=minds, kind=kind)
+        episode(
+            name,
+            map_ref,
+            map_path,
+            ITEMS[map_name],
+            seed,
+            max_ticks=max_ticks,
+            minds=minds,
+            kind=kind,
+            tasks=tasks,
+        )
     )
     return path

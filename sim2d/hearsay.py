@@ -43,3 +43,19 @@ def exchange(people: Sequence[AutonomousPerson], world: World, rng: np.random.Ge
         location = teller.belief.most_likely(item)
         assert location is not None
         listener.on_informed(world, item, location)
+
+
+def tell_jobs(people: Sequence[AutonomousPerson], world: World) -> None:
+    """The tellings a task episode scripts (:attr:`~sim2d.jobs.Jobs.tells`): from its
+    ``tell_after`` tick on, once both are in one region, the teller tells the listener where
+    they believe the item is (unheard by the robot, as hearsay is)."""
+    by_id = {person.id: person for person in people}
+    for teller in people:
+        if teller.tells is None or world.tick < teller.tell_after:
+            continue
+        name, item = teller.tells
+        listener, where = by_id.get(name), teller.belief.most_likely(item)
+        if listener is None or where is None or world.agents[name].region != world.agents[teller.id].region:
+            continue
+        teller.tells = None
+        listener.on_informed(world, item, where)

@@ -11,7 +11,7 @@ from typing import Any, Literal
 from protocol import AgentKind, GridCell, ItemShape
 
 from .errors import ScenarioError
-from .jobs import Jobs, job_items, parse_jobs
+from .jobs import JOB_KEYS, Jobs, job_items, parse_jobs
 from .maps import SCENARIO_DIR, GameMap, load_map, parse_cell, read_toml
 from .script import Step, Take, parse_step
 
@@ -81,6 +81,10 @@ class Autonomy:
     """Chance, when setting off for what they want, of first walking to a random cell."""
     replan: float = 0.0
     """Chance per tick of dropping a walk under way and deciding again."""
+    replan_lag: tuple[int, int] = (2, 8)
+    """Ticks from a change of belief that makes a walk pointless (the item they are after seen
+    elsewhere, or gone from where they are heading) to deciding again: drawn once per person,
+    the first time it is needed (people who never need it draw nothing)."""
     knows: float = 0.0
     """Chance, per person and item, of starting sure of where the item is."""
     stale: float = 0.0
@@ -205,7 +209,7 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
         raise ScenarioError(path, entry, f"expected answers = 'yes' or 'no', got {answers!r}")
     jobs = parse_jobs(table, game_map, path, entry)
     if jobs.any and not autonomous:
-        raise ScenarioError(path, entry, "errand, move and knows are for autonomous people")
+        raise ScenarioError(path, entry, f"{JOB_KEYS} are for autonomous people")
     return AgentSetup(
         id=aid,
         kind=kind,
@@ -297,6 +301,10 @@ def _check_references(agents: list[AgentSetup], item_ids: set[str], path: Path) 
         for key, item in job_items(agent.jobs):
             if item not in item_ids:
                 raise ScenarioError(path, f"agents[{i}] '{agent.id}'", f"{key}: unknown item {item!r}")
+        listener = agent.jobs.tells[0] if agent.jobs.tells else None
+        if listener is not None and listener not in {a.id for a in agents if a.autonomous} - {agent.id}:
+            problem = f"tell: {listener!r} is no other autonomous person"
+            raise ScenarioError(path, f"agents[{i}] '{agent.id}'", problem)
         for j, step in enumerate(agent.script):
             entry = f"agents[{i}] '{agent.id}'.script[{j}]"
             if isinstance(step, Take) and step.item not in item_ids:
@@ -333,7 +341,7 @@ def _tick_range(value: Any, default: tuple[int, int]) -> tuple[int, int]:
 def _autonomy(data: dict[str, Any], path: Path) -> Autonomy:
     """How autonomous people behave (``[autonomy]``)."""
     table = data.get("autonomy", {})
-    known = {*RATES, "play_ticks", "wait_ticks", "search", "planner"}
+    known = {*RATES, "play_ticks", "wait_ticks", "replan_lag", "search", "planner"}
     unknown = sorted(set(table) - known)
     if unknown:
         raise ScenarioError(path, "autonomy", f"unknown settings {unknown} (known: {sorted(known)})")
@@ -344,6 +352,7 @@ def _autonomy(data: dict[str, Any], path: Path) -> Autonomy:
             planner=str(table.get("planner", Autonomy.planner)),
             play_ticks=_tick_range(table.get("play_ticks"), Autonomy.play_ticks),
             wait_ticks=_tick_range(table.get("wait_ticks"), Autonomy.wait_ticks),
+            replan_lag=_tick_range(table.get("replan_lag"), Autonomy.replan_lag),
         )
     except (TypeError, ValueError) as err:
         raise ScenarioError(path, "autonomy", f"expected numbers and [min, max] tick pairs ({err})") from None

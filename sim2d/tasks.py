@@ -6,12 +6,16 @@ they left it there, whatever the episode's minds), then goes on an errand outsid
 ``moved`` and ``hidden`` the other person moves the item while the owner is away, timed to
 land shortly before the owner is back (``move_after``, from walking times on the map): a
 false belief the owner acts on as soon as they return, which the robot can put right only
-if it notices.
+if it notices. In ``told``, ``overlooked`` and ``stale`` nothing is moved: the owner comes to
+believe a wrong place in a way the robot cannot see (a word out of its hearing, an item in
+plain view they fail to notice, a belief from before the episode), and only their walk there
+shows it (:func:`belief_agents`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -21,13 +25,24 @@ from protocol.carry import walking_distances
 from .maps import GameMap
 from .world import PERSON_SPEED
 
-TASKS = ("moved", "hidden", "contested", "seen")
+TASKS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
 """The jobs task episodes are built around, in turn by seed: ``moved`` (shortly before its owner
 comes back from an errand, someone moves the item they will come back for to a spot out of
 their view), ``hidden`` (the same, to the spot the owner's search reaches last: where they
 will not look), ``contested`` (both people want the same item) and ``seen`` (Sally-Anne's
 true-belief control: the owner watches the item being moved to a spot in view, then goes on
-the errand; putting it back would mislead them)."""
+the errand; putting it back would mislead them), and three where behaviour is the evidence:
+``told`` (the other person, sure of a wrong place, tells the owner so out of the robot's
+hearing, and the owner goes there), ``overlooked`` (the owner, sure of a wrong place, stands
+in view of the item without noticing it, then goes to that place) and ``stale`` (the owner,
+sure of a wrong place from before the episode, comes in from outside and goes there)."""
+BELIEF_TASKS = ("told", "overlooked", "stale")
+"""The kinds of :data:`TASKS` whose false belief only behaviour shows (:func:`belief_agents`)."""
+TELL_AFTER = (5, 30)
+"""When the telling of ``told`` happens (ticks, drawn uniformly)."""
+WATCH_TICKS = (20, 60)
+"""How long the owner of ``overlooked`` stands in view of the item first (ticks)."""
+
 
 ERRAND_TICKS = (80, 200)
 """How long the owner's errand keeps them outside (ticks, drawn uniformly)."""
@@ -38,9 +53,17 @@ HANDLING_TICKS = 10
 """Ticks a take and a drop add to the mover's walk (a margin, not a measurement)."""
 
 
-def task_of(seed: int) -> str:
-    """The job a task episode of ``seed`` is built around."""
-    return TASKS[seed % len(TASKS)]
+def task_of(seed: int, kinds: Sequence[str] = TASKS) -> str:
+    """The job a task episode of ``seed`` is built around, in turn among ``kinds``."""
+    return kinds[seed % len(kinds)]
+
+
+def check_kinds(kinds: Sequence[str]) -> tuple[str, ...]:
+    """``kinds`` as a tuple, every one of :data:`TASKS` (raises ``ValueError`` naming a bad one)."""
+    bad = [kind for kind in kinds if kind not in TASKS]
+    if bad or not kinds:
+        raise ValueError(f"task kinds are some of {', '.join(TASKS)}, not {', '.join(bad) or 'none'}")
+    return tuple(kinds)
 
 
 def ticks_per_cell(game_map: GameMap, tick_seconds: float) -> int:
@@ -77,14 +100,18 @@ def task_agents(
     *,
     tick_seconds: float = 0.1,
     search: str = "likely",
+    kinds: Sequence[str] = TASKS,
 ) -> list[str]:
     """The two people of a task episode, as ``[[agents]]`` lines (the first item is the one
     the task is about; ``homes``: cells to start from when the task does not fix one;
-    ``search``: how the episode's people look for things, for ``hidden``)."""
+    ``search``: how the episode's people look for things, for ``hidden``; ``kinds``: the
+    task kinds drawn from, in turn by seed)."""
     rng = np.random.default_rng([seed, 2])
-    task, items = task_of(seed), list(placed)
+    task, items = task_of(seed, kinds), list(placed)
     wanted = items[0]
     spot = next(loc for loc in game_map.locations if loc.id == placed[wanted])
+    if task in BELIEF_TASKS:
+        return belief_agents(task, game_map, placed, homes, rng)
     if task == "contested":
         return [
             line
@@ -156,3 +183,63 @@ def person_lines(person: str, home: GridCell, *extra: str) -> list[str]:
         *extra,
         "",
     ]
+
+
+def belief_agents(
+    task: str, game_map: GameMap, placed: dict[str, str], homes: list[GridCell], rng: np.random.Generator
+) -> list[str]:
+    """The two people of a ``told``, ``overlooked`` or ``stale`` episode (:data:`TASKS`): the
+    owner (A1) wants the first item and comes to be sure it is at a wrong place, out of their
+    view, without anything being moved; A2 wants the other item and starts sure of a wrong
+    place for it too (a belief from before the episode), so each episode shows two."""
+    items = list(placed)
+    wanted = items[0]
+    cells = sorted(c for c in game_map.region_of if c not in {_cell(loc) for loc in game_map.locations})
+    inside = [c for c in cells if game_map.region_of[c] not in game_map.outside_regions]
+    sees_spot = {c for c in inside if placed[wanted] in game_map.sees.get(c, ())}
+    if task == "overlooked":
+        pool = sorted(sees_spot)
+    elif task == "stale":
+        pool = [c for c in cells if game_map.region_of[c] in game_map.outside_regions]
+    else:
+        pool = [c for c in inside if c not in sees_spot]
+    owner_home = _draw(pool or inside, rng)
+    target = _wrong_place(game_map, owner_home, placed[wanted], rng)
+    owner, other_home = [f'prefers = "{wanted}"'], next(h for h in homes if h != owner_home)
+    mover: list[str] = []
+    if task == "told":
+        after = int(rng.integers(TELL_AFTER[0], TELL_AFTER[1] + 1))
+        region = game_map.region_of[owner_home]
+        other_home = _draw(
+            [c for c in inside if game_map.region_of[c] == region and c != owner_home] or [owner_home], rng
+        )
+        owner += [f'knows = ["{wanted}"]', f"wait = {after + 10}"]
+        mover += [f'tell = ["A1", "{wanted}"]', f"tell_after = {after}", f"wait = {after + 1}"]
+    elif task == "overlooked":
+        watch = int(rng.integers(WATCH_TICKS[0], WATCH_TICKS[1] + 1))
+        owner += [f'believes = [["{wanted}", "{target}"]]', f'overlooks = ["{wanted}"]', f"wait = {watch}"]
+    else:
+        owner += [f'believes = [["{wanted}", "{target}"]]']
+    believes = [(wanted, target)] if task == "told" else []
+    if len(items) > 1:
+        believes.append((items[1], _wrong_place(game_map, other_home, placed[items[1]], rng)))
+    if believes:
+        mover.append("believes = [" + ", ".join(f'["{i}", "{loc}"]' for i, loc in believes) + "]")
+    other = items[1] if len(items) > 1 else "out"
+    return [
+        *person_lines("A1", owner_home, *owner),
+        *person_lines("A2", other_home, f'prefers = "{other}"', *mover),
+    ]
+
+
+def _draw(cells: Sequence[GridCell], rng: np.random.Generator) -> GridCell:
+    return cells[int(rng.integers(len(cells)))]
+
+
+def _wrong_place(game_map: GameMap, home: GridCell, truth: str, rng: np.random.Generator) -> str:
+    """A location other than ``truth``, out of view from ``home`` where there is one."""
+    view = set(game_map.sees.get(home, ()))
+    others = [loc.id for loc in game_map.locations if loc.id != truth]
+    hidden = [loc for loc in others if loc not in view]
+    choices = hidden or others
+    return choices[int(rng.integers(len(choices)))]

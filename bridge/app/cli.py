@@ -193,6 +193,12 @@ def _eval_command(command: Command) -> None:
         help="everyday (random episodes) or tasks (built around the robot's jobs); comma-separated",
     )
     evaluation.add_argument(
+        "--tasks",
+        default="",
+        help="with --kind tasks: the task kinds episodes are drawn from in turn, comma-separated: "
+        "moved, hidden, contested, seen, told, overlooked, stale (default: all)",
+    )
+    evaluation.add_argument(
         "--policies",
         default="tom",
         help="the acting robot's policies, one run each, comma-separated: tom (on inferred minds), "

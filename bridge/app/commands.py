@@ -235,7 +235,8 @@ def _eval(args: argparse.Namespace) -> int:
 
     brain = settings_argv(args.settings, args.overrides)
     try:
-        chosen = conditions(args.perception.split(","), args.minds.split(","), args.kind.split(","))
+        tasks = [t.strip() for t in args.tasks.split(",") if t.strip()]
+        chosen = conditions(args.perception.split(","), args.minds.split(","), args.kind.split(","), tasks)
     except ValueError as err:
         print(f"toyroom eval: {err}", file=sys.stderr)
         return 2

@@ -9,6 +9,7 @@ from typing import Any
 
 from protocol import Observer
 
+from .conditions import Condition
 from .intervals import METRICS as INTERVAL_METRICS
 from .intervals import intervals, pooled_means
 from .metrics import Counts, Outcome, majority_counts
@@ -109,6 +110,7 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
         "failed_runs_retried": sum(len(e.get("failed_runs") or []) for e in episodes),
         "observers": {name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
         "paired_differences": differences,
+        "revealed_stretches": totals[BTOM].stretches if BTOM in totals else None,
         "false_belief_causes": {
             name: counts.recall_by_cause()
             for name, counts in {**totals, MAJORITY: majority_counts(totals[BTOM], goal)}.items()
@@ -116,3 +118,14 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
         "robot": robot,
         "robot_differences": robot_differences,
     }
+
+
+def by_task(
+    condition: Condition, episodes: Sequence[dict[str, Any]], seed: int, observers: Sequence[str]
+) -> dict[str, Any]:
+    """A ``tasks`` condition's numbers per task kind (episode ``i`` of a sweep has the seed
+    ``1000 seed + i``, which picks its kind: :meth:`Condition.task_of`)."""
+    kinds: dict[str, list[dict[str, Any]]] = {}
+    for result in episodes:
+        kinds.setdefault(condition.task_of(seed * 1000 + int(result["index"])) or "", []).append(result)
+    return {kind: aggregate(results, seed, observers) for kind, results in sorted(kinds.items())}

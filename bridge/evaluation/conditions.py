@@ -11,8 +11,10 @@ the simulated people have, and what kind of episodes they live through.
   and act by the brain's planner under the evaluation's settings, so their parameters are
   known: :mod:`bridge.evaluation.planned`);
 - ``kind``: ``everyday`` (random episodes) or ``tasks`` (built around the robot's jobs: an item
-  moved while its owner is away, hidden where they will look last, or wanted by both;
-  ``python -m sim2d generate --kind tasks``).
+  moved while its owner is away, hidden where they will look last, or wanted by both; a wrong
+  place told, overlooked or remembered, which only behaviour shows;
+  ``python -m sim2d generate --kind tasks``), drawn in turn from ``tasks`` (default: all of
+  :data:`TASK_KINDS`).
 """
 
 from __future__ import annotations
@@ -24,6 +26,9 @@ from dataclasses import dataclass
 PERCEPTIONS = ("omniscient", "embodied")
 MINDS = ("simple", "rich", "model")
 KINDS = ("everyday", "tasks")
+TASK_KINDS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
+"""The kinds of task episodes, in the generator's order (``sim2d.tasks.TASKS``; a test keeps
+the two equal: the bridge never imports the engine)."""
 POLICIES = ("tom", "tidy", "announce")
 """The acting robot's policies an evaluation may run (the brain's ``RobotSettings.policy``;
 ``none``, the robot observing, is always run)."""
@@ -36,8 +41,13 @@ class Condition:
     perception: str = "omniscient"
     minds: str = "simple"
     kind: str = "everyday"
+    tasks: tuple[str, ...] = ()
+    """The task kinds a ``tasks`` condition draws from, in turn by episode seed (empty: all)."""
 
     def __post_init__(self) -> None:
+        bad = [task for task in self.tasks if task not in TASK_KINDS]
+        if bad:
+            raise ValueError(f"task kinds are some of {', '.join(TASK_KINDS)}, not {', '.join(bad)}")
         for name, value, known in (
             ("perception", self.perception, PERCEPTIONS),
             ("minds", self.minds, MINDS),
@@ -51,11 +61,22 @@ class Condition:
         """``omniscient-simple-everyday``: the condition's folder and key."""
         return f"{self.perception}-{self.minds}-{self.kind}"
 
+    def task_of(self, seed: int) -> str | None:
+        """The task kind of the episode of ``seed`` (``None`` unless ``kind`` is ``tasks``)."""
+        kinds = self.tasks or TASK_KINDS
+        return kinds[seed % len(kinds)] if self.kind == "tasks" else None
+
     def brain_args(self) -> tuple[str, ...]:
         """What every brain of this condition is told (its perception)."""
         return ("--set", f"perception={self.perception}") if self.perception != "omniscient" else ()
 
 
-def conditions(perceptions: Sequence[str], minds: Sequence[str], kinds: Sequence[str]) -> list[Condition]:
-    """Every combination, in the order given (raises ``ValueError`` naming a bad value)."""
-    return [Condition(p, m, k) for p, m, k in itertools.product(perceptions, minds, kinds)]
+def conditions(
+    perceptions: Sequence[str], minds: Sequence[str], kinds: Sequence[str], tasks: Sequence[str] = ()
+) -> list[Condition]:
+    """Every combination, in the order given, each ``tasks`` condition drawing from ``tasks``
+    (raises ``ValueError`` naming a bad value)."""
+    return [
+        Condition(p, m, k, tuple(tasks) if k == "tasks" else ())
+        for p, m, k in itertools.product(perceptions, minds, kinds)
+    ]

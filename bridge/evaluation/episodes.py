@@ -30,7 +30,7 @@ from typing import Any
 
 from protocol import Observer
 
-from .aggregate import ROBOT, aggregate
+from .aggregate import ROBOT, aggregate, by_task
 from .batches import run_batch
 from .conditions import Condition
 from .generation import MAPS, generate, map_of, scenarios_of
@@ -132,7 +132,13 @@ def episode_specs(job: EpisodeJob) -> tuple[Path, list[RunSpec]]:
         scenario = Path(job.scenario)
     else:
         scenario = generate(
-            directory / "scenarios", job.index, job.seed, condition.minds, condition.kind, job.max_ticks
+            directory / "scenarios",
+            job.index,
+            job.seed,
+            condition.minds,
+            condition.kind,
+            job.max_ticks,
+            condition.tasks,
         )
     (directory / "logs").mkdir(parents=True, exist_ok=True)
     values = ("--values-cache", str(Path(job.workdir) / "values"))  # each map solved once per evaluation
@@ -247,6 +253,8 @@ def evaluate(
         summary = {**dataclasses.asdict(condition), "name": condition.name}
         summary |= aggregate(chunk, seed, OBSERVERS)
         summary["by_map"] = {m: aggregate([r for r in chunk if r["map"] == m], seed, OBSERVERS) for m in MAPS}
+        if condition.kind == "tasks":
+            summary["by_task"] = by_task(condition, chunk, seed, OBSERVERS)
         measured.append(summary)
     metrics = {
         "episodes": episodes,

@@ -29,10 +29,12 @@ def generate(
     minds: str = "simple",
     kind: str = "everyday",
     max_ticks: int = 1000,
+    tasks: Sequence[str] = (),
 ) -> Path:
     """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
-    with simulated people of ``minds``, of ``kind``, ``max_ticks`` long."""
-    return _generate(directory, [index], seed, minds, kind, max_ticks)[0]
+    with simulated people of ``minds``, of ``kind`` (``tasks``: drawn from these task kinds;
+    empty: all), ``max_ticks`` long."""
+    return _generate(directory, [index], seed, minds, kind, max_ticks, tasks)[0]
 
 
 def generate_all(
@@ -42,14 +44,21 @@ def generate_all(
     minds: str = "simple",
     kind: str = "everyday",
     max_ticks: int = 1000,
+    tasks: Sequence[str] = (),
 ) -> list[Path]:
     """Write episodes ``0 .. episodes - 1`` of a sweep, as :func:`generate` does each, in one
     process (a process start is most of an episode's generation)."""
-    return _generate(directory, range(episodes), seed, minds, kind, max_ticks)
+    return _generate(directory, range(episodes), seed, minds, kind, max_ticks, tasks)
 
 
 def _generate(
-    directory: Path, indices: Sequence[int], seed: int, minds: str, kind: str, max_ticks: int
+    directory: Path,
+    indices: Sequence[int],
+    seed: int,
+    minds: str,
+    kind: str,
+    max_ticks: int,
+    tasks: Sequence[str] = (),
 ) -> list[Path]:
     """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process."""
     if not indices:
@@ -57,7 +66,8 @@ def _generate(
     entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in indices]
     result = subprocess.run(
         [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
-        + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)],
+        + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)]
+        + (["--tasks", ",".join(tasks)] if tasks and kind == "tasks" else []),
         capture_output=True,
         text=True,
         timeout=120 + 10 * len(indices),
@@ -75,7 +85,9 @@ def scenarios_of(workdir: Path, episodes: int, seed: int, condition: Condition, 
     that fails, empty names (each job then generates its own, and fails alone)."""
     directory = workdir / condition.name / "scenarios"
     try:
-        paths = generate_all(directory, episodes, seed, condition.minds, condition.kind, max_ticks)
+        paths = generate_all(
+            directory, episodes, seed, condition.minds, condition.kind, max_ticks, condition.tasks
+        )
     except (RuntimeError, OSError, subprocess.SubprocessError) as err:
         log.warning("%s; each episode is generated on its own", err)
         return [""] * episodes

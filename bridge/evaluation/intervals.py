@@ -15,7 +15,17 @@ import numpy as np
 from .metrics import Counts
 
 RESAMPLES = 1000
-METRICS = ("belief_tv", "preference_accuracy", "false_belief_f1", "goal_false_belief_f1")
+METRICS = (
+    "belief_tv",
+    "preference_accuracy",
+    "false_belief_f1",
+    "goal_false_belief_f1",
+    "knowable_false_belief_f1",
+    "revealed_detection",
+    "brier",
+    "log_loss",
+    "brier_skill",
+)
 
 
 def _pooled(counts: Sequence[Counts], picks: np.ndarray) -> dict[str, float | None]:

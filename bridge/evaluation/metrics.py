@@ -18,11 +18,21 @@ Per tick, person and item, from the brain's online ``mind`` and the engine's ``t
   no action, so no observer can do better there than its prior;
 - false beliefs by how they arose (:data:`CAUSES`, :func:`false_belief_causes`), each with
   its ticks and the ticks an observer flagged: what share of the false beliefs could be seen
-  at all, and by whom.
+  at all, and by whom;
+- ``knowable_false_belief_f1``: the F1 over the false beliefs the robot could know of (caused
+  by a move it perceived, or revealed by a pursuit: :mod:`bridge.evaluation.revealed`); the
+  other false beliefs count neither way, every tick without one is a negative;
+- ``revealed_detection``: the share of revealed stretches the observer flagged before the
+  person reached the place, and the median lead in ticks (:mod:`bridge.evaluation.revealed`);
+- ``brier``, ``log_loss`` (probabilities clipped to ``[EPS, 1 - EPS]``) of the observer's
+  P(false belief) over every person-item-tick, and ``brier_skill``: 1 - Brier / the Brier of
+  always answering the base rate of these ticks (0: no better than the base rate).
 """
 
 from __future__ import annotations
 
+import math
+import statistics
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -33,6 +43,9 @@ from .scoredminds import ScoredMind
 FALSE_BELIEF_MASS = 0.1
 """A person has a false belief about an item when their true belief gives its true location
 less than this (the brain's default ``false_belief_mass``)."""
+EPS = 1e-3
+"""Probabilities are clipped to ``[EPS, 1 - EPS]`` for the log loss (an observer that says 0
+and is wrong pays ``-ln(EPS)`` = 6.9, not infinity)."""
 
 
 CAUSES = ("start", "moved", "unmoved")
@@ -94,6 +107,21 @@ class Counts:
     """False-belief ticks by how they arose (:data:`CAUSES`)."""
     cause_tp: dict[str, int] = field(default_factory=dict)
     """Of those, the ticks the observer flagged."""
+    known_tp: int = 0
+    known_fp: int = 0
+    known_fn: int = 0
+    known_tn: int = 0
+    """The false-belief counts over knowable false beliefs and ticks without one."""
+    brier_sum: float = 0.0
+    log_loss_sum: float = 0.0
+    prob_n: int = 0
+    fb_n: int = 0
+    """Sums of the squared error and log loss of P(false belief), person-item-ticks, and how
+    many of them held a false belief."""
+    stretches: int = 0
+    detected: int = 0
+    leads: list[int] = field(default_factory=list)
+    """Revealed stretches, how many were detected in time, and each detection's lead (ticks)."""
 
     def add(self, other: Counts) -> None:
         for name in SUMS:
@@ -105,6 +133,7 @@ class Counts:
         ):
             for key, n in theirs.items():
                 mine[key] = mine.get(key, 0) + n
+        self.leads = [*self.leads, *other.leads]
 
     def recall_by_cause(self) -> dict[str, dict[str, float | int | None]]:
         """Per cause of :data:`CAUSES`: its false-belief ticks, their share of all, and the
@@ -134,7 +163,31 @@ class Counts:
             "false_belief_recall": recall,
             "false_belief_f1": f1,
             "goal_false_belief_f1": _f1(self.goal_tp, self.goal_fp, self.goal_fn)[2],
+            "knowable_false_belief_f1": _f1(self.known_tp, self.known_fp, self.known_fn)[2],
+            "revealed_detection": self.detected / self.stretches if self.stretches else None,
+            "revealed_lead_median": float(statistics.median(self.leads)) if self.leads else None,
+            **self.proper_scores(),
         }
+
+    def proper_scores(self) -> dict[str, float | None]:
+        """``brier``, ``log_loss`` and ``brier_skill`` (against the base rate of these ticks)."""
+        if not self.prob_n:
+            return {"brier": None, "log_loss": None, "brier_skill": None}
+        brier, rate = self.brier_sum / self.prob_n, self.fb_n / self.prob_n
+        reference = rate * (1.0 - rate)
+        return {
+            "brier": brier,
+            "log_loss": self.log_loss_sum / self.prob_n,
+            "brier_skill": 1.0 - brier / reference if reference > 0 else None,
+        }
+
+    def add_probability(self, p: float, actual: bool) -> None:
+        """One person-item-tick's P(false belief) ``p`` against the truth."""
+        q = min(max(p, EPS), 1.0 - EPS)
+        self.brier_sum += (p - actual) ** 2
+        self.log_loss_sum -= math.log(q if actual else 1.0 - q)
+        self.prob_n += 1
+        self.fb_n += actual
 
 
 SUMS = (
@@ -150,6 +203,16 @@ SUMS = (
     "goal_fp",
     "goal_fn",
     "goal_tn",
+    "known_tp",
+    "known_fp",
+    "known_fn",
+    "known_tn",
+    "brier_sum",
+    "log_loss_sum",
+    "prob_n",
+    "fb_n",
+    "stretches",
+    "detected",
 )
 """The fields of :class:`Counts` that add up."""
 
@@ -168,9 +231,18 @@ def _f1(tp: int, fp: int, fn: int) -> tuple[float | None, float | None, float | 
 
 def majority_counts(counts: Counts, goal: str) -> Counts:
     """The counts of a majority-class observer on the ticks of ``counts``: always ``goal``
-    (the most common true preference), never a false belief, no belief (``belief_tv``: none)."""
+    (the most common true preference), never a false belief (P(false belief) 0), no belief
+    (``belief_tv``: none)."""
     positives, negatives = counts.tp + counts.fn, counts.fp + counts.tn
+    never = -math.log(1.0 - EPS)
     return Counts(
+        known_fn=counts.known_tp + counts.known_fn,
+        known_tn=counts.known_fp + counts.known_tn,
+        brier_sum=float(counts.fb_n),
+        log_loss_sum=counts.fb_n * -math.log(EPS) + (counts.prob_n - counts.fb_n) * never,
+        prob_n=counts.prob_n,
+        fb_n=counts.fb_n,
+        stretches=counts.stretches,
         pref_hits=counts.pref_truth.get(goal, 0),
         pref_n=counts.pref_n,
         fn=positives,
@@ -187,6 +259,7 @@ def score_tick(
     true_location: dict[str, str],
     took: set[str],
     causes: Mapping[tuple[str, str], str] | None = None,
+    known: set[tuple[str, str]] | None = None,
 ) -> Counts:
     """Score one tick.
 
@@ -197,6 +270,8 @@ def score_tick(
         took: people who have taken an item by now (preference accuracy counts from then on).
         causes: how each false belief held now arose (:func:`false_belief_causes`; none:
             not counted by cause).
+        known: the false beliefs the robot could know of now
+            (:func:`bridge.evaluation.revealed.knowable`; none: all of them).
     """
     counts = Counts()
     estimates = {a.agent: a for a in mind.agents}
@@ -205,6 +280,7 @@ def score_tick(
         if est is None:
             continue
         inferred = {b.item: {p.id: p.p for p in b.locations} for b in est.beliefs}
+        chances = {p.id: p.p for p in est.false_belief}
         for belief in person.beliefs:
             true = {p.id: p.p for p in belief.locations}
             guess = inferred.get(belief.item, {})
@@ -220,8 +296,12 @@ def score_tick(
                 counts.cause_fb[cause] = counts.cause_fb.get(cause, 0) + 1
                 counts.cause_tp[cause] = counts.cause_tp.get(cause, 0) + flagged
             cell = ("tp" if flagged else "fn") if actual else ("fp" if flagged else "tn")
-            for name in (cell, f"goal_{cell}") if belief.item == person.preference else (cell,):
+            names = [cell, *((f"goal_{cell}",) if belief.item == person.preference else ())]
+            if not actual or known is None or (person.agent, belief.item) in known:
+                names.append(f"known_{cell}")
+            for name in names:
                 setattr(counts, name, getattr(counts, name) + 1)
+            counts.add_probability(chances.get(belief.item, float(flagged)), actual)
         if person.agent in took and est.preference:
             weights = [p.p for p in est.preference]
             best = est.preference[weights.index(max(weights))].id  # the first of the most probable

@@ -16,6 +16,23 @@ METRICS = (
     "false_belief_f1",
     "goal_false_belief_f1",
 )
+BEHAVIOUR = (
+    "knowable_false_belief_f1",
+    "revealed_detection",
+    "revealed_lead_median",
+    "brier",
+    "log_loss",
+    "brier_skill",
+)
+BEHAVIOUR_NOTE = (
+    "False beliefs where they can be known: `knowable_false_belief_f1` counts as positives only "
+    "the false beliefs caused by a move the robot perceived or revealed by a pursuit (from its "
+    "first revealed tick); `revealed_detection`: the share of revealed stretches (a person after "
+    "an item, heading for a place their belief gives it, where it is not) whose P(false belief) "
+    "passed 0.5 before they reached the place, and the median lead in ticks; `brier`, `log_loss` "
+    "(lower is better) and `brier_skill` (1 - Brier / the base rate's; above 0 beats always "
+    "answering the base rate) of P(false belief) over every person-item-tick."
+)
 HELP = ("success", "ticks_to_goal_fb", "ticks_from_false_belief", "wasted_trips", "interruptions")
 ORACLE = (
     "With simple minds and an omniscient robot, `perceptonly` is an oracle of people's beliefs: "
@@ -54,10 +71,21 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
     lines = _rows(metrics["observers"], METRICS, "observer")
     differences = metrics.get("paired_differences")
     if differences:
-        names = list(next(iter(differences.values())))
+        names = [m for m in next(iter(differences.values())) if m not in BEHAVIOUR]
         lines += [
             "",
             "btom minus each other observer, paired by episode (an interval without 0 is a difference):",
+            "",
+            *_rows(differences, names, "observer"),
+        ]
+    stretches = metrics.get("revealed_stretches")
+    count = f" ({stretches} revealed stretches)" if stretches is not None else ""
+    lines += ["", BEHAVIOUR_NOTE + count, "", *_rows(metrics["observers"], BEHAVIOUR, "observer")]
+    if differences:
+        names = [m for m in next(iter(differences.values())) if m in BEHAVIOUR]
+        lines += [
+            "",
+            "btom minus each other observer, paired by episode:",
             "",
             *_rows(differences, names, "observer"),
         ]
@@ -157,6 +185,9 @@ def _condition(condition: Mapping[str, Any], out: Path | None) -> list[str]:
     for name, part in condition.get("by_map", {}).items():
         if part["episodes"]:
             lines += [f"### Map `{name}`: {part['episodes']} episodes", "", *_tables(part), ""]
+    for name, part in condition.get("by_task", {}).items():
+        if part["episodes"]:
+            lines += [f"### Task `{name}`: {part['episodes']} episodes", "", *_tables(part), ""]
     return lines
 
 

@@ -31,6 +31,7 @@ from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
 from .metrics import Counts, Outcome, false_belief_causes, score_tick
 from .outcome import judge
+from .revealed import Stretch, knowable, stretches
 from .scoredminds import ScoredMind, read_scored_minds
 
 MOTION = "motion"
@@ -213,7 +214,13 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
         last = record.truths[max(record.truths)]
         outcome = judge(scene, last, record.playing, record.regions, record.reached)
     check_complete(tag, spec.observer, record.minds, record.truths)
-    results = {spec.observer: _score(record.minds, record.truths, record.took, outcome)}
+    cells = {
+        tick: {body.id: (body.cell.col, body.cell.row) for body in state.agents}
+        for tick, state in record.states.items()
+    }
+    spots = {loc.id: (loc.cell.col, loc.cell.row) for loc in scene.locations}
+    truth = TruthView(record.truths, record.took, stretches(record.truths, cells, spots))
+    results = {spec.observer: _score(record.minds, truth, outcome)}
     results[spec.observer].help = helpfulness(scene, record.states, record.truths, record.events)
     if spec.robot == "observe":
         heuristic = MotionHeuristic(scene, embodied=spec.perception == "embodied")
@@ -222,11 +229,11 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
             for tick in sorted(record.states)
             if tick in record.truths
         }
-        results[MOTION] = _score(guessed, record.truths, record.took, outcome)
+        results[MOTION] = _score(guessed, truth, outcome)
     for observer in spec.shadows:
         shadow = read_minds(shadow_dir, observer)
         check_complete(tag, observer, shadow, record.truths)
-        results[observer] = _score(shadow, record.truths, record.took, outcome)
+        results[observer] = _score(shadow, truth, outcome)
     return results
 
 
@@ -250,24 +257,48 @@ def check_complete(
         )
 
 
-def _score(
-    minds: Mapping[int, Mind | ScoredMind],
-    truths: dict[int, Truth],
-    took: dict[int, set[str]],
-    outcome: Outcome,
-) -> RunResult:
-    """Score every tick that has both a mind and the truth (channels that are never dropped)."""
+class TruthView:
+    """What every observer of a run is scored against: the truth by tick, who took an item
+    when, the revealed stretches, and per tick the false beliefs' causes and which of them
+    the robot could know of (:mod:`bridge.evaluation.revealed`)."""
+
+    def __init__(self, truths: dict[int, Truth], took: dict[int, set[str]], found: list[Stretch]) -> None:
+        self.truths, self.took, self.stretches = truths, took, found
+        self.causes = false_belief_causes(truths)
+        self.known = knowable(truths, self.causes, found)
+
+
+def _score(minds: Mapping[int, Mind | ScoredMind], truth: TruthView, outcome: Outcome) -> RunResult:
+    """Score every tick that has both a mind and the truth (channels that are never dropped),
+    and every revealed stretch."""
     result = RunResult(outcome=outcome)
     seen: set[str] = set()
-    causes = false_belief_causes(truths)
-    for tick in sorted(truths):
-        seen |= {p for t, people in took.items() if t <= tick for p in people}
+    for tick in sorted(truth.truths):
+        seen |= {p for t, people in truth.took.items() if t <= tick for p in people}
         if tick not in minds:
             continue
-        where = {place.item: place.location for place in truths[tick].items}
-        result.counts.add(score_tick(minds[tick], truths[tick], where, seen, causes[tick]))
+        now = truth.truths[tick]
+        where = {place.item: place.location for place in now.items}
+        result.counts.add(score_tick(minds[tick], now, where, seen, truth.causes[tick], truth.known[tick]))
         result.ticks += 1
+    for stretch in truth.stretches:
+        lead = detection_lead(minds, stretch)
+        result.counts.stretches += 1
+        if lead is not None:
+            result.counts.detected += 1
+            result.counts.leads.append(lead)
     return result
+
+
+def detection_lead(minds: Mapping[int, Mind | ScoredMind], stretch: Stretch) -> int | None:
+    """Ticks from the observer's first flag of ``stretch``'s false belief (P above 0.5, in
+    the stretch) to the person reaching the place; ``None`` when not flagged before then."""
+    for tick in range(stretch.first, stretch.deadline):
+        mind = minds.get(tick)
+        agent = next((a for a in mind.agents if a.agent == stretch.person), None) if mind else None
+        if agent is not None and stretch.item in agent.false_beliefs:
+            return stretch.deadline - tick
+    return None
 
 
 def settle(

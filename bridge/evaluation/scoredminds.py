@@ -36,6 +36,8 @@ class ScoredAgent(msgspec.Struct, frozen=True):
     beliefs: tuple[ScoredBelief, ...]
     preference: tuple[Chance, ...]
     false_beliefs: tuple[str, ...] = ()
+    false_belief: tuple[Chance, ...] = ()
+    """P(false belief) per item."""
 
 
 class ScoredMind(msgspec.Struct, frozen=True):

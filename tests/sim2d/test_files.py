@@ -138,7 +138,7 @@ def _broken_scenario(tmp_path: Path, old: str, new: str) -> ScenarioError:
             'id = "A1"',
             'id = "A1"\nerrand = 10',
             "agents[0] 'A1'",
-            "errand, move and knows are for autonomous people",
+            "task jobs (errand, move, wait, tell, knows, believes, overlooks) are for autonomous people",
         ),
         (
             'id = "A1"',

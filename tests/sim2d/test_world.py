@@ -29,3 +29,19 @@ def test_kept_body_states_are_those_built_afresh(scenario: str) -> None:
         kept += len(now & last)
         last = now
     assert kept > 0, "no state was ever kept from the tick before"
+
+
+def test_a_carried_item_is_seen_only_where_its_carrier_is_seen() -> None:
+    """The entrance E has no item location, so an item carried there counts at the nearest of
+    all (S1); A1, in P1, sees S1 but not E, and must not perceive the ball (she did, at S1);
+    the robot, in E, sees it carried; once the carrier is in S1, A1 sees it there."""
+    world = Engine("paper-auto").world
+    carrier, ball = world.agents["A2"], world.items["ball"]
+    carrier.cell, carrier.region, carrier.holding = (5, 5), "E", "ball"
+    ball.holder, ball.location = "A2", None
+    assert world.item_location("ball") == "S1" and "S1" in world.percept("A1")[0]
+    assert "ball" not in world.percept("A1")[1], "A1 in P1 cannot see A2 in the entrance"
+    assert world.percept("robot")[1].get("ball") == "S1", "the robot in the entrance sees A2 carry it"
+    assert world.percept("A2")[1].get("ball") == "S1", "the carrier sees what they carry"
+    carrier.cell, carrier.region = (5, 8), "S1"
+    assert world.percept("A1")[1].get("ball") == "S1", "in S1, A2 is in A1's view"

@@ -63,8 +63,16 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
             "false_belief_recall",
             "false_belief_f1",
             "goal_false_belief_f1",
+            "knowable_false_belief_f1",
+            "revealed_detection",
+            "revealed_lead_median",
+            "brier",
+            "log_loss",
+            "brier_skill",
         }, observer
         assert set(values["false_belief_f1"]) == set(values["goal_false_belief_f1"]) == {"mean", "lo", "hi"}
+        assert set(values["brier"]) == set(values["brier_skill"]) == {"mean", "lo", "hi"}
+        assert values["brier"]["mean"] is not None and 0.0 <= values["brier"]["mean"] <= 1.0
     assert condition["observers"]["btom"]["belief_tv"]["mean"] is not None
     assert set(condition["robot"]) == {"tom", "none"}
     for policy in condition["robot"].values():

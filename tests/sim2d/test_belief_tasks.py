@@ -1,0 +1,127 @@
+"""Task episodes where only behaviour shows a false belief (``told``, ``overlooked``, ``stale``),
+what a person is doing on the truth channel (``pursuit``), and replanning after a lag."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from protocol import Pursuit, Truth
+from sim2d.autonomous import AutonomousPerson
+from sim2d.engine import Engine
+from sim2d.generate import write_episode
+from sim2d.pursuit import Primitive, Reconsider, pursuit_of
+from sim2d.scenario import load_scenario
+from sim2d.tasks import BELIEF_TASKS, TASKS, task_of
+
+
+def revealed(truth: Truth) -> set[tuple[str, str, str]]:
+    """``(person, item, place)`` for each person after an item, heading for a place their
+    belief gives it, where it is not (their belief gives its true place less than 0.1)."""
+    where = {p.item: p.location for p in truth.items}
+    out = set()
+    for mind in truth.agents:
+        pursuit = mind.pursuit
+        if pursuit is None or pursuit.item is None or pursuit.location is None:
+            continue
+        belief = {p.id: p.p for b in mind.beliefs if b.item == pursuit.item for p in b.locations}
+        true = where[pursuit.item]
+        if pursuit.location != true and belief.get(true, 0.0) < 0.1 and belief.get(pursuit.location, 0.0) > 0:
+            out.add((mind.agent, pursuit.item, pursuit.location))
+    return out
+
+
+def run(path: Path, ticks: int = 600) -> list[tuple[int, set[tuple[str, str, str]]]]:
+    engine = Engine(load_scenario(str(path)), seed=1)
+    ticks_seen = []
+    while not engine.done and engine.world.tick < ticks:
+        result = engine.step()
+        assert result.truth is not None
+        ticks_seen.append((result.truth.tick, revealed(result.truth)))
+    return ticks_seen
+
+
+@pytest.mark.parametrize("kind", BELIEF_TASKS)
+@pytest.mark.parametrize("map_name", ["paper", "house-a"])
+def test_the_owner_walks_to_the_wrong_place_nothing_moved(tmp_path: Path, kind: str, map_name: str) -> None:
+    seed = TASKS.index(kind) + len(TASKS)
+    assert task_of(seed) == kind
+    path = write_episode(tmp_path, map_name, seed, kind="tasks")
+    scenario = load_scenario(str(path))
+    owner = scenario.people[0]
+    assert all(p.jobs.moves is None for p in scenario.people), "nothing is moved in these tasks"
+    ticks = run(path)
+    owner_ticks = [t for t, r in ticks if any(person == owner.id for person, _, _ in r)]
+    assert len(owner_ticks) >= 5, (
+        f"{kind}: expected the owner's walk to a wrong place to show, got {owner_ticks}"
+    )
+
+
+def test_told_happens_out_of_the_robots_hearing(tmp_path: Path) -> None:
+    path = write_episode(tmp_path, "paper", TASKS.index("told"), kind="tasks")
+    engine = Engine(load_scenario(str(path)), seed=1)
+    says = []
+    owner, teller = engine.people["A1"], engine.people["A2"]
+    assert isinstance(teller, AutonomousPerson) and teller.tells is not None
+    item = teller.tells[1]
+    truth = engine.world.item_location(item)
+    assert isinstance(owner, AutonomousPerson) and owner.belief.most_likely(item) == truth
+    while teller.tells is not None and engine.world.tick < 60:
+        says += [e for e in engine.step().events if e.kind.value in ("say", "request")]
+    assert says == [], f"expected no speech on the wire, got {says}"
+    assert (
+        owner.belief.most_likely(item) == teller.belief.most_likely(item) != engine.world.item_location(item)
+    )
+
+
+def test_task_kinds_can_be_chosen(tmp_path: Path) -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "sim2d", "generate", "--kind", "tasks", "--tasks", "stale,told"]
+        + ["--episodes", "paper:0", "paper:1", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    texts = [Path(line).read_text() for line in out.stdout.split()]
+    assert "believes" in texts[0] and "errand" not in texts[0] and "tell =" in texts[1], texts
+    bad = subprocess.run(
+        [sys.executable, "-m", "sim2d", "generate", "--kind", "tasks", "--tasks", "stale,tolt"]
+        + ["--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode == 2 and "tolt" in bad.stderr and "overlooked" in bad.stderr, bad.stderr
+
+
+def test_pursuit_reads_the_plan(tmp_path: Path) -> None:
+    engine = Engine(load_scenario("paper-1"), seed=0)
+    world = engine.world
+    s1, p2 = world.locations["S1"], world.locations["P2"]
+    here = (s1.cell.col, s1.cell.row)
+    away = (0, 0)
+    fetch = [Primitive("goto", cell=(p2.cell.col, p2.cell.row)), Primitive("take", item="ball")]
+    assert pursuit_of(fetch, world, away) == Pursuit(item="ball", location="P2")
+    assert pursuit_of(fetch[1:], world, here) == Pursuit(item="ball", location="S1")
+    assert pursuit_of([Primitive("wait", ticks=3), *fetch], world, away) is None
+    assert pursuit_of([Primitive("goto", cell=away), *fetch], world, away) == Pursuit(item="ball")
+    put = [Primitive("goto", cell=here), Primitive("drop", location="S1")]
+    assert pursuit_of(put, world, away) == Pursuit(location="S1")
+
+
+def test_a_pointless_walk_is_dropped_after_the_persons_own_lag() -> None:
+    import numpy as np
+
+    rng = np.random.default_rng(0)
+    reconsider = Reconsider((3, 3))
+    assert [reconsider.check(True, t, rng) for t in range(10, 14)] == [False, False, False, True]
+    assert reconsider.check(True, 20, rng) is False and reconsider.check(False, 21, rng) is False
+    assert reconsider.check(True, 30, rng) is False and reconsider.check(True, 33, rng) is True
+
+
+def test_the_evaluation_knows_every_task_kind() -> None:
+    from bridge.evaluation.conditions import TASK_KINDS
+
+    assert TASK_KINDS == TASKS, f"bridge's TASK_KINDS {TASK_KINDS} differ from sim2d's TASKS {TASKS}"
