@@ -110,8 +110,9 @@ class AgentMind(msgspec.Struct, frozen=True):
     hold the joint), so that "nothing is at that spot" can be read exactly. ``false_belief`` gives, per
     item id, the brain's probability that the person has a false belief about it: that their
     belief gives the item's true location less than the brain's ``false_belief_mass`` (0.1
-    by default), which ignorance (a belief spread over places that include the true one) is
-    not. ``false_beliefs`` lists the items whose false belief is more probable than not.
+    by default) times what it gives its likeliest location, which ignorance (a belief spread
+    over places that include the true one) is not. ``false_beliefs`` lists the items whose
+    false belief is more probable than not.
     """
 
     agent: Id

@@ -21,7 +21,7 @@ from protocol import (
     Pose,
     Vec2,
 )
-from protocol.carry import carry_locations
+from protocol.carry import CarrierSight, carry_locations
 
 from .maps import GameMap
 from .paths import path_to_any, shortest_path
@@ -76,6 +76,7 @@ class World:
         for cell, region in sorted(self.region_of.items()):
             self.region_cells.setdefault(region, []).append(cell)
         self.nearest = carry_locations(self.map.scene((), ()))
+        self.sight = CarrierSight(self.map.scene((), ()))  # who sees a carried item
         self.physics = Physics(
             wall_segments(self.walkable, self.map.cell_size), scenario.tick_seconds, substeps
         )
@@ -321,12 +322,12 @@ class World:
 
     def percept(self, agent_id: str) -> tuple[tuple[str, ...], dict[str, str]]:
         """What ``agent_id`` sees: the visible locations, and where each item in view is."""
-        visible = self.map.sees[self.agents[agent_id].cell]
-        seen = {}
+        cell = self.agents[agent_id].cell
+        visible, seen = self.map.sees[cell], {}
         for item_id, item in self.items.items():
-            where = self.item_location(item_id)
-            if item.holder == agent_id or where in visible:
-                seen[item_id] = where
+            carrier = self.agents[item.holder].cell if item.holder else None  # seen if the carrier is
+            if self.sight.sees(cell, visible, carrier) if carrier else self.item_location(item_id) in visible:
+                seen[item_id] = self.item_location(item_id)
         return visible, seen
 
     def play_spots(self) -> list[GridCell]:

@@ -164,3 +164,95 @@ def corridor_state(
         agents=(agent("p", person, "ball" if holding else None), agent("r", robot)),
         items=(ball,),
     )
+
+
+SCHOOL_WIDTH = 4
+"""Columns of a classroom of :func:`school_scene` (each has 3 rows)."""
+
+
+def school_scene(
+    spots: tuple[int, ...] = (4, 4, 4, 4),
+    items: tuple[str, ...] = ("backpack", "book", "ball"),
+    people: tuple[str, ...] = ("ann", "bob", "cat"),
+) -> Scene:
+    """A school: classrooms ``C0``, ``C1``, ... side by side (``spots[i]`` locations in
+    ``Ci``, named ``Ci.0``, ``Ci.1``, ...; each room sees its own), under a hallway ``H`` with
+    no locations (it sees none), which leads out at its west end::
+
+        (0,6) O
+        (0,5) door
+        (0,4) H  H  H  H  H  H  H  H  H  H ...   row 4: the hallway
+        (1,3) door of C0   (6,3) door of C1 ...   row 3: walls and doors
+        rows 0-2: C0 at columns 0-3, C1 at 5-8, C2 at 10-13, ...
+
+    The people start in C0, C1, C2, ... (column 1, row 1 of each); the robot at the hallway's
+    east end."""
+    regions, doors, locations, visibility = [], [], [], []
+    for r, count in enumerate(spots):
+        x0, rid = r * (SCHOOL_WIDTH + 1), f"C{r}"
+        cells = tuple(Cell(x0 + c, y) for y in range(3) for c in range(SCHOOL_WIDTH))
+        regions.append(Region(id=rid, kind=RegionKind.ROOM, cells=cells))
+        ids = tuple(f"{rid}.{s}" for s in range(count))
+        locations += [Location(id=i, region=rid, cell=c, play=True) for i, c in zip(ids, cells, strict=False)]
+        door = Cell(x0 + 1, 3)
+        doors.append(Door(id=f"d{r}", cell=door, joins=(rid, "H")))
+        visibility += [Visibility(cell=c, locations=ids) for c in (*cells, door)]
+    width = len(spots) * (SCHOOL_WIDTH + 1)
+    hall = tuple(Cell(c, 4) for c in range(width))
+    regions += [
+        Region(id="H", kind=RegionKind.ROOM, cells=hall),
+        Region(id="O", kind=RegionKind.OUTSIDE, cells=(Cell(0, 6),)),
+    ]
+    doors.append(Door(id="out", cell=Cell(0, 5), joins=("H", "O")))
+    visibility += [Visibility(cell=c, locations=()) for c in (*hall, Cell(0, 5), Cell(0, 6))]
+    agents = tuple(
+        AgentSpec(id=p, kind=AgentKind.PERSON, home=Cell(i * (SCHOOL_WIDTH + 1) + 1, 1))
+        for i, p in enumerate(people)
+    ) + (AgentSpec(id="robot", kind=AgentKind.ROBOT, home=Cell(width - 1, 4)),)
+    return Scene(
+        name="school-" + "-".join(map(str, spots)),
+        cell_size=1.0,
+        origin=Vec2(0.0, 0.0),
+        columns=width,
+        rows=7,
+        regions=tuple(regions),
+        doors=tuple(doors),
+        locations=tuple(locations),
+        visibility=tuple(visibility),
+        agents=agents,
+        items=tuple(ItemSpec(id=i, shape=ItemShape.BLOCK) for i in items),
+    )
+
+
+def school_state(scene: Scene, tick: int, cells: dict[str, tuple[int, int]], items: dict[str, str]) -> State:
+    """Every agent of ``scene`` on ``cells`` (col, row; an agent not named is at home); each
+    item resting at the location ``items`` names, or carried by the agent it names."""
+    region_of = {(c.col, c.row): r.id for r in scene.regions for c in r.cells}
+    at = {a.id: cells.get(a.id, (a.home.col, a.home.row)) for a in scene.agents}
+    spots = {loc.id: loc for loc in scene.locations}
+    holding = {where: item for item, where in items.items() if where in at}
+    agents = tuple(
+        AgentState(
+            id=a,
+            pose=Pose(c + 0.5, r + 0.5),
+            velocity=Vec2(0.0, 0.0),
+            cell=Cell(c, r),
+            region=region_of.get((c, r), ""),
+            holding=holding.get(a),
+        )
+        for a, (c, r) in at.items()
+    )
+    states = []
+    for item, where in items.items():
+        cell = Cell(*at[where]) if where in at else spots[where].cell
+        states.append(
+            ItemState(
+                id=item,
+                pose=Pose(cell.col + 0.5, cell.row + 0.5),
+                cell=cell,
+                region=region_of.get((cell.col, cell.row), ""),
+                location=None if where in at else where,
+                held_by=where if where in at else None,
+            )
+        )
+    return State(episode=1, tick=tick, time=tick * 0.7, agents=agents, items=tuple(states))

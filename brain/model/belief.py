@@ -1,8 +1,9 @@
 """Percepts and the paper's belief update.
 
 A person at cell ``x`` perceives, for each item, the value it shows if it is in view (at a
-location visible from ``x``, or carried by the person), or that it is not in view; speech
-from the robot is a percept of the item it names. The believed world moves as
+location visible from ``x``, carried by someone they see, or carried by the person), or that
+it is not in view; speech from the robot is a percept of the item it names. The believed
+world moves as
 
     P(b_t = i | b_{t-1} = j, o_t)  ∝  P(o_t | x_t, w^i) · f(i, j),
 
@@ -16,6 +17,7 @@ percept ``w`` reproduces and ``delta`` per item it does not.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -26,12 +28,15 @@ from .arrays import FloatArray
 from .world import ABSENT, WorldModel
 
 NOT_IN_VIEW = -1
+UNNOTICED = -2
+"""An item in view the person overlooks (:mod:`brain.model.lapses`): the percept says nothing
+about it, and the person's belief about it stays as it was."""
 
 
 @dataclass(frozen=True)
 class Percept:
     """What a person perceives at cell index ``cell``: per item, the value it shows
-    (``2 * location + held``) or ``NOT_IN_VIEW``."""
+    (``2 * location + held``), ``NOT_IN_VIEW`` or ``UNNOTICED``."""
 
     cell: int
     seen: tuple[int, ...]
@@ -60,12 +65,23 @@ def true_values(
     return tuple(values)
 
 
-def percept(model: WorldModel, cell: int, truth: tuple[int, ...], own: int | None) -> Percept:
-    """The percept at ``cell`` of a person holding item index ``own`` (or nothing)."""
+def percept(
+    model: WorldModel, cell: int, truth: tuple[int, ...], own: int | None, carriers: Sequence[int] = ()
+) -> Percept:
+    """The percept at ``cell`` of a person holding item index ``own`` (or nothing).
+
+    ``carriers``: per item, the cell index of whoever carries it (-1: nobody). A carried item
+    is seen only where its carrier is seen (:meth:`WorldModel.sees_carrier`), not wherever
+    the location it counts at is in view: an item carried through a hall counts at a
+    location elsewhere, which shows nothing. Without ``carriers`` (or with -1 for a carried
+    item) the carry location's sight is used."""
     seen = []
     for k, value in enumerate(truth):
+        carrier = carriers[k] if k < len(carriers) else -1
         if own == k:
             seen.append(2 * int(model.nearest[cell]) + 1)
+        elif value % 2 == 1 and carrier >= 0:
+            seen.append(value if bool(model.sees_carrier(cell, np.array(carrier))) else NOT_IN_VIEW)
         elif model.sees[cell, value // 2]:
             seen.append(value)
         else:
@@ -110,7 +126,8 @@ class BeliefModel:
         model = self.model
         visible = model.sees[p.cell]
         seen = np.array(p.seen)
-        match = np.where(seen[None, :] >= 0, model.worlds == seen[None, :], ~visible[model.place])
+        blind = (seen[None, :] == UNNOTICED) | ~visible[model.place]
+        match = np.where(seen[None, :] >= 0, model.worlds == seen[None, :], blind)
         return np.prod(np.where(match, 1.0 - self.delta, self.delta), axis=1) * model.allowed
 
     def in_pw(self, p: Percept) -> npt.NDArray[np.bool_]:
@@ -123,8 +140,8 @@ class BeliefModel:
     def affected(self, p: Percept) -> npt.NDArray[np.bool_]:
         """``(W_j, K)`` the items a person at ``p.cell`` may find changed in world ``j``: in
         view, or believed by ``j`` to be at a visible spot."""
-        seen = np.array(p.seen)
-        return (seen[None, :] >= 0) | self.model.sees[p.cell][self.model.place]
+        seen = np.array(p.seen)[None, :]
+        return (seen >= 0) | (self.model.sees[p.cell][self.model.place] & (seen != UNNOTICED))
 
     def apply_change(self, beliefs: FloatArray, p: Percept, *, predict: bool) -> FloatArray:
         """``beliefs @ g.T`` for ``(N, W)`` beliefs, ``g`` the paper's change weights
@@ -138,7 +155,8 @@ class BeliefModel:
         model = self.model
         K, V = model.n_items, model.n_values
         values = np.arange(V)
-        may_change = (np.array(p.seen)[:, None] >= 0) | model.sees[p.cell][values // 2][None, :]  # (K, V)
+        seen = np.array(p.seen)[:, None]
+        may_change = (seen >= 0) | (model.sees[p.cell][values // 2][None, :] & (seen != UNNOTICED))  # (K, V)
         x = beliefs
         if predict:  # column j of g sums to 1 + r (|PW(j)| - 1)
             reach = np.where(may_change[np.arange(K)[None, :], model.worlds], float(V), 1.0).prod(axis=1)

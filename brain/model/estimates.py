@@ -27,7 +27,8 @@ class Estimate:
         intention: ``(item index or None for out, location index or None, probability)``.
         false_belief: ``(K,)`` the robot's probability that the person's belief gives each
             item's true location (at the time the estimate was read) less than
-            ``ModelSettings.false_belief_mass`` (:func:`false_belief_probability`).
+            ``ModelSettings.false_belief_mass`` times its likeliest location's
+            (:func:`false_belief_probability`).
         hypotheses: for a model whose people hold graded beliefs, the robot's weight of each
             hypothesis ``(G,)`` and the person's belief under it ``(G, K, L)`` (or, per item
             for the factored model, ``(K, P)`` and ``(K, P, L)``); ``None`` when each person
@@ -106,18 +107,19 @@ def point_false_belief(beliefs: FloatArray, truth: tuple[int, ...]) -> FloatArra
 
 def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float) -> FloatArray:
     """``(K,)`` the robot's probability that the person's belief gives each item's true
-    location less than ``mass``: a false belief, not mere ignorance (a spread belief that
-    includes the truth is not one). With point beliefs this is ``1 - P(believed at the true
-    location)``."""
+    location less than ``mass`` times what it gives its likeliest location: a false belief,
+    not mere ignorance (a belief spread evenly over places that include the truth is not one,
+    however many places: a fixed threshold would call ignorance over more than ``1 / mass``
+    places false). With point beliefs this is ``1 - P(believed at the true location)``."""
     if est.hypotheses is None:
         return point_false_belief(est.beliefs, truth)
     true = np.array([value // 2 for value in truth], dtype=np.int64)
     weights, beliefs = est.hypotheses
     if weights.ndim == 2:  # per item (the factored model): (K, P) weights, (K, P, L) beliefs
         at_true = beliefs[np.arange(len(true)), :, true]  # (K, P)
-        return (weights * (at_true < mass)).sum(axis=1)
+        return (weights * (at_true < mass * beliefs.max(axis=-1))).sum(axis=1)
     at_true = beliefs[:, np.arange(len(true)), true]  # (G, K)
-    return weights @ (at_true < mass)
+    return weights @ (at_true < mass * beliefs.max(axis=-1))
 
 
 def reread(est: Estimate, truth: tuple[int, ...], mass: float) -> Estimate:

@@ -4,8 +4,10 @@ own percepts, and acts on it by QMDP.
 
 The robot cannot see a person's initial belief, so it keeps ``G`` hypotheses: for each item,
 every point of a grid over the simplex of its resting locations (resolution ``n``: the
-probabilities ``c / n``), and the product over items. Each hypothesis ``g`` holds a belief
-``b_g`` over the ``W`` worlds that evolves deterministically with the person's percepts:
+probabilities ``c / n``), and the product over items, weighed given where the items are at
+the person's first sight (:class:`InitialBeliefs`, :func:`informed_weights`). Each
+hypothesis ``g`` holds a belief ``b_g`` over the ``W`` worlds that evolves deterministically
+with the person's percepts:
 
     predict   b(i) ∝ P(o | x, w^i) sum_j [g(i, j) / sum_i' g(i', j)] b(j)   (the default)
     paper     b(i) ∝ P(o | x, w^i) sum_j  g(i, j) b(j)                        (one normalisation)
@@ -29,9 +31,11 @@ import itertools
 import numpy as np
 import numpy.typing as npt
 
+from ..settings import ModelSettings
 from .arrays import FloatArray
 from .belief import BeliefModel, Percept
 from .planner import Move
+from .world import WorldModel
 
 UPDATES = ("predict", "paper")
 """The person's own belief update: predict-then-correct (default), or the paper's literal
@@ -67,6 +71,37 @@ def initial_points(n_locations: int, resolution: int, ignorance: float) -> tuple
     return points, weights
 
 
+def informed_weights(points: FloatArray, ignorance: float, stale: float, true_location: int) -> FloatArray:
+    """``(P,)`` the prior weights of ``(P, L)`` points (:func:`initial_points`) as a person's
+    initial belief about an item that is at ``true_location`` when they are first seen.
+
+    The uniform belief keeps ``ignorance`` and the grid's points share the rest evenly, as in
+    :func:`initial_points`, except that the points giving the true location nothing (a
+    belief from before the episode that has gone out of date) get at most the share
+    ``stale`` of it, the others the remainder. The grid alone gives those points the share
+    ``(L - 1) / (L - 1 + n)``, which nears one as locations are added, so that almost every
+    person with an opinion would hold a false one; with the cap the prior probability of a
+    false belief is at most ``(1 - ignorance) stale`` whatever ``L`` (on up to 4 locations at
+    ``n = 2`` the grid's share is at most 0.6, the default ``stale``: unchanged)."""
+    uniform = (np.abs(points - 1.0 / points.shape[1]).max(axis=1) < 1e-12) & (ignorance > 0)
+    wrong = ~uniform & (points[:, true_location] <= 0)
+    right = ~uniform & ~wrong
+    definite = 1.0 - ignorance if ignorance > 0 else 1.0
+    n_wrong, n_right = int(wrong.sum()), int(right.sum())
+    stale_mass = definite * min(n_wrong / max(n_wrong + n_right, 1), stale if n_right else 1.0)
+    weights = np.where(uniform, ignorance, 0.0)
+    weights[wrong] = stale_mass / max(n_wrong, 1)
+    weights[right] = (definite - stale_mass) / max(n_right, 1)
+    return weights / weights.sum()
+
+
+def hypothesis_combos(n_items: int, n_points: int) -> npt.NDArray[np.int64]:
+    """``(G, K)`` the point of each item in every hypothesis (``G = P**K``, item 0 slowest)."""
+    return np.array(list(itertools.product(range(n_points), repeat=n_items)), dtype=np.int64).reshape(
+        -1, n_items
+    )
+
+
 def prior_beliefs(
     worlds: np.ndarray, n_locations: int, resolution: int, ignorance: float = 0.0
 ) -> tuple[FloatArray, FloatArray]:
@@ -84,13 +119,50 @@ def prior_beliefs(
     per_value = np.zeros((len(points), 2 * n_locations))
     per_value[:, 0::2] = points  # resting at l has value 2 l
     n_items = worlds.shape[1]
-    combos = np.array(list(itertools.product(range(len(points)), repeat=n_items)), dtype=np.int64)
+    combos = hypothesis_combos(n_items, len(points))
     beliefs = np.ones((len(combos), len(worlds)))
     weights = np.ones(len(combos))
     for k in range(n_items):
         beliefs *= per_value[combos[:, k]][:, worlds[:, k]]
         weights *= point_weights[combos[:, k]]
     return beliefs, weights
+
+
+class InitialBeliefs:
+    """The hypotheses of a person's initial belief in one scene (:func:`prior_beliefs`), less
+    those a location's capacity rules out, and their prior weights given the world at the
+    person's first sight (:func:`informed_weights`).
+
+    Attributes:
+        beliefs: ``(G, W)`` each hypothesis's belief.
+        weights: ``(G,)`` the grid's own weights (uniform over its points), whatever the truth.
+        combos: ``(G, K)`` each hypothesis's point per item.
+        points: ``(P, L)`` one item's points.
+    """
+
+    def __init__(self, model: WorldModel, settings: ModelSettings) -> None:
+        resolution, ignorance = settings.prior_resolution, settings.ignorance
+        self.points, _ = initial_points(model.n_locations, resolution, ignorance)
+        beliefs, weights = prior_beliefs(model.worlds, model.n_locations, resolution, ignorance)
+        beliefs = beliefs * model.allowed[None, :]  # no belief in a world a capacity rules out
+        total = beliefs.sum(axis=1, keepdims=True)
+        keep = (total[:, 0] > 0) & (weights > 0)
+        self.beliefs: FloatArray = beliefs[keep] / total[keep]
+        self.weights: FloatArray = weights[keep] / weights[keep].sum()
+        self.combos = hypothesis_combos(model.n_items, len(self.points))[keep]
+        self.ignorance, self.stale = ignorance, settings.stale_share
+        self._given: dict[tuple[int, ...], FloatArray] = {}
+
+    def given(self, truth: tuple[int, ...]) -> FloatArray:
+        """``(G,)`` the prior weights when the items' true values (``2 l + held``) are
+        ``truth`` at the person's first sight: per item :func:`informed_weights`, multiplied."""
+        places = tuple(value // 2 for value in truth)
+        if places not in self._given:
+            weights = np.ones(len(self.combos))
+            for k, place in enumerate(places):
+                weights *= informed_weights(self.points, self.ignorance, self.stale, place)[self.combos[:, k]]
+            self._given[places] = weights / weights.sum()
+        return self._given[places]
 
 
 def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: str = "predict") -> FloatArray:

@@ -2,7 +2,8 @@
 assumptions (:mod:`brain.model.factored`) with each person's own belief per item graded.
 
 Each item ``k`` has ``P`` hypotheses of the person's initial belief about it (the grid of
-:func:`brain.model.graded.simplex_grid` over its resting locations), each carrying the
+:func:`brain.model.graded.simplex_grid` over its resting locations, weighed by
+:func:`brain.model.graded.informed_weights` at the person's first step), each carrying the
 person's own belief ``beta[k, p]`` over the item's ``V`` values, revised by Bayes from
 their percepts on that item alone (:meth:`FactoredBeliefs.revise`). A person who wants item
 ``k`` plans with their belief about ``k`` alone, by QMDP over the factored planner's
@@ -33,7 +34,7 @@ from .desires import Desires, favourite_utilities
 from .estimates import Estimate, reread
 from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy, factored_intention
 from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
-from .graded import choice_likelihood, initial_points
+from .graded import choice_likelihood, informed_weights, initial_points
 from .inference import hazard_matrix, log_of
 from .planner import Move
 
@@ -53,11 +54,17 @@ class GradedFactoredModel:
         self.true_world = true_world
         self.beliefs = FactoredBeliefs(self.model, settings.r, settings.delta)
         self.desires = Desires(favourite_utilities(settings, self.model.n_items))
-        points, self.point_weights = initial_points(
+        self.points, self.point_weights = initial_points(
             self.model.n_locations, settings.prior_resolution, settings.ignorance
         )  # (P, L), (P,)
-        self.initial = np.zeros((len(points), self.model.n_values))
-        self.initial[:, 0::2] = points  # resting at l has value 2 l
+        self.initial = np.zeros((len(self.points), self.model.n_values))
+        self.initial[:, 0::2] = self.points  # resting at l has value 2 l
+
+    def prior(self, truth: tuple[int, ...]) -> FloatArray:
+        """``(K, P)`` each item's hypotheses' prior weights given the true item values at the
+        person's first sight (:func:`brain.model.graded.informed_weights`)."""
+        ignorance, stale = self.settings.ignorance, self.settings.stale_share
+        return np.stack([informed_weights(self.points, ignorance, stale, value // 2) for value in truth])
 
     def new_filter(self) -> GradedFactoredFilter:
         K, P = self.model.n_items, len(self.initial)
@@ -146,12 +153,17 @@ class GradedFactoredFilter:
     weights: FloatArray
     beliefs: FloatArray
     log_evidence: float = 0.0
+    started: bool = False
+    """Whether a step was taken: the first sets the prior by the world then."""
 
     def step(self, record: StepRecord) -> None:
         self.advance(record)
 
     def advance(self, record: StepRecord) -> FloatArray | None:
         """One step; returns the decision's ``(D, P)`` likelihood (``None`` for a percept alone)."""
+        if not self.started:
+            self.weights = np.broadcast_to(self.owner.prior(record.truth), self.weights.shape).copy()
+            self.started = True
         likelihood = None
         if record.decision is not None:
             likelihood = self.owner.decision_likelihood(self.beliefs, *record.decision)  # (D, P)

@@ -30,7 +30,7 @@ from .belief import BeliefModel, Percept
 from .desires import Desires
 from .estimates import Estimate, estimate, reread
 from .factoredperson import FactoredModel
-from .graded import drift, expected_joint, prior_beliefs, qmdp_likelihood, update_beliefs
+from .graded import InitialBeliefs, drift, expected_joint, qmdp_likelihood, update_beliefs
 from .gradedfactored import GradedFactoredModel
 from .inference import HmmStep, forward_step, hazard_matrix, log_of, smooth
 from .lookahead import cached_lookahead
@@ -173,15 +173,8 @@ class GradedModel:
         self.settings = settings
         self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
         self.true_world = true_world
-        initial, weights = prior_beliefs(
-            self.model.worlds, self.model.n_locations, settings.prior_resolution, settings.ignorance
-        )
-        initial = initial * self.model.allowed[None, :]  # no belief in a world a capacity rules out
-        total = initial.sum(axis=1, keepdims=True)
-        keep = (total[:, 0] > 0) & (weights > 0)
-        self.initial = initial[keep] / total[keep]
-        self.initial_weights = weights[keep] / weights[keep].sum()
-        """``(G,)`` the prior weight of each hypothesis of the initial belief."""
+        self.hypotheses = InitialBeliefs(self.model, settings)
+        self.initial = self.hypotheses.beliefs
         self.place_of = (
             self.model.place[:, :, None] == np.arange(self.model.n_locations)[None, None, :]
         ).astype(np.float64)
@@ -200,10 +193,13 @@ class GradedModel:
         """What :meth:`revise` reads besides its arguments: models with equal keys revise alike."""
         self.revision_key += (settings.r, settings.delta, settings.prior_resolution, settings.ignorance)
 
-    def prior(self) -> FloatArray:
-        """``(G, U)``: the hypotheses' prior weights, uniform over candidate desires."""
+    def prior(self, truth: tuple[int, ...] | None = None) -> FloatArray:
+        """``(G, U)``: the hypotheses' prior weights given the true item values at the person's
+        first sight (:meth:`InitialBeliefs.given`; without ``truth``, the grid's own), uniform
+        over candidate desires."""
         U = len(self.policy.utilities)
-        return np.repeat(self.initial_weights[:, None] / U, U, axis=1)
+        weights = self.hypotheses.weights if truth is None else self.hypotheses.given(truth)
+        return np.repeat(weights[:, None] / U, U, axis=1)
 
     @property
     def shared(self) -> SharedRevisions | None:
@@ -264,7 +260,7 @@ class GradedModel:
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
         """Forward-backward over ``(g, d)`` (``g`` never changes; ``d`` may switch), then the
         beliefs replayed to read each step's estimate."""
-        beliefs, alpha = self.initial.copy(), self.prior()
+        beliefs, alpha = self.initial.copy(), self.prior(records[0].truth if records else None)
         alphas, steps = [], []
         for record in records:
             likelihood = self.decision_likelihood(beliefs, record)
@@ -341,8 +337,12 @@ class GradedFilter:
     posterior: FloatArray
     """``(G, U)``."""
     log_evidence: float = 0.0
+    started: bool = False
+    """Whether a step was taken: the first sets the prior by the world then."""
 
     def step(self, record: StepRecord) -> None:
+        if not self.started:
+            self.posterior, self.started = self.owner.prior(record.truth), True
         likelihood = self.owner.decision_likelihood(self.beliefs, record)
         if likelihood is not None:
             self.log_evidence += log_of(float((self.posterior * likelihood).sum()))

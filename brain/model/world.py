@@ -14,7 +14,7 @@ from functools import cached_property
 import numpy as np
 
 from protocol import RegionKind, Scene
-from protocol.carry import carry_locations, location_distances
+from protocol.carry import CarrierSight, carry_locations, location_distances
 
 from .arrays import BoolArray, IntArray
 
@@ -45,6 +45,10 @@ class WorldModel:
         distance: ``(L, C)`` path length in cells from each location to every cell.
         use_at: ``(C,)`` whether the cell is a place where items are used in place.
         capacity: ``(L,)`` how many items may rest at each location (0: any number).
+        carrier_spot: ``(C,)`` the location whose sight shows someone carrying an item on the
+            cell, or -1 (:class:`protocol.carry.CarrierSight`).
+        open_areas: ``(C, R)`` the regions without locations that each cell is in or is a
+            door of: a carrier there is seen from cells sharing one.
     """
 
     cells: IntArray
@@ -60,6 +64,8 @@ class WorldModel:
     distance: IntArray
     use_at: BoolArray
     capacity: IntArray
+    carrier_spot: IntArray
+    open_areas: BoolArray
 
     @property
     def n_cells(self) -> int:
@@ -115,6 +121,15 @@ class WorldModel:
             ok &= ~np.any(self.worlds == 2 * (self.n_locations - 1) + 1, axis=1)
         return ok
 
+    def sees_carrier(self, viewer: int, carriers: IntArray) -> BoolArray:
+        """``carriers.shape``: whether a person on cell index ``viewer`` sees someone carrying
+        an item on each of ``carriers`` (cell indices): from their own cell, where the
+        carrier's location is in view, or in a shared region without locations."""
+        carriers = np.asarray(carriers, dtype=np.int64)
+        spot = self.carrier_spot[carriers]
+        seen = (carriers == viewer) | ((spot >= 0) & self.sees[viewer, np.maximum(spot, 0)])
+        return seen | (self.open_areas[carriers] & self.open_areas[viewer]).any(axis=-1)
+
     def world_index(self, values: IntArray) -> IntArray:
         """World indices of ``(..., K)`` item values."""
         return np.asarray(values, dtype=np.int64) @ self.strides
@@ -164,6 +179,8 @@ def build_world_model(scene: Scene) -> WorldModel:
         [locations.index(carried[cell]) if cell in carried else 0 for cell in walkable], dtype=np.int64
     )
     items = tuple(item.id for item in scene.items)
+    sight = CarrierSight(scene)
+    open_ids = sorted(set().union(*sight.open.values()))
     return WorldModel(
         cells=np.array(walkable, dtype=np.int64),
         neighbour=neighbour,
@@ -178,4 +195,8 @@ def build_world_model(scene: Scene) -> WorldModel:
         distance=distances,
         use_at=use_at,
         capacity=capacity,
+        carrier_spot=np.array(
+            [locations.index(sight.spot[c]) if c in sight.spot else -1 for c in walkable], dtype=np.int64
+        ),
+        open_areas=np.array([[r in sight.open[c] for r in open_ids] for c in walkable], bool).reshape(n, -1),
     )

@@ -131,6 +131,7 @@ class MindTracker:
         model = self.model
         cell_of = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in state.agents}
         holders = {i.id: cell_of.get(i.held_by) if i.held_by else None for i in state.items}
+        self.carriers = tuple(-1 if (c := holders.get(k)) is None else c for k in model.items)  # -1: none
         if self.view is None:
             truths = [true_values(model, {i.id: i.location for i in state.items}, holders)]
         else:
@@ -188,7 +189,7 @@ class MindTracker:
     ) -> Percept:
         """What ``agent`` perceives in a world of ``truth``: sight, then the robot's speech."""
         model = self.model
-        seen = percept(model, cell, truth, held - 1 if held else None)
+        seen = percept(model, cell, truth, held - 1 if held else None, self.carriers)
         for event in events:  # speech: the robot told this person where an item is or who holds it
             if event.kind is EventKind.SAY and event.target == agent and event.item in model.items:
                 k = model.items.index(event.item)

@@ -23,6 +23,29 @@ def test_percepts_follow_visibility() -> None:
     assert carried == (2 * int(MODEL.nearest[OUT]) + 1,), "a carried item is always seen"
 
 
+def test_a_carried_item_is_seen_where_its_carrier_is_seen() -> None:
+    """On the paper map the entrance E has no location: a ball carried there counts at the
+    nearest of all (S1 or S2), yet only E and its doors see the carrier; in S1 the carrier is
+    seen from wherever S1's spot is (P1 and S1)."""
+    from sim2d.engine import Engine
+
+    paper = build_world_model(Engine("paper-1").scene())
+    at = paper.cell_index
+    hall, store, play = at[(5, 5)], at[(5, 8)], at[(1, 9)]  # E, S1, P1
+    s1 = paper.locations.index("S1")
+    assert paper.nearest[hall] == s1 and paper.sees[play, s1]
+    viewers = np.array([hall, at[(9, 5)], at[(5, 7)], at[(7, 3)], store, play, at[(13, 9)]])
+    seen_from_e = paper.sees_carrier(hall, viewers)  # a person in E, carriers on those cells
+    assert seen_from_e.tolist() == [True, True, True, True, False, False, False]
+    assert [bool(paper.sees_carrier(v, np.array(hall))) for v in (play, store)] == [False, False]
+    seen_in_s1 = [bool(paper.sees_carrier(v, np.array(store))) for v in (play, hall, at[(13, 9)])]
+    assert seen_in_s1 == [True, False, False], "from P1 only"
+    ball = (2 * s1 + 1,)
+    assert percept(paper, play, ball, None, carriers=(hall,)).seen == (NOT_IN_VIEW,)
+    assert percept(paper, at[(9, 5)], ball, None, carriers=(hall,)).seen == ball, "E sees E"
+    assert percept(paper, play, ball, None, carriers=(store,)).seen == ball
+
+
 def test_unseen_moves_leave_the_belief_where_it_was() -> None:
     beliefs = BeliefModel(MODEL, r=8.0, delta=1e-4)
     t = beliefs.transition(percept(MODEL, OUT, (REST_A,), None))  # the ball moved to A, unseen

@@ -219,6 +219,40 @@ def test_a_spread_belief_that_includes_the_truth_is_not_a_false_belief() -> None
     )
 
 
+def test_ignorance_over_many_places_is_not_a_false_belief() -> None:
+    """A belief spread evenly over 12 places that include the truth gives it 1/12, less than
+    ``false_belief_mass`` (0.1): read against the likeliest place's share, it is ignorance.
+    A belief that puts a twentieth of the likeliest place's share on the truth is false."""
+    from brain.model.estimates import Estimate, false_belief_probability
+
+    spread = np.r_[np.full(12, 1 / 12), np.zeros(4)]  # 16 locations, 12 of them possible
+    lopsided = np.r_[0.9, 0.045, np.full(14, 0.055 / 14)]
+    beliefs = np.stack([spread, lopsided])[None]  # (G = 1, K = 2, L = 16)
+    est = Estimate(beliefs[0], np.ones(3) / 3, (None, None, 1.0), np.zeros(2), (np.ones(1), beliefs))
+    p = false_belief_probability(est, (2 * 5, 2 * 1), 0.1)
+    assert p.tolist() == [0.0, 1.0], p
+
+
+@pytest.mark.parametrize("n_locations", [2, 3, 4, 5, 8, 16, 30])
+def test_the_prior_chance_of_a_false_belief_does_not_grow_with_the_locations(n_locations: int) -> None:
+    """Of a person's initial beliefs about an item, those giving its true place nothing weigh
+    the grid's own share of the non-uniform mass (so scenes of up to 4 locations keep the
+    grid's prior), but at most ``stale_share`` of it: the grid alone gives them
+    ``(L - 1) / (L + 1)`` at resolution 2, nearly all of it on many locations."""
+    from brain.model.graded import informed_weights
+
+    ignorance, stale = SETTINGS.ignorance, SETTINGS.stale_share
+    points, grid = initial_points(n_locations, 2, ignorance)
+    for truth in range(n_locations):
+        weights = informed_weights(points, ignorance, stale, truth)
+        assert np.isclose(weights.sum(), 1.0) and np.isclose(weights[-1 if n_locations > 2 else 1], ignorance)
+        wrong = weights[points[:, truth] == 0].sum()
+        grid_wrong = grid[points[:, truth] == 0].sum()
+        assert np.isclose(wrong, min(grid_wrong, (1 - ignorance) * stale)), (wrong, grid_wrong)
+        if n_locations <= 4:
+            assert np.allclose(weights, grid), "up to 4 locations the prior is the grid's"
+
+
 @pytest.mark.parametrize("predict", [True, False], ids=["predict", "paper"])
 def test_the_fast_change_sum_equals_the_dense_matrix(paper, predict: bool) -> None:
     """``apply_change`` (a sum per set of affected items) is ``beliefs @ g.T`` with the dense

@@ -105,8 +105,9 @@ namespace Toyroom.Protocol
     /// hold the joint), so that "nothing is at that spot" can be read exactly. <c>false_belief</c> gives, per
     /// item id, the brain's probability that the person has a false belief about it: that their
     /// belief gives the item's true location less than the brain's <c>false_belief_mass</c> (0.1
-    /// by default), which ignorance (a belief spread over places that include the true one) is
-    /// not. <c>false_beliefs</c> lists the items whose false belief is more probable than not.
+    /// by default) times what it gives its likeliest location, which ignorance (a belief spread
+    /// over places that include the true one) is not. <c>false_beliefs</c> lists the items whose
+    /// false belief is more probable than not.
     /// </summary>
     public sealed class AgentMind
     {
