@@ -7,6 +7,9 @@
   recorded ``trace.jsonl``, with no engine.
 - ``python -m brain fit RECORDINGS... --params beta,hazard --out DIR``: parameters fitted to
   recordings, cross-validated, and models compared (:mod:`brain.fitting`).
+- ``python -m brain check-settings [--settings FILE] [--set NAME=VALUE]...``: exit 0 when
+  the settings are allowed, else 2 with one line naming the setting, its value and what is
+  allowed (``toyroom run`` asks this before it starts any process).
 - ``python -m brain plan --scene SCENE.json --out FILE.npz``: the planner's Q-values of a
   scene, for simulated people who act by the brain's planner (:mod:`brain.outputs.policytable`).
 """
@@ -151,6 +154,17 @@ def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Sett
     return path
 
 
+def check_settings_parser() -> argparse.ArgumentParser:
+    parser = command_parser(
+        "python -m brain check-settings",
+        "Check the brain's settings and exit: 0 when every value is allowed, 2 with an error naming\n"
+        "the setting, its value and what is allowed (`toyroom run` asks before any process starts).",
+    )
+    add_settings_args(parser)
+    add_log_level(parser, "WARNING")
+    return parser
+
+
 def plan_parser() -> argparse.ArgumentParser:
     parser = command_parser(
         "python -m brain plan",
@@ -236,7 +250,12 @@ def episode_folders(scenarios: Sequence[str]) -> list[tuple[str, str]]:
     return list(folders.items())
 
 
-SUBCOMMANDS = {"infer": infer_parser, "fit": fit_parser, "plan": plan_parser}
+SUBCOMMANDS = {
+    "infer": infer_parser,
+    "fit": fit_parser,
+    "plan": plan_parser,
+    "check-settings": check_settings_parser,
+}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -247,6 +266,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     configure_logging(args.log_level)
     try:
         settings = load_settings(args.settings, args.overrides)
+        if sub == "check-settings":
+            return 0
         if sub == "plan":
             return plan_main(args.scene, args.out, settings)
         if sub == "fit":

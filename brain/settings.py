@@ -51,11 +51,21 @@ class ModelSettings:
         ignorance: graded model: the prior probability, per item, that a person starts not
             knowing where it is (their initial belief uniform over its resting locations);
             the grid's points share the rest. 0: the grid alone.
+        stale_share: graded model: the largest share of the grid's part of the prior
+            (``1 - ignorance``) that goes to initial beliefs giving an item's true place (when
+            the person is first seen) nothing: beliefs from before the episode that have gone
+            out of date. The grid's points share it evenly, but those points are most of the
+            grid on many locations; above this share they get this share. 0.6 is the grid's
+            own share on 4 locations at ``prior_resolution = 2`` (scenes of up to 4 locations
+            keep the grid's prior); the prior probability of a false belief is at most
+            ``(1 - ignorance) stale_share`` however many locations the scene has.
         belief_update: graded model: ``predict`` (a change of world is predicted with weight
             ``r``, then the percept corrects it) or ``paper`` (the paper's single normalisation
             after summing over the previous worlds).
         false_belief_mass: a person has a false belief about an item when their belief gives
-            its true location less than this (``false_belief`` rows of ``mind.csv``).
+            its true location less than this times what it gives its likeliest location
+            (``false_belief`` rows of ``mind.csv``): a belief spread evenly over places that
+            include the true one, however many, is ignorance, not a false belief.
         desire_model: ``favourite`` (one favourite goal: an item, or ``out``; the paper's) or
             ``graded`` (a utility per goal on a grid: ``brain/model/desires.py``).
         person_planner: graded beliefs: how a person plans with their belief: ``qmdp`` (the
@@ -98,6 +108,7 @@ class ModelSettings:
     belief_model: str = "graded"
     prior_resolution: int = 2
     ignorance: float = 0.5
+    stale_share: float = 0.6
     belief_update: str = "predict"
     false_belief_mass: float = 0.1
     desire_model: str = "favourite"
@@ -121,6 +132,7 @@ class ModelSettings:
             "belief_model": self.belief_model in ("point", "graded"),
             "prior_resolution": self.prior_resolution >= 1,
             "ignorance": 0.0 <= self.ignorance <= 1.0,
+            "stale_share": 0.0 <= self.stale_share <= 1.0,
             "belief_update": self.belief_update in ("predict", "paper"),
             "false_belief_mass": 0.0 < self.false_belief_mass <= 1.0,
             "desire_model": self.desire_model in ("favourite", "graded"),
@@ -134,7 +146,46 @@ class ModelSettings:
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:
-            raise ValueError(f"invalid model settings: {', '.join(f'{n}={getattr(self, n)!r}' for n in bad)}")
+            raise ValueError(f"invalid model settings: {_allowed(self, bad)}")
+
+
+ALLOWED = {
+    "r": "r > 0",
+    "delta": "0 <= delta < 0.5",
+    "beta": "beta >= 0",
+    "epsilon": "0 <= epsilon < 1",
+    "hazard": "0 <= hazard < 1",
+    "decision_seconds": "decision_seconds > 0",
+    "wait_decisions": "wait_decisions >= 0",
+    "discount": "0 < discount < 1",
+    "belief_model": "one of point, graded",
+    "prior_resolution": "an int >= 1",
+    "ignorance": "0 <= ignorance <= 1",
+    "stale_share": "0 <= stale_share <= 1",
+    "belief_update": "one of predict, paper",
+    "false_belief_mass": "0 < false_belief_mass <= 1",
+    "desire_model": "one of favourite, graded",
+    "desire_levels": "an int >= 2",
+    "person_planner": "one of qmdp, belief",
+    "top_worlds": "an int >= 0",
+    "perception": "one of omniscient, embodied",
+    "miss": "0 <= miss < 1",
+    "hearsay": "hearsay >= 0",
+    "forget": "forget >= 0",
+    "confirm_seconds": "confirm_seconds >= 0",
+    "attempts": "an int >= 1",
+    "navigate_timeout": "navigate_timeout > 0",
+    "action_timeout": "action_timeout > 0",
+}
+"""What the settings allow of each value they check, as their errors say it (``toyroom run``
+checks them with ``python -m brain check-settings`` before any process starts)."""
+
+
+def _allowed(values: object, names: list[str]) -> str:
+    """``name=value (allowed: ...)`` for each of ``names``, for an error message."""
+    return "; ".join(
+        f"{n}={getattr(values, n)!r} (allowed: {ALLOWED.get(n) or f'0 <= {n} <= 1'})" for n in names
+    )
 
 
 @dataclass(frozen=True)
@@ -146,8 +197,8 @@ class RobotSettings:
             the robot to act on it.
         intention_threshold: the same for the intention (item and believed location).
         belief_threshold: a false belief (``Estimate.false_belief``: the person's belief gives
-            the item's true location less than ``false_belief_mass``) must be at least this
-            probable for the robot to act on it.
+            the item's true location less than ``false_belief_mass`` times its likeliest
+            location's) must be at least this probable for the robot to act on it.
         put_back_preference: an item nobody left where it is is put back for someone who
             does not know it was moved only when they want it at least this probably (0:
             for anyone with a false belief about it: the robot walks, nobody is interrupted).
@@ -187,10 +238,26 @@ class RobotSettings:
             raise ValueError(
                 f"invalid robot settings: policy={self.policy!r} (one of {', '.join(ROBOT_POLICIES)})"
             )
+        checks = {name: 0.0 <= getattr(self, name) <= 1.0 for name in ROBOT_SHARES}
+        checks |= {"confirm_seconds": self.confirm_seconds >= 0, "attempts": self.attempts >= 1}
+        checks |= {"navigate_timeout": self.navigate_timeout > 0, "action_timeout": self.action_timeout > 0}
+        bad = [name for name, ok in checks.items() if not ok]
+        if bad:
+            raise ValueError(f"invalid robot settings: {_allowed(self, bad)}")
 
 
 ROBOT_POLICIES = ("tom", "tidy", "announce")
 """:attr:`RobotSettings.policy`'s values (:data:`brain.robot.branches.POLICIES`)."""
+ROBOT_SHARES = (
+    "preference_threshold",
+    "intention_threshold",
+    "belief_threshold",
+    "put_back_preference",
+    "put_back_harm",
+    "inform_mass",
+    "swap_accept",
+)
+""":class:`RobotSettings` that are probabilities (or shares of one): each in [0, 1]."""
 
 
 @dataclass(frozen=True)

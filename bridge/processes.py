@@ -9,7 +9,9 @@ So the main thread waits in short slices (:func:`wait_for_stop`).
 
 Nodes are started as ``python -m sim2d`` and ``python -m brain`` (the bridge never imports
 them); a started node's output goes to a log kept with the results, and it is stopped with
-SIGTERM, then SIGKILL after a grace.
+SIGTERM, then SIGKILL after a grace (:func:`stop_nodes`: a whole process group each, for nodes
+started as group leaders). The brain's settings are checked by the brain itself, as a process,
+before any node starts (:func:`check_brain_settings`).
 """
 
 from __future__ import annotations
@@ -22,12 +24,14 @@ import subprocess
 import sys
 import threading
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 from protocol import EngineInfo
 
 from .bridge import Bridge
 from .errors import BridgeError, NoReply
+from .flags import settings_argv
 from .handshake import handshake
 from .session import SessionSettings
 
@@ -178,23 +182,34 @@ GATEWAY_READY = re.compile(r"toyroom gateway: world '[^']*' on (?P<url>ws://[^\s
 
 
 def start_gateway(
-    world: str, settings: SessionSettings, log_path: Path, timeout: float = 30.0
+    world: str,
+    settings: SessionSettings,
+    log_path: Path,
+    timeout: float = 30.0,
+    *,
+    group: bool = False,
+    stop: threading.Event | None = None,
 ) -> tuple[subprocess.Popen[bytes], str]:
-    """A gateway process on a free loopback port, and its URL once it listens.
+    """A gateway process on a free loopback port, and its URL once it listens (``group``: see
+    :func:`start_node`).
 
     Raises:
-        BridgeError: it exited, or did not say it listens within ``timeout`` s (its log says why).
+        BridgeError: it exited, or did not say it listens within ``timeout`` s (its log says
+            why), or ``stop`` was set first.
     """
-    process = start_node(gateway_command(world, settings, "ws://127.0.0.1:0"), log_path)
+    process = start_node(gateway_command(world, settings, "ws://127.0.0.1:0"), log_path, group=group)
     deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
+    while time.monotonic() < deadline and not (stop is not None and stop.is_set()):
         match = GATEWAY_READY.search(log_path.read_text(encoding="utf-8", errors="replace"))
         if match:
             return process, match.group("url")
         if process.poll() is not None:
             break
         time.sleep(0.05)
-    stop_node(process)
+    if group:
+        stop_nodes([process])
+    else:
+        stop_node(process)
     raise BridgeError(f"the gateway did not start (exit status {process.returncode}); see {log_path}")
 
 
@@ -217,11 +232,65 @@ def node_environment(child: bool = True) -> dict[str, str]:
     return env
 
 
-def start_node(command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
+def start_node(command: list[str], log_path: Path, *, group: bool = False) -> subprocess.Popen[bytes]:
     """Start a node with its output going to ``log_path`` (kept with the results), with
-    :func:`node_environment`."""
+    :func:`node_environment`; with ``group``, as the leader of a process group of its own
+    (a terminal's Ctrl-C then reaches only this process, which stops the node with
+    :func:`stop_nodes`, helpers and all)."""
     with log_path.open("wb") as handle:
-        return subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT, env=node_environment())
+        return subprocess.Popen(
+            command,
+            stdout=handle,
+            stderr=subprocess.STDOUT,
+            env=node_environment(),
+            start_new_session=group,
+        )
+
+
+def _signal_group(process: subprocess.Popen[bytes], sig: signal.Signals) -> None:
+    """Send ``sig`` to the process group ``process`` leads (nothing when the group is gone)."""
+    try:
+        os.killpg(process.pid, sig)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+def stop_nodes(processes: Sequence[subprocess.Popen[bytes] | None], grace: float = 10.0) -> None:
+    """Stop nodes started with ``group=True``, all at once: SIGTERM to every group, up to
+    ``grace`` seconds for the leaders to exit, then SIGKILL to whatever is left of each group
+    (a leader that ignored SIGTERM, helpers it did not wait for); every leader is reaped.
+    Safe to call twice, and for nodes that have exited."""
+    started = [p for p in processes if p is not None]
+    for process in started:
+        _signal_group(process, signal.SIGTERM)
+    deadline = time.monotonic() + grace
+    for process in started:
+        try:
+            process.wait(timeout=max(0.0, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            log.warning("process %d ignored SIGTERM for %g s: killed", process.pid, grace)
+    for process in started:
+        _signal_group(process, signal.SIGKILL)
+        process.wait(timeout=grace)
+
+
+def check_brain_settings(settings: Path | None, overrides: Sequence[str], timeout: float = 120.0) -> None:
+    """Ask the brain whether a settings file and ``NAME=VALUE`` overrides are allowed, before
+    any node starts (``python -m brain check-settings``: a process, as the bridge never imports
+    the brain). Nothing to ask when both are empty: the defaults are allowed.
+
+    Raises:
+        BridgeError: the brain's answer, naming the setting, its value and what is allowed.
+    """
+    if settings is None and not overrides:
+        return
+    command = [sys.executable, "-m", "brain", "check-settings", *settings_argv(settings, overrides)]
+    result = subprocess.run(
+        command, capture_output=True, text=True, timeout=timeout, env=node_environment(), check=False
+    )
+    if result.returncode != 0:
+        lines = [line.removeprefix("brain: ") for line in result.stderr.splitlines() if line.strip()]
+        raise BridgeError(f"bad settings: {lines[-1] if lines else f'exit status {result.returncode}'}")
 
 
 def stop_node(process: subprocess.Popen[bytes], grace: float = 10.0) -> None:
@@ -250,11 +319,14 @@ def report_failure(node: str, status: int | None, log_path: Path, lines: int = 2
 
 
 def wait_for_engine(
-    bridge: Bridge, engine: subprocess.Popen[bytes], timeout: float = 60.0
+    bridge: Bridge,
+    engine: subprocess.Popen[bytes],
+    timeout: float = 60.0,
+    stop: threading.Event | None = None,
 ) -> EngineInfo | None:
-    """The engine's handshake, or ``None`` when its process exits first."""
+    """The engine's handshake, or ``None`` when its process exits first (or ``stop`` is set)."""
     deadline = time.monotonic() + timeout
-    while engine.poll() is None:
+    while engine.poll() is None and not (stop is not None and stop.is_set()):
         try:
             return handshake(bridge, client="toyroom-run", role="recorder", timeout=0.5)
         except NoReply:
