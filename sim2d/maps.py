@@ -127,6 +127,12 @@ def read_toml(path: Path) -> dict[str, Any]:
         with path.open("rb") as handle:
             return tomllib.load(handle)
     except FileNotFoundError:
+        if path.parent == SCENARIO_DIR:  # a bundled name that is not: say which ones are
+            kind, suffix = ("map", ".map.toml") if path.name.endswith(".map.toml") else ("scenario", ".toml")
+            names = (p.name.removesuffix(suffix) for p in SCENARIO_DIR.glob("*.toml"))
+            known = ", ".join(sorted(n for n in names if "." not in n))  # not the other kind's
+            entry = f"{kind} '{path.name.removesuffix(suffix)}'"
+            raise ScenarioError(path, entry, f"not bundled; known: {known} (or give a .toml file)") from None
         raise ScenarioError(path, "", "no such file") from None
     except tomllib.TOMLDecodeError as err:
         raise ScenarioError(path, "", f"not valid TOML: {err}") from None

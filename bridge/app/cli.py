@@ -56,6 +56,15 @@ def _observer_arg(parser: argparse.ArgumentParser, help: str) -> None:
     parser.add_argument("--observer", choices=Observer.names(), default=Observer.BTOM.value, help=help)
 
 
+def _strict_arg(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="refuse a cut-off or damaged recording (exit 1) instead of using the part before the "
+        "break with a warning",
+    )
+
+
 Command = Callable[[str, str], argparse.ArgumentParser]
 """Adds a command (name, help) to ``toyroom``'s parser and returns its parser."""
 
@@ -123,6 +132,7 @@ def _replay_command(command: Command) -> None:
     """``toyroom replay``'s options."""
     replaying = command("replay", "republish an MCAP recording so brains and viewers run on it")
     replaying.add_argument("file", type=Path, metavar="FILE.mcap", help="the recording")
+    _strict_arg(replaying)
     replaying.add_argument("--speed", type=float, default=1.0, help="times real time; 0: as fast as possible")
     replaying.add_argument(
         "--until-tick", type=int, help="stop after this tick (and keep serving the handshake)"
@@ -151,6 +161,7 @@ def _infer_command(command: Command) -> None:
     infer.add_argument("trace", type=Path, help="a trace.jsonl or .mcap written by toyroom run")
     infer.add_argument("--out", type=Path, required=True, help="directory for mind.csv, figures, report.md")
     _observer_arg(infer, "the person model to infer with")
+    _strict_arg(infer)
     add_settings_args(infer)
 
 
@@ -228,6 +239,11 @@ def _conform_command(command: Command) -> None:
     """``toyroom conform``'s options."""
     conform = command("conform", "check that the engine serving a world speaks the protocol")
     conform.add_argument("--timeout", type=float, default=5.0, help="seconds per request")
+    conform.add_argument(
+        "--strict",
+        action="store_true",
+        help="fail on a skipped check too (one that applies to the engine but found nothing to exercise)",
+    )
     add_network_args(conform)
 
 
@@ -269,6 +285,22 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+FOLDER_OUT = ("run", "infer", "bench", "eval")
+"""Commands whose ``--out`` is a folder (made when missing)."""
+
+
+def out_folder_problem(path: Path) -> str | None:
+    """Why ``--out`` ``path`` cannot be a folder (it, or a folder above it, is a file), or
+    ``None``."""
+    for part in (path, *path.parents):
+        if part.exists():
+            if part.is_dir():
+                return None
+            where = "" if part == path else f" ({part} is a file)"
+            return f"--out {path}: expected a folder, got a file{where}"
+    return None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``toyroom`` console script. Global flags (``--log-level``) may
     come before or after the command name."""
@@ -279,6 +311,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exec_node(rest[0], [*rest[1:], *levels])
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level or "INFO")
+    if args.command in FOLDER_OUT and (problem := out_folder_problem(args.out)) is not None:
+        print(f"toyroom {args.command}: {problem}", file=sys.stderr)
+        return 2
     try:
         return COMMANDS[args.command](args)
     except (BridgeError, ProtocolErrorBase) as err:

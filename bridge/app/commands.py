@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..evaluation.conditions import POLICIES, Condition
 from ..flags import PROG_ENV, settings_argv
-from ..processes import node_environment, stop_on_signals, wait_for_stop
+from ..processes import check_brain_settings, node_environment, stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
 
 CSHARP_MESSAGES = "clients/unity/Runtime/Protocol/Messages.g.cs"
@@ -138,18 +138,22 @@ def record_main(world: str, settings: SessionSettings, path: Path) -> int:
     return 0
 
 
-def conform_main(world: str, settings: SessionSettings, timeout: float) -> int:
-    """Run the conformance kit against the engine of ``world``; 1 when a check fails."""
+def conform_main(world: str, settings: SessionSettings, timeout: float, strict: bool = False) -> int:
+    """Run the conformance kit against the engine of ``world``; 1 when a check fails (or,
+    with ``strict``, is skipped)."""
     from ..bridge import Bridge
-    from ..conformance.checks import check_engine
+    from ..conformance.checks import check_engine, summary
+    from ..conformance.probe import Outcome
 
     with Bridge(world, settings) as bridge:
         results = check_engine(bridge, timeout)
     for result in results:
         print(result.line())
-    failed = [r for r in results if not r.passed]
-    print(f"{len(results) - len(failed)} passed, {len(failed)} failed")
-    return 1 if failed else 0
+    print(summary(results))
+    skipped = any(r.outcome is Outcome.SKIPPED for r in results)
+    if strict and skipped:
+        print("conform --strict: a skipped check counts as failed (run a scene where each can run)")
+    return 1 if any(r.failed for r in results) or (strict and skipped) else 0
 
 
 def doctor_main(world: str, settings: SessionSettings) -> int:
@@ -234,6 +238,7 @@ def _eval(args: argparse.Namespace) -> int:
     from ..evaluation.conditions import conditions
 
     brain = settings_argv(args.settings, args.overrides)
+    check_brain_settings(args.settings, args.overrides)  # before any process starts
     try:
         tasks = [t.strip() for t in args.tasks.split(",") if t.strip()]
         chosen = conditions(args.perception.split(","), args.minds.split(","), args.kind.split(","), tasks)
@@ -266,57 +271,19 @@ def _eval(args: argparse.Namespace) -> int:
 
 
 def _conform(args: argparse.Namespace) -> int:
-    return conform_main(args.world, settings_from_args(args), args.timeout)
+    return conform_main(args.world, settings_from_args(args), args.timeout, args.strict)
 
 
 def _infer(args: argparse.Namespace) -> int:
-    """``toyroom infer``: a recording through a fresh brain, with the settings recorded with
-    it (an MCAP file's metadata, or the ``settings.toml`` beside a ``trace.jsonl``) unless
-    ``--settings`` names others; ``--set`` applies on top of either."""
-    trace, recorded = args.trace, None
-    if trace.suffix == ".mcap":
-        from ..recording.mcap import mcap_to_trace, recorded_settings
+    from .recordings import infer_main
 
-        args.out.mkdir(parents=True, exist_ok=True)
-        converted = args.out / "trace.jsonl"
-        mcap_to_trace(trace, converted)
-        text = recorded_settings(trace)
-        if text is not None:
-            recorded = args.out / "recorded-settings.toml"
-            recorded.write_text(text, encoding="utf-8")
-        trace = converted
-    elif (trace.parent / "settings.toml").is_file():
-        recorded = trace.parent / "settings.toml"
-    settings = args.settings
-    if settings is None and recorded is not None:
-        print(f"toyroom infer: using the settings recorded with the run ({recorded})", flush=True)
-        settings = recorded
-    argv = ["infer", str(trace), "--out", str(args.out), "--observer", args.observer]
-    argv += ["--log-level", args.log_level] if args.log_level else []
-    argv += settings_argv(settings, args.overrides)
-    return exec_node("brain", argv, prog="toyroom infer")
+    return infer_main(args)
 
 
 def _replay(args: argparse.Namespace) -> int:
-    from ..bridge import Bridge
-    from ..recording.replay import replay
+    from .recordings import replay_main
 
-    stop = threading.Event()
-    stop_on_signals(stop)
-    with Bridge(args.world, settings_from_args(args)) as bridge:
-        sent = replay(
-            bridge,
-            args.file,
-            speed=args.speed,
-            stop=stop,
-            until_tick=args.until_tick,
-            wait_subscribers=args.wait_subscribers,
-            resend_minds=args.hold,
-        )
-        print(f"toyroom replay: {sent} messages from {args.file} on world '{args.world}'", flush=True)
-        if args.hold:
-            wait_for_stop(stop)
-    return 0
+    return replay_main(args)
 
 
 def _record(args: argparse.Namespace) -> int:

@@ -6,6 +6,11 @@ order, each giving a :class:`CheckResult` that says what was expected and what c
 ``toyroom conform --world W`` prints them and exits non-zero on any failure; the test
 suite runs the same checks against every engine the repository has.
 
+Each check passes, fails, is skipped (it applies, but what it needs was not there: a robot
+that acts, a free item, a reachable spot; the reason says what) or does not apply (the other
+clock mode, a capability the engine does not declare); ``toyroom conform`` prints the four
+counts, and with ``--strict`` fails on a skip too.
+
 Checks (:data:`CHECK_NAMES`, in order): the handshake (fields, version, capabilities by
 name); the scene (ids unique, doors joining walkable cells, every location reachable,
 visibility naming known locations); the liveliness token; a real-time clock that runs,
@@ -41,8 +46,8 @@ from ..errors import BridgeError
 from ..handshake import ask_engine
 from ..presence import PresenceWatcher
 from .clock import ClockChecks
-from .commands import CommandChecks
-from .probe import CheckFailed, CheckResult
+from .items import ItemChecks
+from .probe import CheckFailed, CheckResult, CheckSkipped, NotApplicable, Outcome
 
 CHECK_NAMES = (
     "handshake",
@@ -72,15 +77,16 @@ CHECK_NAMES = (
 ``toyroom conform`` and the pytest mixin (:mod:`bridge.conformance.suite`) both use."""
 
 LOCKSTEP_ONLY = frozenset(CHECK_NAMES[CHECK_NAMES.index("reset") :]) - {"status order", "event order"}
-"""Checks that drive the clock: skipped against a real-time engine."""
+"""Checks that drive the clock: they do not apply to a real-time engine."""
 
 STOP_AFTER_FAILING = ("handshake", "reset")
 """Checks the others depend on: a failure ends the run."""
 
 
-class Checker(ClockChecks, CommandChecks):
-    """The checks, one method each (``check_<name>``; the clock's and the commands' in
-    :mod:`~bridge.conformance.clock` and :mod:`~bridge.conformance.commands`)."""
+class Checker(ClockChecks, ItemChecks):
+    """The checks, one method each (``check_<name>``; the clock's, the commands' and the
+    items' in :mod:`~bridge.conformance.clock`, :mod:`~bridge.conformance.commands` and
+    :mod:`~bridge.conformance.items`)."""
 
     def check_handshake(self) -> str:
         info = ask_engine(self.bridge, Hello(client="toyroom-conform", role="conform"), self.timeout)
@@ -205,7 +211,7 @@ class Checker(ClockChecks, CommandChecks):
     def check_truth(self) -> str:
         assert self.info is not None
         if Capability.TRUTH not in self.info.capabilities:
-            return "skipped: not declared"
+            raise NotApplicable("the engine does not declare 'truth'")
         before = len(self.stream.truths)
         self.step(3)
         if not self.stream.wait(lambda: len(self.stream.truths) > before, self.timeout):
@@ -213,30 +219,47 @@ class Checker(ClockChecks, CommandChecks):
         return f"{len(self.stream.truths) - before} truth messages in 3 ticks"
 
     def checks(self) -> Iterator[tuple[str, Callable[[], str]]]:
-        """Every check of :data:`CHECK_NAMES`, in order (lock-step ones skipped against a
+        """Every check of :data:`CHECK_NAMES`, in order (lock-step ones do not apply to a
         real-time engine)."""
         for name in CHECK_NAMES:
             if name in LOCKSTEP_ONLY and self.info is not None and self.info.clock is ClockMode.REALTIME:
-                yield name, lambda: "skipped: the clock runs in real time"
+                yield name, _not_applicable("the clock runs in real time")
             else:
                 yield name, getattr(self, f"check_{name.replace(' ', '_')}")
 
 
+def _not_applicable(reason: str) -> Callable[[], str]:
+    def check() -> str:
+        raise NotApplicable(reason)
+
+    return check
+
+
 def check_engine(bridge: Bridge, timeout: float = 5.0) -> list[CheckResult]:
     """Run every check against the engine of ``bridge``'s world; stop at the first failure
-    of a check the others depend on (the handshake)."""
+    of a check the others depend on (the handshake, the reset)."""
     checker = Checker(bridge, timeout)
     results = []
     for name, check in checker.checks():
         try:
-            detail = check()
-            results.append(CheckResult(name, True, detail))
+            results.append(CheckResult(name, Outcome.PASSED, check()))
+        except NotApplicable as why:
+            results.append(CheckResult(name, Outcome.NOT_APPLICABLE, str(why)))
+        except CheckSkipped as why:
+            results.append(CheckResult(name, Outcome.SKIPPED, str(why)))
         except (CheckFailed, BridgeError) as err:
-            results.append(CheckResult(name, False, str(err)))
-            if name in STOP_AFTER_FAILING:
-                break
+            results.append(CheckResult(name, Outcome.FAILED, str(err)))
         except Exception as err:  # a protocol error or a bug in the engine's answers
-            results.append(CheckResult(name, False, f"{type(err).__name__}: {err}"))
-            if name in STOP_AFTER_FAILING:
-                break
+            results.append(CheckResult(name, Outcome.FAILED, f"{type(err).__name__}: {err}"))
+        if results[-1].failed and name in STOP_AFTER_FAILING:
+            break
     return results
+
+
+def summary(results: list[CheckResult]) -> str:
+    """The counts (``19 passed, 0 skipped, 0 failed, 3 not applicable``)."""
+    count = {outcome: sum(r.outcome is outcome for r in results) for outcome in Outcome}
+    return (
+        f"{count[Outcome.PASSED]} passed, {count[Outcome.SKIPPED]} skipped, {count[Outcome.FAILED]} failed, "
+        f"{count[Outcome.NOT_APPLICABLE]} not applicable"
+    )

@@ -26,7 +26,7 @@ from protocol import (
 )
 
 from ..pubsub import Publisher, zenoh_encoding
-from .probe import CheckFailed, Probe
+from .probe import CheckFailed, CheckSkipped, NotApplicable, Probe
 
 HEARTBEAT_SECONDS = 0.25
 """How often the kit beats while it drives the robot (as the brain does)."""
@@ -43,7 +43,7 @@ class ClockChecks(Probe):
 
     def check_realtime(self) -> str:
         if not self._realtime():
-            return "skipped: the clock runs in lock-step"
+            raise NotApplicable("the clock runs in lock-step")
         first = len(self.stream.states)
         if not self.stream.wait(lambda: len(self.stream.states) > first + 2, self.timeout):
             raise CheckFailed("a real-time clock should publish states by itself; none came")
@@ -51,7 +51,7 @@ class ClockChecks(Probe):
 
     def check_pause_and_resume(self) -> str:
         if not self._realtime():
-            return "skipped: the clock runs in lock-step"
+            raise NotApplicable("the clock runs in lock-step")
         assert self.info is not None
         paused = self.control(Pause())
         if not paused.paused:
@@ -75,11 +75,15 @@ class ClockChecks(Probe):
 
     def check_heartbeat(self) -> str:
         if not self._realtime():
-            return "skipped: the clock runs in lock-step (heartbeats matter in real time)"
-        assert self.info is not None and self.robot is not None
+            raise NotApplicable("the clock runs in lock-step (heartbeats matter in real time)")
+        assert self.info is not None
+        if Capability.ROBOT not in self.info.capabilities:
+            raise NotApplicable("the engine does not declare 'robot'")
+        if self.robot is None:
+            raise CheckSkipped("no robot in the scene")
         robot = next(a for a in self.info.scene.agents if a.id == self.robot)
-        if Capability.ROBOT not in self.info.capabilities or not robot.acts:
-            return "skipped: no robot that acts"
+        if not robot.acts:
+            raise CheckSkipped(f"robot '{robot.id}' only observes in this scene (acts: false)")
         home = robot.home
         far = max(self.info.scene.walkable(), key=lambda c: abs(c[0] - home.col) + abs(c[1] - home.row))
         command = self.send(Navigate(cell=Cell(*far)))
@@ -94,8 +98,8 @@ class ClockChecks(Probe):
         if while_beating and while_beating[-1].state.final:
             if while_beating[-1].state is CommandState.FAILED and "heartbeat" in while_beating[-1].reason:
                 raise CheckFailed(f"the robot stopped although heartbeats came: {while_beating[-1].reason}")
-            return (
-                f"skipped: the navigation ended {while_beating[-1].state.value} before the heartbeats stopped"
+            raise CheckSkipped(
+                f"the navigation ended {while_beating[-1].state.value} before the heartbeats stopped"
             )
 
         def stopped() -> bool:
@@ -135,7 +139,7 @@ class ClockChecks(Probe):
         decode(data, EngineInfo, Encoding.MSGPACK)
         said = ["engine/info"]
         if not self._realtime():
-            before = self.tick
+            before = self.step(1).tick  # the engine may have run before the kit came (no reset yet)
             data, encoding = self._raw_query(self.keys.control, encode(Step(n=1), Encoding.MSGPACK))
             if encoding is not Encoding.MSGPACK:
                 raise CheckFailed(

@@ -1,5 +1,5 @@
-"""The conformance checks of robot commands: every kind ending properly, the success paths
-(a real navigation to a far cell; pick, place and give), cancel of a running command, a
+"""The conformance checks of robot commands: every kind ending properly, a real navigation
+to a far cell (pick, place and give are :mod:`.items`'), cancel of a running command, a
 command sent while another runs, a kind the engine does not know, impossible commands, and
 the order of every status seen."""
 
@@ -25,11 +25,9 @@ from protocol import (
 )
 from protocol.carry import walking_distances
 
-from .probe import CheckFailed, Probe, kind_of
+from .probe import CheckFailed, CheckSkipped, NotApplicable, Probe, kind_of
 
 FINAL = (CommandState.SUCCEEDED, CommandState.FAILED, CommandState.CANCELLED)
-GIVE_TRIES = 4
-"""Tries at handing an item to a person who may walk off meanwhile."""
 
 
 def shown(statuses: list[CommandStatus]) -> list[str]:
@@ -40,13 +38,16 @@ def shown(statuses: list[CommandStatus]) -> list[str]:
 class CommandChecks(Probe):
     """The robot-command checks (``check_<name>``)."""
 
-    def _acting_robot(self) -> str | None:
-        """Why the command checks are skipped, or ``None`` when the robot acts."""
+    def _need_acting_robot(self) -> None:
+        """Raise unless the engine declares a robot and the scene's robot acts."""
         assert self.info is not None
-        if Capability.ROBOT not in self.info.capabilities or self.robot is None:
-            return "skipped: no 'robot' capability or no robot in the scene"
+        if Capability.ROBOT not in self.info.capabilities:
+            raise NotApplicable("the engine does not declare 'robot'")
+        if self.robot is None:
+            raise CheckSkipped("no robot in the scene")
         robot = next(a for a in self.info.scene.agents if a.id == self.robot)
-        return None if robot.acts else f"skipped: robot '{self.robot}' only observes (acts: false)"
+        if not robot.acts:
+            raise CheckSkipped(f"robot '{self.robot}' only observes in this scene (acts: false)")
 
     def _far_cell(self) -> tuple[GridCell, int]:
         """The walkable cell farthest from the robot, and its walking distance."""
@@ -59,6 +60,9 @@ class CommandChecks(Probe):
         if statuses[-1].state is not CommandState.SUCCEEDED:
             raise CheckFailed(f"{what}: expected succeeded, got {shown(statuses)}")
         return statuses
+
+    def _holding(self, agent: str) -> str | None:
+        return next((a.holding for a in self.latest().agents if a.id == agent), None)
 
     def _go(self, cell: GridCell, what: str) -> None:
         self._succeed(Navigate(cell=Cell(*cell)), f"navigate to ({cell[0]},{cell[1]}) {what}")
@@ -73,8 +77,7 @@ class CommandChecks(Probe):
             )
 
     def check_robot_commands(self) -> str:
-        if (skip := self._acting_robot()) is not None:
-            return skip
+        self._need_acting_robot()
         assert self.info is not None and self.robot is not None
         scene = self.info.scene
         home = next(a.home for a in scene.agents if a.id == self.robot)
@@ -108,12 +111,11 @@ class CommandChecks(Probe):
         return ", ".join(seen)
 
     def check_navigation(self) -> str:
-        if (skip := self._acting_robot()) is not None:
-            return skip
+        self._need_acting_robot()
         assert self.robot is not None
         target, distance = self._far_cell()
         if distance < 2:
-            return "skipped: no cell two steps away"
+            raise CheckSkipped("no walkable cell two steps from the robot")
         mark = len(self.stream.states)
         statuses = self._succeed(Navigate(cell=Cell(*target)), f"navigate to the far cell {target}")
         ticks = statuses[-1].tick - statuses[0].tick
@@ -137,73 +139,8 @@ class CommandChecks(Probe):
             raise CheckFailed(f"expected the robot to move one cell at a time, got the jump {jumps[0]}")
         return f"{distance} cells to {target} in {ticks} ticks"
 
-    def _resting_item(self) -> tuple[str, str, GridCell]:
-        """An item resting at a location: its id, the location and the location's cell."""
-        assert self.info is not None
-        cells = {loc.id: (loc.cell.col, loc.cell.row) for loc in self.info.scene.locations}
-        for item in self.latest().items:
-            if item.location is not None and item.held_by is None and item.location in cells:
-                return item.id, item.location, cells[item.location]
-        raise CheckFailed("expected an item resting at a location to pick, got none")
-
-    def _free_location(self, other_than: str) -> tuple[str, GridCell]:
-        assert self.info is not None
-        resting = [i.location for i in self.latest().items if i.held_by is None]
-        for loc in self.info.scene.locations:
-            room = loc.capacity is None or resting.count(loc.id) < loc.capacity
-            if loc.id != other_than and room and not loc.use:
-                return loc.id, (loc.cell.col, loc.cell.row)
-        raise CheckFailed("expected a second location with room to place an item, got none")
-
-    def _holding(self, agent: str) -> str | None:
-        return next((a.holding for a in self.latest().agents if a.id == agent), None)
-
-    def check_pick_place_give(self) -> str:
-        if (skip := self._acting_robot()) is not None:
-            return skip
-        assert self.robot is not None
-        item, source, cell = self._resting_item()
-        self._go(cell, f"to pick '{item}'")
-        self._succeed(Pick(item=item), f"pick '{item}' at {source}")
-        if self._holding(self.robot) != item:
-            raise CheckFailed(
-                f"pick succeeded: expected the robot to hold '{item}', got {self._holding(self.robot)}"
-            )
-        target, there = self._free_location(source)
-        self._go(there, f"to place '{item}'")
-        self._succeed(Place(location=target), f"place '{item}' at {target}")
-        where = next((i for i in self.latest().items if i.id == item), None)
-        if where is None or where.location != target or where.held_by is not None:
-            raise CheckFailed(f"place succeeded: expected '{item}' resting at {target}, got {where}")
-        self._succeed(Pick(item=item), f"pick '{item}' again at {target}")
-        return f"picked and placed '{item}' ({source} -> {target}); " + self._give(item)
-
-    def _give(self, item: str) -> str:
-        assert self.info is not None and self.robot is not None
-        people = [a.id for a in self.info.scene.agents if a.kind is AgentKind.PERSON]
-        reasons = []
-        for _ in range(GIVE_TRIES):
-            free = [
-                p for p in people if any(a.id == p for a in self.latest().agents) and self._holding(p) is None
-            ]
-            if not free:
-                self.step(20)
-                continue
-            person = free[0]
-            self._go(self.cell_of(person), f"to {person}")
-            statuses = self.command(Give(person=person))
-            if statuses[-1].state is CommandState.SUCCEEDED:
-                if self._holding(person) != item:
-                    raise CheckFailed(
-                        f"give succeeded: expected {person} to hold '{item}', got {self._holding(person)}"
-                    )
-                return f"gave it to {person}"
-            reasons.append(shown(statuses)[-1])
-        return f"no give succeeded in {GIVE_TRIES} tries ({'; '.join(reasons) or 'nobody had free hands'})"
-
     def check_cancel(self) -> str:
-        if (skip := self._acting_robot()) is not None:
-            return skip
+        self._need_acting_robot()
         statuses = self.command(Cancel(command="conform-no-such-command"))
         if statuses[-1].state is not CommandState.FAILED or not statuses[-1].reason:
             raise CheckFailed(
@@ -227,13 +164,12 @@ class CommandChecks(Probe):
         return "an unknown command fails; a running navigate ends cancelled"
 
     def check_command_while_one_runs(self) -> str:
-        if (skip := self._acting_robot()) is not None:
-            return skip
+        self._need_acting_robot()
         assert self.robot is not None
         start = self.cell_of(self.robot)
         target, distance = self._far_cell()
         if distance < 3:
-            return "skipped: no cell three steps away"
+            raise CheckSkipped("no walkable cell three steps from the robot")
         first = self.send(Navigate(cell=Cell(*target)))
         self._until_running(first, f"navigate to {target}")
         second = self.send(Navigate(cell=Cell(*start)))
@@ -256,8 +192,7 @@ class CommandChecks(Probe):
         return f"queued: first {one[-1].state.value}, then second {two[-1].state.value}"
 
     def check_unknown_command(self) -> str:
-        if (skip := self._acting_robot()) is not None:
-            return skip
+        self._need_acting_robot()
         command = self.send(unknown_action("conform-unknown-kind", {"note": "a kind from a newer version"}))
         statuses = (
             self.finish(command, "a command of an unknown kind", max_steps=20)
@@ -271,8 +206,7 @@ class CommandChecks(Probe):
         return f"failed: {statuses[-1].reason}"
 
     def check_impossible_command(self) -> str:
-        if (skip := self._acting_robot()) is not None:
-            return skip
+        self._need_acting_robot()
         assert self.info is not None
         scene = self.info.scene
         walkable = scene.walkable()

@@ -1,9 +1,11 @@
 """What the conformance checks stand on: a :class:`Probe` that talks to an engine (control
 requests, streams of what it publishes, robot commands followed to their end), and how a
-check reports (:class:`CheckResult`, :class:`CheckFailed`)."""
+check reports (:class:`CheckResult` with its :class:`Outcome`; a check raises
+:class:`CheckFailed`, :class:`CheckSkipped` or :class:`NotApplicable`)."""
 
 from __future__ import annotations
 
+import enum
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -38,21 +40,54 @@ def kind_of(action: Action | UnknownAction) -> str:
     return action.kind if isinstance(action, UnknownAction) else str(type(action).__struct_config__.tag)
 
 
+class Outcome(enum.Enum):
+    """How a check ended."""
+
+    PASSED = "pass"
+    """It ran and the engine did what the protocol says."""
+    SKIPPED = "skip"
+    """It applies to this engine but could not run: what it needs was not there (a robot that
+    acts, a free item, a reachable spot); the reason says what. ``--strict`` fails on it."""
+    NOT_APPLICABLE = "n/a"
+    """It does not apply to what the engine declares (the other clock mode, a capability it
+    does not claim)."""
+    FAILED = "FAIL"
+    """The engine did not do what the protocol says."""
+
+
 @dataclass(frozen=True)
 class CheckResult:
-    """One check: its name, whether it passed, and what was expected and what came."""
+    """One check: its name, its outcome, and what was expected and what came (or why it was
+    skipped)."""
 
     name: str
-    passed: bool
+    outcome: Outcome
     detail: str = ""
 
+    @property
+    def passed(self) -> bool:
+        """Whether the check ran and passed."""
+        return self.outcome is Outcome.PASSED
+
+    @property
+    def failed(self) -> bool:
+        return self.outcome is Outcome.FAILED
+
     def line(self) -> str:
-        mark = "pass" if self.passed else "FAIL"
-        return f"{mark}  {self.name}" + (f": {self.detail}" if self.detail else "")
+        return f"{self.outcome.value:<4}  {self.name}" + (f": {self.detail}" if self.detail else "")
 
 
 class CheckFailed(Exception):
     """Raised inside a check: expected this, got that."""
+
+
+class CheckSkipped(Exception):
+    """Raised inside a check that applies but cannot run: says what it needed and did not
+    find."""
+
+
+class NotApplicable(CheckSkipped):
+    """Raised inside a check that does not apply to what the engine declares."""
 
 
 @dataclass

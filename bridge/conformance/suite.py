@@ -2,7 +2,8 @@
 
 Inherit :class:`EngineConformance` in a test class and give it a class-scoped fixture
 ``conformance_world`` that starts an engine and yields its world name; every check then
-runs as its own test::
+runs as its own test. A check that is skipped (with its reason) or does not apply to the
+engine is a skipped test; set ``strict = True`` on the class to fail on a skip instead::
 
     class TestMyEngine(EngineConformance):
         @pytest.fixture(scope="class")
@@ -22,12 +23,15 @@ import pytest
 
 from ..bridge import Bridge
 from .checks import CHECK_NAMES, CheckResult, check_engine
+from .probe import Outcome
 
 
 class EngineConformance:
     """Every conformance check as a test; subclasses provide ``conformance_world``."""
 
     timeout: float = 10.0
+    strict: bool = False
+    """Fail on a skipped check (one that applies but found nothing to exercise)."""
 
     @pytest.fixture(scope="class")
     @classmethod
@@ -35,10 +39,13 @@ class EngineConformance:
         with Bridge(conformance_world) as bridge:
             yield {result.name: result for result in check_engine(bridge, cls.timeout)}
 
-    @staticmethod
-    def _passed(results: dict[str, CheckResult], name: str) -> None:
+    def _passed(self, results: dict[str, CheckResult], name: str) -> None:
         assert name in results, f"check '{name}' did not run (an earlier check failed): {list(results)}"
-        assert results[name].passed, results[name].line()
+        result = results[name]
+        skip = result.outcome is Outcome.SKIPPED and not self.strict
+        if skip or result.outcome is Outcome.NOT_APPLICABLE:
+            pytest.skip(result.line())
+        assert result.passed, result.line()
 
     @pytest.mark.parametrize("check", CHECK_NAMES)
     def test_check(self, conformance_results: dict[str, CheckResult], check: str) -> None:

@@ -1,20 +1,29 @@
 """Recordings: ``trace.jsonl`` (:mod:`.trace`, written and read there alone), MCAP files
-that Foxglove opens (:mod:`.mcap`), replaying them (:mod:`.replay`), and ``events.csv``
-read off a trace (:mod:`.events`)."""
+that Foxglove opens (:mod:`.mcap`), what is readable of either, cut off or whole
+(:mod:`.readable`), replaying them (:mod:`.replay`), and ``events.csv`` read off a trace
+(:mod:`.events`)."""
 
 from .events import EventRow, event_rows, write_events_csv
 from .mcap import McapRecorder, mcap_to_trace, read_mcap
-from .trace import Trace, TraceError, TraceRecorder, read_trace, trace_records
+from .readable import Cut, Recorded, Recording, RecordingError, read_recording
+from .trace import Trace, TraceError, TraceRecorder, episode_of, read_trace, trace_records, write_trace
 
 __all__ = [
+    "episode_of",
     "event_rows",
     "mcap_to_trace",
     "read_mcap",
+    "read_recording",
     "read_trace",
     "trace_records",
     "write_events_csv",
+    "write_trace",
+    "Cut",
     "EventRow",
     "McapRecorder",
+    "Recorded",
+    "Recording",
+    "RecordingError",
     "Trace",
     "TraceError",
     "TraceRecorder",

@@ -91,17 +91,31 @@ def _status_row(status: CommandStatus, command: RobotCommand | None) -> EventRow
     return EventRow(status.tick, status.robot, "command", item, location, target, detail)
 
 
+def _nearest(sent: list[tuple[int, RobotCommand]], order: int) -> RobotCommand | None:
+    """Of the commands recorded with a status's id (``(order, command)`` in trace order), the
+    one recorded nearest to the status (before it on a tie): the recorder writes messages as
+    they arrive, so a status may land before the command it answers, and a trace of several
+    episodes may reuse an id."""
+    if not sent:
+        return None
+    return min(sent, key=lambda c: (abs(c[0] - order), c[0] > order))[1]
+
+
 def event_rows(trace: Path) -> list[EventRow]:
-    """The rows of a trace, in the order things happened (by tick, then as recorded)."""
-    commands: dict[str, RobotCommand] = {}
-    rows: list[tuple[int, int, EventRow]] = []
-    for order, _, message in trace_records(trace, strict=False):
+    """The rows of a trace, in the order things happened (by tick, then as recorded). A
+    status is matched to its command whatever the order the two were recorded in."""
+    records = [(order, message) for order, _, message in trace_records(trace, strict=False)]
+    commands: dict[tuple[str, str], list[tuple[int, RobotCommand]]] = {}
+    for order, message in records:
         if isinstance(message, RobotCommand):
-            commands[message.id] = message
-        elif isinstance(message, Event):
+            commands.setdefault((message.robot, message.id), []).append((order, message))
+    rows: list[tuple[int, int, EventRow]] = []
+    for order, message in records:
+        if isinstance(message, Event):
             rows.append((message.tick, order, _event_row(message)))
         elif isinstance(message, CommandStatus):
-            rows.append((message.tick, order, _status_row(message, commands.get(message.command))))
+            command = _nearest(commands.get((message.robot, message.command), []), order)
+            rows.append((message.tick, order, _status_row(message, command)))
     rows.sort(key=lambda r: (r[0], r[1]))
     return [row for _, _, row in rows]
 

@@ -6,21 +6,20 @@ channel per key and message type, its schema the message's JSON Schema (encoding
 handshake answer is recorded first, on ``toyroom/<world>/engine/info``. Records are written
 unchunked and the file is flushed at least every second, so a recorder that is killed
 loses at most the last second; :func:`read_mcap` reads such a cut-off file up to where it
-stops.
+stops (:mod:`.readable` says where, and which ticks it kept).
 """
 
 from __future__ import annotations
 
 import json
+import logging
 import threading
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
 
-from mcap.records import Channel, Metadata, Schema
-from mcap.records import Message as McapMessage
+from mcap.records import Metadata
 from mcap.stream_reader import StreamReader
 from mcap.writer import Writer
 
@@ -28,9 +27,11 @@ from protocol import EngineInfo, Message, encode, tag_of
 from protocol.schema import message_schema
 
 from ..bridge import Bridge
-from .trace import Recorder, trace_line
+from .readable import Recorded, read_recording
+from .trace import Recorder, write_trace
 
 FLUSH_SECONDS = 0.5
+log = logging.getLogger("toyroom.recording")
 SETTINGS_METADATA = "toyroom.settings"
 """The MCAP metadata record that holds the brain's ``settings.toml`` (key ``toml``)."""
 
@@ -99,46 +100,26 @@ class McapRecorder(Recorder):
         self._file.close()
 
 
-@dataclass(frozen=True)
-class Recorded:
-    """One recorded message: its key, its JSON payload, and when it was recorded (ns)."""
-
-    key: str
-    data: bytes
-    log_time: int
-
-
 def read_mcap(path: Path) -> Iterator[Recorded]:
-    """The messages of an MCAP file in recorded order, up to where a cut-off file stops."""
-    channels: dict[int, Channel] = {}
-    with path.open("rb") as handle:
-        reader = StreamReader(handle, skip_magic=False, emit_chunks=False, validate_crcs=False)
-        try:
-            for record in reader.records:
-                if isinstance(record, Channel):
-                    channels[record.id] = record
-                elif isinstance(record, McapMessage) and record.channel_id in channels:
-                    yield Recorded(channels[record.channel_id].topic, bytes(record.data), record.log_time)
-                elif isinstance(record, Schema):
-                    continue
-        except Exception:  # a file cut off mid-record (a killed recorder) ends here
-            return
+    """The messages of an MCAP file in recorded order, up to where a cut-off file stops.
+
+    Raises:
+        RecordingError: the file is missing, not an MCAP file, or holds no message.
+    """
+    return iter(read_recording(path).records)
 
 
 def mcap_to_trace(source: Path, target: Path) -> int:
-    """Write an MCAP recording as a ``trace.jsonl``; return the number of messages."""
-    from protocol import ProtocolError, decode
+    """Write (what is readable of) an MCAP recording as a ``trace.jsonl``; return the number
+    of messages. A cut-off file is warned about (the byte offset and the ticks kept).
 
-    count = 0
-    with target.open("w", encoding="utf-8") as out:
-        for recorded in read_mcap(source):
-            try:
-                message = decode(recorded.data)
-            except ProtocolError:
-                continue
-            out.write(trace_line(recorded.key, message) + "\n")
-            count += 1
-    return count
+    Raises:
+        RecordingError: the file is missing, not an MCAP file, or holds no message.
+    """
+    recording = read_recording(source)
+    if recording.cut is not None:
+        log.warning("%s", recording.cut.warning())
+    return write_trace(recording.messages(), target)
 
 
 def recorded_settings(path: Path) -> str | None:

@@ -19,14 +19,14 @@ from protocol import ClockMode, EngineInfo, Keys, ProtocolError, decode
 
 from ..bridge import Bridge
 from ..handshake import serve_info
-from .mcap import read_mcap
+from .readable import Recording, read_recording
 
 _JSON = zenoh.Encoding("application/json")
 
 
 def replay(
     bridge: Bridge,
-    path: Path,
+    source: Path | Recording,
     *,
     speed: float = 1.0,
     stop: threading.Event | None = None,
@@ -34,13 +34,14 @@ def replay(
     wait_subscribers: float = 0.0,
     resend_minds: bool = False,
 ) -> int:
-    """Republish ``path`` into ``bridge``'s world (up to tick ``until_tick``, when given);
-    return the number of messages sent. With ``wait_subscribers``, first wait up to that many
-    seconds for someone to subscribe to the world's state. With ``resend_minds`` (a replay
-    that then holds still for a viewer), the last ``brain/mind`` is sent once more half a
-    second after the end: as fast as possible, a slow subscriber may have had the last ones
-    dropped, and the mind is what a viewer draws over the scene."""
-    records = list(read_mcap(path))
+    """Republish a recording (a file, or one already read) into ``bridge``'s world (up to
+    tick ``until_tick``, when given); return the number of messages sent. With
+    ``wait_subscribers``, first wait up to that many seconds for someone to subscribe to
+    the world's state. With ``resend_minds`` (a replay that then holds still for a
+    viewer), the last ``brain/mind`` is sent once more half a second after the end: as fast
+    as possible, a slow subscriber may have had the last ones dropped, and the mind is what
+    a viewer draws over the scene."""
+    records = (source if isinstance(source, Recording) else read_recording(source)).records
     info = None
     for record in records:
         if record.key.endswith("/engine/info"):

@@ -5,15 +5,17 @@ Each line is ``{"key": ..., "tick": ..., "payload": {...}}``; ``tick`` is the me
 when it has one, else ``null``. The engine's handshake answer comes first, under the key
 ``toyroom/<world>/engine/info`` (:attr:`protocol.Keys.info`). Lines are flushed as they are
 written. :func:`trace_records` reads the lines back; :func:`read_trace` the episode a brain
-consumed (the handshake, then each tick's state and events).
+consumed (the handshake, then each tick's state and events) from a trace or an MCAP file,
+keeping what is readable of a cut-off one (:mod:`.readable`).
 """
 
 from __future__ import annotations
 
 import json
+import logging
 import threading
 from collections import defaultdict
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -21,9 +23,11 @@ from typing import IO
 from protocol import EngineInfo, Event, Keys, Message, ProtocolError, State, decode, to_builtins
 
 from ..bridge import Bridge
-from ..errors import BridgeError
 from ..handshake import handshake
 from ..pubsub import Received
+from .readable import TraceError, read_recording
+
+log = logging.getLogger("toyroom.recording")
 
 
 def trace_line(key: str, message: Message) -> str:
@@ -31,6 +35,16 @@ def trace_line(key: str, message: Message) -> str:
     payload = to_builtins(message)
     tick = payload.get("tick")
     return json.dumps({"key": key, "tick": tick if isinstance(tick, int) else None, "payload": payload})
+
+
+def write_trace(messages: Iterable[tuple[str, Message]], target: Path) -> int:
+    """Write ``(key, message)`` pairs as a ``trace.jsonl``; return how many."""
+    count = 0
+    with target.open("w", encoding="utf-8") as out:
+        for key, message in messages:
+            out.write(trace_line(key, message) + "\n")
+            count += 1
+    return count
 
 
 class Recorder:
@@ -98,10 +112,6 @@ class TraceRecorder(Recorder):
         self._file.close()
 
 
-class TraceError(BridgeError):
-    """A trace that cannot be read: names the file (and line) and what is wrong."""
-
-
 @dataclass(frozen=True)
 class Trace:
     """A recorded episode: the handshake and ``(state, events)`` per tick, in tick order."""
@@ -139,18 +149,35 @@ def trace_records(path: Path, *, strict: bool = True) -> Iterator[tuple[int, str
             yield number, key, message
 
 
-def read_trace(path: Path, episode: int | None = None) -> Trace:
-    """Read the episode a brain consumed from a trace; ``episode`` defaults to the last one.
+def read_trace(path: Path, episode: int | None = None, *, strict: bool = False) -> Trace:
+    """Read the episode a brain consumed from a trace (or an MCAP file); ``episode``
+    defaults to the last one. Of a cut-off or damaged file, the part before the break is
+    read, with a warning naming the byte offset and the ticks kept (:mod:`.readable`).
 
     Raises:
-        TraceError: naming the file and line when a line is not a trace line, or when the
-            trace has no handshake or no state.
+        TraceError: naming the file when it is missing, of neither format, cut off (only
+            with ``strict``), or has no handshake or no state.
+    """
+    recording = read_recording(path)
+    if recording.cut is not None:
+        if strict:
+            raise TraceError(recording.cut.warning())
+        log.warning("%s", recording.cut.warning())
+    return episode_of(recording.messages(), path, episode)
+
+
+def episode_of(messages: Iterable[tuple[str, Message]], path: Path, episode: int | None = None) -> Trace:
+    """The episode (default: the last) in a recording's ``(key, message)`` pairs.
+
+    Raises:
+        TraceError: naming ``path`` when there is no handshake, no state, or no state of
+            ``episode``.
     """
     info: EngineInfo | None = None
     keys: Keys | None = None
     states: dict[tuple[int, int], State] = {}
     events: dict[tuple[int, int], list[Event]] = defaultdict(list)
-    for _, key, message in trace_records(path):
+    for key, message in messages:
         if isinstance(message, EngineInfo) and info is None:
             info, keys = message, Keys(key.split("/")[1]) if key.count("/") >= 2 else None
         elif keys is None or key not in (keys.state, keys.events):
@@ -160,9 +187,9 @@ def read_trace(path: Path, episode: int | None = None) -> Trace:
         elif isinstance(message, Event):
             events[(message.episode, message.tick)].append(message)
     if info is None:
-        raise TraceError(f"{path}: no engine handshake (engine/info) in the trace")
+        raise TraceError(f"{path}: no engine handshake (engine/info) in the recording")
     if not states:
-        raise TraceError(f"{path}: no engine state in the trace")
+        raise TraceError(f"{path}: no engine state in the recording")
     chosen = episode if episode is not None else max(e for e, _ in states)
     ticks = tuple(
         (states[key], tuple(events.get(key, ()))) for key in sorted(k for k in states if k[0] == chosen)

@@ -3,7 +3,10 @@
 It reads only the protocol, so it shows a Unity engine's world as well as sim2d's
 (:mod:`bridge.view.scene` draws it). It prints its URL, redraws the map when the engine
 restarts (a new handshake), and draws at up to 30 Hz. ``--screenshot FILE.png [--after
-SECONDS]`` renders the scene in headless Chromium and saves it.
+SECONDS]`` renders the scene in headless Chromium and saves it, once the engine has answered
+the handshake and a state and a brain's mind have come; without them it saves nothing and
+exits 1 saying which is missing (no engine, an engine of another protocol version, no state,
+no brain).
 """
 
 from __future__ import annotations
@@ -18,9 +21,10 @@ from pathlib import Path
 import meshcat
 
 from protocol import EngineInfo, Mind, Scene, State
+from protocol import Error as ProtocolError
 
 from ..bridge import Bridge
-from ..errors import NoReply
+from ..errors import BridgeError, NoReply
 from ..flags import add_log_level, command_parser, configure_logging
 from ..handshake import handshake
 from ..presence import PresenceEvent
@@ -44,6 +48,9 @@ class Viewer:
         self.bridge = Bridge(world, settings)
         self.stop = stop or threading.Event()
         self.info: EngineInfo | None = None
+        self.problem: str | None = None
+        """Why the last handshake failed, other than no answer (another protocol version, an
+        inconsistent scene); ``None`` when it did not."""
         self._reconnect = threading.Event()
         self.bridge.subscribe(self.bridge.keys.state, self.view.on_state, expected=State)
         self.bridge.subscribe(self.bridge.keys.mind, self.view.on_mind, expected=Mind)
@@ -59,11 +66,18 @@ class Viewer:
             self._reconnect.set()
 
     def connect(self, timeout: float | None = None) -> bool:
-        """(Re)do the handshake and redraw the map; False when no engine answered."""
+        """(Re)do the handshake and redraw the map; False when no engine answered, or one
+        answered that this viewer cannot draw (:attr:`problem` says why, logged once)."""
         try:
             info = handshake(self.bridge, client="toyroom-view", role="viewer", timeout=timeout or 1.0)
         except NoReply:
             return False
+        except (ProtocolError, BridgeError) as err:
+            if str(err) != self.problem:
+                log.error("cannot draw the engine of world '%s': %s", self.bridge.world, err)
+            self.problem = str(err)
+            return False
+        self.problem = None
         if self.info is None or info.scene != self.info.scene or info.episode != self.info.episode:
             self.view.draw_scene(info.scene)
             self._aim(info.scene)
@@ -88,6 +102,29 @@ class Viewer:
             if self.view.dirty.wait(1.0 / REFRESH_HZ):
                 self.view.dirty.clear()
                 self.view.render()
+
+    def missing(self, waited: float) -> str | None:
+        """What a screenshot would lack after drawing for ``waited`` seconds (no engine, an
+        engine it cannot draw, no state, no brain's mind), or ``None`` when nothing is."""
+        world = self.bridge.world
+        if self.info is None:
+            if self.problem is not None:
+                return f"the engine of world '{world}' cannot be drawn: {self.problem}"
+            return (
+                f"no engine answered on world '{world}' within {waited:g} s "
+                f"(start one, e.g. `toyroom sim --world {world}`)"
+            )
+        if self.view.state is None:
+            return (
+                f"the engine of world '{world}' published no state within {waited:g} s "
+                "(a lock-step engine moves only when a brain steps it)"
+            )
+        if self.view.mind is None:
+            return (
+                f"no brain published a mind on world '{world}' within {waited:g} s "
+                f"(start one, e.g. `toyroom brain --world {world}`)"
+            )
+        return None
 
     def close(self) -> None:
         """Stop drawing, close the bridge and stop the meshcat server (its own process group)."""
@@ -122,7 +159,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.screenshot is None:
             wait_for_stop(stop)
             return 0
-        if wait_for_stop(stop, args.after) or not screenshot(viewer.url, args.screenshot, stop):
+        if wait_for_stop(stop, args.after):
+            print("toyroom view: stopped before the screenshot was saved", file=sys.stderr, flush=True)
+            return 1
+        if (missing := viewer.missing(args.after)) is not None:
+            print(f"toyroom view: no screenshot saved: {missing}", file=sys.stderr, flush=True)
+            return 1
+        if not screenshot(viewer.url, args.screenshot, stop):
             print("toyroom view: stopped before the screenshot was saved", file=sys.stderr, flush=True)
             return 1
         print(f"toyroom view: saved {args.screenshot}", flush=True)

@@ -112,10 +112,10 @@ def test_timeout_stops_the_meshcat_server_too(world: str) -> None:
     assert_all_gone(children, "`timeout 6 toyroom view`")
 
 
-def test_sigterm_mid_screenshot_stops_chromium(world: str, tmp_path: Path) -> None:
+def test_sigterm_mid_screenshot_stops_chromium(living_world: str, tmp_path: Path) -> None:
     shot = tmp_path / "view.png"
-    viewer = subprocess.Popen(
-        [*VIEW, "--world", world, "--screenshot", str(shot), "--after", "0"],
+    viewer = subprocess.Popen(  # a world with an engine and a brain: the viewer starts Chromium
+        [*VIEW, "--world", living_world, "--screenshot", str(shot), "--after", "1"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
     )
