@@ -36,7 +36,16 @@ def bfs(walkable: set[Cell], start: Cell, goals: set[Cell]) -> list[Cell] | None
 
 
 def near(a: Cell, b: Cell) -> bool:
+    """Next to: the same cell or one sharing an edge."""
     return abs(a[0] - b[0]) + abs(a[1] - b[1]) <= 1
+
+
+EARSHOT_CELLS = 2
+
+
+def within_earshot(a: Cell, a_region: str, b: Cell, b_region: str) -> bool:
+    """The protocol's earshot: the same region, or within 2 cells Manhattan, walls ignored."""
+    return a_region == b_region or abs(a[0] - b[0]) + abs(a[1] - b[1]) <= EARSHOT_CELLS
 
 
 class Person:
@@ -445,7 +454,7 @@ class GridWorld:
                 if path is None:
                     return self.finish("failed", "unreachable")
                 self.paths[self.robot] = path
-            return
+            # no return: the work starts this tick, as in sim2d (a lost tick lets people walk off)
         action = self.running["action"]
         me = self.robot
         kind = action["kind"]
@@ -473,31 +482,7 @@ class GridWorld:
                 self.hand(me, person)
                 self.people[person].replace([{"do": "goto"}, {"do": "play"}])
         elif kind == "say":
-            person = action["person"]
-            if not near(self.cells[me], self.cells[person]) and self.regions[me] != self.regions[person]:
-                reason = f"out of earshot: {person}"
-            else:
-                reason = None
-                if action["topic"] == "location":
-                    self.event("say", me, item=action["item"], location=action["location"], target=person)
-                    who = self.people[person]
-                    if action["item"] == who.wants and self.holding[person] is None:
-                        who.replace(
-                            [
-                                {"do": "goto", "location": action["location"]},
-                                {"do": "take", "item": action["item"]},
-                                {"do": "goto"},
-                                {"do": "play"},
-                            ]
-                        )
-                else:
-                    self.event(
-                        "say",
-                        me,
-                        item=action["item"],
-                        target=person,
-                        detail=f"occupied by {action['holder']}",
-                    )
+            reason = self.tell(me, action)
         else:  # request
             person = action["person"]
             if self.holding[person] != action["item"]:
@@ -513,6 +498,30 @@ class GridWorld:
                     self.people[person].replace([{"do": "wait"}])
                 return self.finish("succeeded", answer=answer)
         self.finish("failed" if reason else "succeeded", reason or "")
+
+    def tell(self, me: str, action: dict[str, Any]) -> str | None:
+        """The robot's ``say``, heard within earshot (a person told where the item they want
+        rests goes and fetches it); why it failed, or None."""
+        person = action["person"]
+        if not within_earshot(self.cells[me], self.regions[me], self.cells[person], self.regions[person]):
+            return f"out of earshot: {person}"
+        if action["topic"] != "location":
+            self.event(
+                "say", me, item=action["item"], target=person, detail=f"occupied by {action['holder']}"
+            )
+            return None
+        self.event("say", me, item=action["item"], location=action["location"], target=person)
+        who = self.people[person]
+        if action["item"] == who.wants and self.holding[person] is None:
+            who.replace(
+                [
+                    {"do": "goto", "location": action["location"]},
+                    {"do": "take", "item": action["item"]},
+                    {"do": "goto"},
+                    {"do": "play"},
+                ]
+            )
+        return None
 
     def finish(self, state: str, reason: str = "", answer: bool | None = None) -> None:
         assert self.running is not None

@@ -470,7 +470,7 @@ namespace Toyroom.Samples.GridEngine
                     if (path == null) { Finish(CommandState.Failed, "unreachable"); return; }
                     paths[Robot] = path;
                 }
-                return;
+                // no return: the work starts this tick, as in sim2d (a lost tick lets people walk off)
             }
             var me = Robot;
             var action = running.Action;
@@ -528,7 +528,7 @@ namespace Toyroom.Samples.GridEngine
         private string Tell(string me, Say say)
         {
             var person = say.Person;
-            if (!cells[me].Near(cells[person]) && regions[me] != regions[person]) return "out of earshot: " + person;
+            if (!cells[me].WithinEarshot(cells[person]) && regions[me] != regions[person]) return "out of earshot: " + person;
             var e = Emit("say", me);
             e.Item = say.Item;
             e.Target = person;

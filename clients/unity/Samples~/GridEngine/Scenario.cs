@@ -18,6 +18,9 @@ namespace Toyroom.Samples.GridEngine
         public override bool Equals(object other) { return other is Pt && Equals((Pt)other); }
         public override int GetHashCode() { return C * 7919 + R; }
         public bool Near(Pt other) { return Math.Abs(C - other.C) + Math.Abs(R - other.R) <= 1; }
+        /// <summary>The protocol's earshot in cells: within 2 cells Manhattan, walls ignored (or the same region).</summary>
+        public const int EarshotCells = 2;
+        public bool WithinEarshot(Pt other) { return Math.Abs(C - other.C) + Math.Abs(R - other.R) <= EarshotCells; }
         public Cell ToCell() { return new Cell { Col = C, Row = R }; }
         public override string ToString() { return "(" + C + "," + R + ")"; }
     }
