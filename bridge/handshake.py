@@ -1,12 +1,16 @@
 """The handshake, both sides: a client asks ``engine/info`` with a ``Hello``; the engine
 answers with its ``EngineInfo`` or refuses a client of another major version.
 
-A major-version mismatch is an error naming both versions; a minor mismatch is a warning.
+A major-version mismatch is an error naming both versions; a minor mismatch is a warning,
+said once per peer and version for the life of the process (a brain handshakes again at
+every reset, a run's recorder and viewer each once), as values of the open vocabularies
+are (:mod:`protocol.vocabulary`).
 """
 
 from __future__ import annotations
 
 import logging
+import threading
 import time
 from collections.abc import Callable
 
@@ -17,6 +21,19 @@ from .errors import NoReply
 from .pubsub import Queryable
 
 log = logging.getLogger("toyroom.bridge")
+
+_warned: set[tuple[str, str, str]] = set()
+_warned_lock = threading.Lock()
+
+
+def _first_time(side: str, peer: str, version: str) -> bool:
+    """Whether this process meets ``peer`` (an engine or a client) speaking ``version`` for
+    the first time; noted, so that its minor-version warning is said once."""
+    with _warned_lock:
+        if (side, peer, version) in _warned:
+            return False
+        _warned.add((side, peer, version))
+        return True
 
 
 def handshake(
@@ -39,7 +56,9 @@ def handshake(
     """
     request = hello if hello is not None else Hello(client=client, role=role)
     info = ask_engine(bridge, request, timeout)
-    if not check_version(info.protocol, message_type="engine_info"):
+    if not check_version(info.protocol, message_type="engine_info") and _first_time(
+        "engine", info.engine, info.protocol
+    ):
         log.warning(
             "engine '%s' speaks protocol %s and this side %s: minor versions differ, continuing",
             info.engine,
@@ -75,11 +94,16 @@ def serve_info(bridge: Bridge, current: Callable[[], EngineInfo]) -> Queryable[M
     """Engine side: answer ``engine/info`` with ``current()``.
 
     Clients of another major version get a ``version_mismatch`` error reply (the queryable
-    does that while decoding their ``Hello``); a minor mismatch is logged as a warning.
+    does that while decoding their ``Hello``); a minor mismatch is logged as a warning, once
+    per client and version.
     """
 
     def answer(hello: Hello | None, key: str) -> EngineInfo:
-        if hello is not None and not check_version(hello.protocol, message_type="hello"):
+        if (
+            hello is not None
+            and not check_version(hello.protocol, message_type="hello")
+            and _first_time("client", hello.client, hello.protocol)
+        ):
             log.warning(
                 "client '%s' (%s) speaks protocol %s and this engine %s: minor versions differ",
                 hello.client,

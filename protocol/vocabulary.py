@@ -4,9 +4,12 @@ Capabilities, item shapes, region kinds and event kinds are strings on the wire 
 documented *known* set (an :class:`enum.StrEnum` each). A known value decodes to its enum
 member, so ``region.kind is RegionKind.OUTSIDE`` works; a value this side does not know is
 kept as the plain string it came as (and re-encoded unchanged), and logged once per
-vocabulary and value, never a failed decode. Code that meets an unknown value treats it as
-the vocabulary's neutral case (a viewer draws an unknown shape as a block; the brain reads
-an unknown region kind as a room and ignores an unknown event).
+vocabulary and value for the life of the process (however many handshakes bring it again),
+never a failed decode. An engine of protocol 1.1 or later may use values of its own (a
+``corridor`` region, a ``backpack`` shape): that is what the vocabularies are open for.
+Code that meets an unknown value treats it as the vocabulary's neutral case (a viewer draws
+an unknown shape as a block; the brain reads an unknown region kind as a room and ignores
+an unknown event).
 
 Command kinds are open too: :func:`protocol.robot.unknown_action` keeps a command of a kind
 this side does not know, so an engine can fail it with a reason instead of dropping it.
@@ -60,7 +63,8 @@ def note_unknown(vocabulary: str, value: str) -> None:
             return
         _seen.add(key)
     log.warning(
-        "a peer sent %s %r, which this side (protocol %s) does not know: kept, and treated as unknown",
+        "a peer sent %s %r, which this side (protocol %s) does not list: fine (an open vocabulary), "
+        "kept and treated as unknown; said once per value",
         vocabulary,
         value,
         _version(),

@@ -39,9 +39,10 @@ import numpy as np
 
 from protocol import EventKind, ItemBelief, Prob, Pursuit, TrueMind
 
+from .autonomy import Autonomy
 from .personbelief import PersonBelief
 from .pursuit import Primitive, Reconsider, pointless, pursuit_of
-from .scenario import AgentSetup, Autonomy
+from .scenario import AgentSetup
 from .world import World
 
 OUT = "out"

@@ -33,6 +33,16 @@ from protocol import (
 from protocol.bundled import bundled_dir
 
 from .errors import ScenarioError
+from .tables import (
+    DOOR_KEYS,
+    LOCATION_KEYS,
+    MAP_KEYS,
+    REGION_KEYS,
+    VISIBILITY_KEYS,
+    check_keys,
+    entry_of,
+    tables,
+)
 
 SCENARIO_DIR = bundled_dir("sim2d", "scenarios")
 """Where the bundled maps (``*.map.toml``) and scenarios (``*.toml``) live."""
@@ -177,6 +187,7 @@ def _region(
     table: dict[str, Any], i: int, path: Path, grid: tuple[int, int], region_of: dict[GridCell, str]
 ) -> Region:
     """``regions[i]``, its cells added to ``region_of`` (each cell in one region only)."""
+    table = check_keys(table, REGION_KEYS, path, entry_of(table, "regions", i))
     rid = _str(table, "id", path, f"regions[{i}]")
     entry = f"regions[{i}] '{rid}'"
     try:
@@ -201,7 +212,9 @@ def _regions(
 ) -> tuple[list[Region], dict[GridCell, str]]:
     """Every region, and the region of every region cell."""
     region_of: dict[GridCell, str] = {}
-    regions = [_region(table, i, path, grid, region_of) for i, table in enumerate(data.get("regions", []))]
+    regions = [
+        _region(table, i, path, grid, region_of) for i, table in enumerate(tables(data, "regions", path))
+    ]
     region_ids = [r.id for r in regions]
     if not regions:
         raise ScenarioError(path, "regions", "the map has no region")
@@ -214,6 +227,7 @@ def _door(
     table: dict[str, Any], i: int, path: Path, region_of: dict[GridCell, str], region_ids: list[str]
 ) -> Door:
     """``doors[i]``: a wall cell touching both the regions it joins."""
+    table = check_keys(table, DOOR_KEYS, path, entry_of(table, "doors", i))
     did = _str(table, "id", path, f"doors[{i}]")
     entry = f"doors[{i}] '{did}'"
     cell = parse_cell(table.get("cell"), path, entry)
@@ -241,6 +255,7 @@ def _location(
     table: dict[str, Any], i: int, path: Path, region_of: dict[GridCell, str], region_ids: list[str]
 ) -> Location:
     """``locations[i]``: an item spot on a cell of its region."""
+    table = check_keys(table, LOCATION_KEYS, path, entry_of(table, "locations", i))
     lid = _str(table, "id", path, f"locations[{i}]")
     entry = f"locations[{i}] '{lid}'"
     region = _str(table, "region", path, entry)
@@ -274,7 +289,8 @@ def _visibility(
     visibility group names (its own when none does), a door cell those of both its regions."""
     region_ids = set(region_of.values())
     sees_regions: dict[str, set[str]] = {}
-    for i, table in enumerate(data.get("visibility", [])):
+    for i, table in enumerate(tables(data, "visibility", path)):
+        check_keys(table, VISIBILITY_KEYS, path, f"visibility[{i}]")
         for key in ("from", "sees"):
             for rid in table.get(key, []):
                 if rid not in region_ids:
@@ -296,9 +312,12 @@ def _visibility(
 
 
 def _homes(data: dict[str, Any], path: Path, walkable: Collection[GridCell]) -> dict[str, GridCell]:
-    """The agents' home cells, each walkable."""
+    """The agents' home cells (``[homes]``: agent id = cell, any ids), each walkable."""
+    table = data.get("homes", {})
+    if not isinstance(table, dict):
+        raise ScenarioError(path, "homes", f"expected a table of agent = [col, row], got {table!r}")
     homes: dict[str, GridCell] = {}
-    for agent, value in data.get("homes", {}).items():
+    for agent, value in table.items():
         cell = parse_cell(value, path, f"homes.{agent}")
         if cell not in walkable:
             raise ScenarioError(path, f"homes.{agent}", f"home cell {cell} is not walkable")
@@ -324,14 +343,14 @@ def load_map(name_or_path: str) -> GameMap:
             not between two rooms, an item spot in a wall, an unreachable room...).
     """
     path = map_path(name_or_path)
-    data = read_toml(path)
+    data = check_keys(read_toml(path), MAP_KEYS, path, "")
     name = _str(data, "name", path, "")
     cell_size, columns, rows = _grid(data, path)
     regions, region_of = _regions(data, path, (columns, rows))
     region_ids = [r.id for r in regions]
-    doors = [_door(t, i, path, region_of, region_ids) for i, t in enumerate(data.get("doors", []))]
+    doors = [_door(t, i, path, region_of, region_ids) for i, t in enumerate(tables(data, "doors", path))]
     locations = [
-        _location(t, i, path, region_of, region_ids) for i, t in enumerate(data.get("locations", []))
+        _location(t, i, path, region_of, region_ids) for i, t in enumerate(tables(data, "locations", path))
     ]
     sees = _visibility(data, path, region_of, doors, locations)
     game_map = GameMap(

@@ -33,8 +33,9 @@ import numpy as np
 from protocol import EventKind
 
 from .autonomous import AutonomousPerson
+from .autonomy import Autonomy
 from .policytable import PolicyTable
-from .scenario import AgentSetup, Autonomy
+from .scenario import AgentSetup
 from .world import World
 
 

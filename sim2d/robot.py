@@ -109,13 +109,16 @@ class RobotBody:
 
     def receive(self, world: World, command: RobotCommand) -> None:
         """A command arrived: accept it (queue it) or fail it at once."""
-        if command.robot != self.id:
-            self._status(
-                world,
-                command,
-                CommandState.FAILED,
-                f"unknown robot '{command.robot}'; this engine's robot is '{self.id}'",
+        if command.robot != self.id:  # answered on the key of the robot it names, as any status
+            reason = f"unknown robot '{command.robot}'; this engine's robot is '{self.id}'"
+            failed = CommandStatus(
+                command=command.id,
+                robot=command.robot,
+                state=CommandState.FAILED,
+                tick=world.tick,
+                reason=reason,
             )
+            self.pending.append(failed)
             return
         if not self.acts:
             self._status(

@@ -1,6 +1,8 @@
 """Scenarios as data: a map, items and where they start, agents, and for each scripted
 person a route of steps (:mod:`sim2d.script`), read from ``<name>.toml`` and checked section
-by section."""
+by section. Every table is strict (:mod:`sim2d.tables`): an unknown key is an error naming
+it. ``map = "NAME"`` plays ``NAME.map.toml`` beside the scenario when there is one, else the
+bundled map of that name."""
 
 from __future__ import annotations
 
@@ -10,10 +12,12 @@ from typing import Any, Literal
 
 from protocol import AgentKind, GridCell, ItemShape
 
+from .autonomy import Autonomy, parse_autonomy
 from .errors import ScenarioError
 from .jobs import JOB_KEYS, Jobs, job_items, parse_jobs
 from .maps import SCENARIO_DIR, GameMap, load_map, parse_cell, read_toml
 from .script import Step, Take, parse_step
+from .tables import AGENT_KEYS, ITEM_KEYS, SCENARIO_KEYS, check_keys, entry_of, tables
 
 RobotMode = Literal["act", "observe"]
 
@@ -51,65 +55,6 @@ class AgentSetup:
     """An autonomous person's first preference (an item or ``out``); ``None``: drawn from the seed."""
     jobs: Jobs = Jobs()
     """An autonomous person's first jobs in a task episode (:mod:`sim2d.jobs`)."""
-
-
-@dataclass(frozen=True)
-class Autonomy:
-    """How autonomous people behave. Probabilities per tick; durations in ticks (min, max)."""
-
-    switch: float = 0.002
-    """Chance per tick that the preference changes."""
-    mischief: float = 0.05
-    """Chance, when deciding with empty hands, of moving an item that is not one's wish."""
-    put_away: float = 0.5
-    """Chance of putting an item away (and wanting something else) after playing with it."""
-    play_ticks: tuple[int, int] = (60, 200)
-    wait_ticks: tuple[int, int] = (20, 60)
-    forget: float = 0.0
-    """Rate per tick at which the belief about an item out of view drifts toward uniform
-    over the locations: ``p <- (1 - forget) p + forget / L``."""
-    miss: float = 0.0
-    """Chance that an item coming into view (at a location, not carried by the person) goes
-    unnoticed for as long as it stays in view there: its belief is left as it was."""
-    hearsay: float = 0.0
-    """Chance per tick, for two autonomous people in one region, that one tells the other
-    where they believe an item is (one they disagree on), unheard by the robot."""
-    search: str = "likely"
-    """Where a person looks for what they want: ``likely`` (the most probable place; ties:
-    the first) or ``nearest`` (the nearest place at least half as probable as the best)."""
-    wander: float = 0.0
-    """Chance, when setting off for what they want, of first walking to a random cell."""
-    replan: float = 0.0
-    """Chance per tick of dropping a walk under way and deciding again."""
-    replan_lag: tuple[int, int] = (2, 8)
-    """Ticks from a change of belief that makes a walk pointless (the item they are after seen
-    elsewhere, or gone from where they are heading) to deciding again: drawn once per person,
-    the first time it is needed (people who never need it draw nothing)."""
-    knows: float = 0.0
-    """Chance, per person and item, of starting sure of where the item is."""
-    stale: float = 0.0
-    """Chance, per person and item, of starting sure the item is at another of the item
-    locations (drawn uniformly): a false belief from before the episode. Otherwise (and at
-    ``knows = stale = 0``) a person starts not knowing: uniform over the locations."""
-    planner: str = "own"
-    """``own`` habits (:mod:`sim2d.autonomous`) or the brain's planner (``model``: :mod:`sim2d.planned`)."""
-
-    def __post_init__(self) -> None:
-        rates = {name: getattr(self, name) for name in RATES}
-        bad = [f"{name} = {value}" for name, value in rates.items() if not 0.0 <= value <= 1.0]
-        if bad:
-            raise ValueError(f"probabilities must be in [0, 1]: {', '.join(bad)}")
-        if self.knows + self.stale > 1.0:
-            raise ValueError(f"knows + stale must be at most 1, not {self.knows} + {self.stale}")
-        for name, known in (("search", SEARCH_ORDERS), ("planner", PLANNERS)):
-            if getattr(self, name) not in known:
-                raise ValueError(f"{name} must be one of {', '.join(known)}, not {getattr(self, name)!r}")
-
-
-RATES = ("switch", "mischief", "put_away", "forget", "miss", "hearsay", "wander", "replan", "knows", "stale")
-"""The probabilities of :class:`Autonomy`."""
-SEARCH_ORDERS = ("likely", "nearest")
-PLANNERS = ("own", "model")
 
 
 @dataclass(frozen=True)
@@ -156,13 +101,16 @@ def scenario_path(name_or_path: str) -> Path:
 
 
 def _map_of(data: dict[str, Any], path: Path) -> GameMap:
-    """The scenario's map: a bundled map's name, or a ``.toml`` path (relative to the scenario)."""
+    """The scenario's map: a ``.toml`` path (relative to the scenario), or a name: the file
+    ``<name>.map.toml`` beside the scenario when there is one (so a copied scenario plays
+    its copied map), else the bundled map of that name."""
     map_name = data.get("map")
-    if not isinstance(map_name, str):
+    if not isinstance(map_name, str) or not map_name:
         raise ScenarioError(path, "map", f"expected a map name, got {map_name!r}")
-    if map_name.endswith(".toml") and not Path(map_name).is_absolute():
-        map_name = str(path.parent / map_name)
-    return load_map(map_name)
+    if map_name.endswith(".toml"):
+        return load_map(map_name if Path(map_name).is_absolute() else str(path.parent / map_name))
+    beside = path.parent / f"{map_name}.map.toml"
+    return load_map(str(beside) if beside.is_file() else map_name)
 
 
 def _home(table: dict[str, Any], aid: str, game_map: GameMap, path: Path, entry: str) -> GridCell:
@@ -187,6 +135,7 @@ def _entry_id(table: dict[str, Any], section: str, i: int, path: Path) -> tuple[
 
 def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> AgentSetup:
     """``agents[i]``: a person (scripted or autonomous) or the robot."""
+    table = check_keys(table, AGENT_KEYS, path, entry_of(table, "agents", i))
     aid, entry = _entry_id(table, "agents", i, path)
     try:
         kind = AgentKind(table.get("kind", "person"))
@@ -226,7 +175,7 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
 
 def _agents(data: dict[str, Any], game_map: GameMap, path: Path) -> list[AgentSetup]:
     """Every agent, with distinct ids and at most one robot."""
-    agents = [_agent(table, i, game_map, path) for i, table in enumerate(data.get("agents", []))]
+    agents = [_agent(table, i, game_map, path) for i, table in enumerate(tables(data, "agents", path))]
     agent_ids = [a.id for a in agents]
     if len(set(agent_ids)) != len(agent_ids):
         raise ScenarioError(path, "agents", f"duplicate agent ids in {agent_ids}")
@@ -244,6 +193,7 @@ def _item(
     holders: dict[str, str],
 ) -> ItemSetup:
     """``items[i]``: at a location, or held by an agent (one item per agent, noted in ``holders``)."""
+    table = check_keys(table, ITEM_KEYS, path, entry_of(table, "items", i))
     iid, entry = _entry_id(table, "items", i, path)
     try:
         shape = ItemShape(table.get("shape", "block"))
@@ -278,7 +228,7 @@ def _items(data: dict[str, Any], game_map: GameMap, path: Path, agents: list[Age
     holders: dict[str, str] = {}
     items = [
         _item(table, i, path, location_ids, agent_ids, holders)
-        for i, table in enumerate(data.get("items", []))
+        for i, table in enumerate(tables(data, "items", path))
     ]
     item_ids = {item.id for item in items}
     if len(item_ids) != len(items):
@@ -333,31 +283,6 @@ def _timing(data: dict[str, Any], path: Path) -> tuple[float, int, int]:
     return tick_seconds, max_ticks, settle_ticks
 
 
-def _tick_range(value: Any, default: tuple[int, int]) -> tuple[int, int]:
-    low, high = value if value is not None else default
-    return (int(low), int(high))
-
-
-def _autonomy(data: dict[str, Any], path: Path) -> Autonomy:
-    """How autonomous people behave (``[autonomy]``)."""
-    table = data.get("autonomy", {})
-    known = {*RATES, "play_ticks", "wait_ticks", "replan_lag", "search", "planner"}
-    unknown = sorted(set(table) - known)
-    if unknown:
-        raise ScenarioError(path, "autonomy", f"unknown settings {unknown} (known: {sorted(known)})")
-    try:
-        return Autonomy(
-            **{name: float(table[name]) for name in RATES if name in table},
-            search=str(table.get("search", Autonomy.search)),
-            planner=str(table.get("planner", Autonomy.planner)),
-            play_ticks=_tick_range(table.get("play_ticks"), Autonomy.play_ticks),
-            wait_ticks=_tick_range(table.get("wait_ticks"), Autonomy.wait_ticks),
-            replan_lag=_tick_range(table.get("replan_lag"), Autonomy.replan_lag),
-        )
-    except (TypeError, ValueError) as err:
-        raise ScenarioError(path, "autonomy", f"expected numbers and [min, max] tick pairs ({err})") from None
-
-
 def load_scenario(name_or_path: str) -> Scenario:
     """Load and check a scenario and its map, section by section.
 
@@ -365,7 +290,7 @@ def load_scenario(name_or_path: str) -> Scenario:
         ScenarioError: naming the file, the entry and the problem.
     """
     path = scenario_path(name_or_path)
-    data = read_toml(path)
+    data = check_keys(read_toml(path), SCENARIO_KEYS, path, "")
     name = data.get("name")
     if not isinstance(name, str) or not name:
         raise ScenarioError(path, "name", "expected a non-empty string")
@@ -392,5 +317,5 @@ def load_scenario(name_or_path: str) -> Scenario:
         settle_ticks=settle_ticks,
         items=tuple(items),
         agents=tuple(agents),
-        autonomy=_autonomy(data, path),
+        autonomy=parse_autonomy(data, path),
     )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import uuid
 
 import msgspec
 import pytest
@@ -60,6 +61,37 @@ def test_minor_mismatch_of_client_warns_on_engine(
     caplog.set_level(logging.WARNING, logger="toyroom.bridge")
     handshake(client, client="newer", hello=Hello(client="newer", protocol="1.4"), timeout=5.0)
     assert "client 'newer'" in caplog.text and "1.4" in caplog.text, caplog.text
+
+
+def test_a_custom_engine_is_warned_about_once_however_many_handshakes(
+    bridges: tuple[Bridge, Bridge], caplog: pytest.LogCaptureFixture
+) -> None:
+    """An engine of protocol 1.1 with a region kind and an item shape of its own, met by a
+    brain that handshakes again at every reset: the minor version, each custom value and the
+    client's version are said once, not at every handshake."""
+    engine, client = bridges
+    tag = uuid.uuid4().hex[:8]
+    caplog.set_level(logging.WARNING)
+    info = _info("1.1")
+    scene = info.scene
+    regions = (msgspec.structs.replace(scene.regions[0], kind=f"corridor-{tag}"), *scene.regions[1:])
+    items = (msgspec.structs.replace(scene.items[0], shape=f"backpack-{tag}"), *scene.items[1:])
+    custom = msgspec.structs.replace(
+        info, engine=f"school-{tag}", scene=msgspec.structs.replace(scene, regions=regions, items=items)
+    )
+    serve_info(engine, lambda: custom)
+    hello = Hello(client=f"brain-{tag}", role="brain", protocol="1.1")
+    for _ in range(3):
+        got = handshake(client, client=hello.client, hello=hello, timeout=5.0)
+        assert got.scene.regions[0].kind == f"corridor-{tag}" and got.protocol == "1.1"
+    said = {
+        "the engine's minor version": f"engine 'school-{tag}' speaks protocol 1.1",
+        "the client's minor version": f"client 'brain-{tag}' (brain) speaks protocol 1.1",
+        "the custom region kind": f"a peer sent RegionKind 'corridor-{tag}'",
+        "the custom item shape": f"a peer sent ItemShape 'backpack-{tag}'",
+    }
+    for what, text in said.items():
+        assert caplog.text.count(text) == 1, f"{what}: said {caplog.text.count(text)} times:\n{caplog.text}"
 
 
 def test_inconsistent_scene_fails_the_handshake(bridges: tuple[Bridge, Bridge]) -> None:

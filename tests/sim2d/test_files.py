@@ -171,5 +171,10 @@ def test_toml_syntax_error_names_the_file(tmp_path: Path) -> None:
 
 
 def test_missing_scenario_is_named() -> None:
-    with pytest.raises(ScenarioError, match="no such file"):
+    with pytest.raises(ScenarioError, match="scenario 'paper-99': not bundled; known: .*paper-1"):
         load_scenario("paper-99")
+
+
+def test_missing_scenario_file_is_named(tmp_path: Path) -> None:
+    with pytest.raises(ScenarioError, match="no such file"):
+        load_scenario(str(tmp_path / "nosuch.toml"))

@@ -64,6 +64,16 @@ def test_robot_commands_over_the_wire(world: str) -> None:
         assert [s.state for s in impossible] == [CommandState.FAILED] and "not walkable" in impossible[
             0
         ].reason
+        # a command for a robot the scene lacks is failed on that robot's status key, where its
+        # sender listens (the grid engine and the C# sample answer there too)
+        ghost: queue.Queue[CommandStatus] = queue.Queue()
+        brain.subscribe(brain.keys.status("ghost"), lambda s, _: ghost.put(s), expected=CommandStatus)
+        to_ghost = brain.publisher(brain.keys.command("ghost"))
+        assert to_ghost.wait_matched(10.0)
+        to_ghost.put(RobotCommand(id="boo", robot="ghost", action=Navigate(cell=Cell(1, 8))))
+        answer = ghost.get(timeout=10.0)
+        assert answer.robot == "ghost" and answer.state is CommandState.FAILED, answer
+        assert "unknown robot 'ghost'" in answer.reason, answer
 
 
 def test_control_errors_and_bad_input_keep_the_engine_serving(world: str, tmp_path: Path) -> None:

@@ -107,6 +107,14 @@ def test_navigate_pick_place_give_succeed(engine: Engine) -> None:
     assert engine.world.items["ball"].holder == "A1"
 
 
+def test_a_command_for_an_unknown_robot_names_that_robot(engine: Engine) -> None:
+    """Its status names the robot the command named, so it is published on that robot's key."""
+    command = RobotCommand(id="boo", robot="ghost", action=Navigate(cell=Cell(5, 9)))
+    statuses = engine.command(command)
+    assert [(s.command, s.robot, s.state) for s in statuses] == [("boo", "ghost", CommandState.FAILED)]
+    assert statuses[0].reason == "unknown robot 'ghost'; this engine's robot is 'robot'", statuses[0]
+
+
 def test_failures_say_why(engine: Engine) -> None:
     def reason(action: object) -> str:
         statuses = run(engine, action)
