@@ -15,7 +15,7 @@ shows it (:func:`belief_agents`).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 import numpy as np
 
@@ -23,6 +23,7 @@ from protocol import GridCell, Location
 from protocol.carry import walking_distances
 
 from .maps import GameMap
+from .paths import shortest_path
 from .world import PERSON_SPEED
 
 TASKS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
@@ -53,9 +54,24 @@ HANDLING_TICKS = 10
 """Ticks a take and a drop add to the mover's walk (a margin, not a measurement)."""
 
 
+MAP_CYCLE = 3
+"""An evaluation draws its episodes' maps in turn by seed, three of them
+(``bridge.evaluation.generation.MAPS``); :func:`task_of` steps past that cycle."""
+
+
 def task_of(seed: int, kinds: Sequence[str] = TASKS) -> str:
-    """The job a task episode of ``seed`` is built around, in turn among ``kinds``."""
-    return kinds[seed % len(kinds)]
+    """The job a task episode of ``seed`` is built around: in turn among ``kinds``, one step
+    further every :data:`MAP_CYCLE` seeds, so that every map of an evaluation gets every kind
+    (plain turns alias them: with three kinds, each map would get only one)."""
+    return kinds[(seed + seed // MAP_CYCLE) % len(kinds)]
+
+
+def seed_of(kind: str, nth: int = 0, kinds: Sequence[str] = TASKS) -> int:
+    """The ``nth`` smallest seed whose episode :func:`task_of` builds around ``kind``."""
+    seeds = (seed for seed in range(10**6) if task_of(seed, kinds) == kind)
+    for _ in range(nth):
+        next(seeds)
+    return next(seeds)
 
 
 def check_kinds(kinds: Sequence[str]) -> tuple[str, ...]:
@@ -191,28 +207,25 @@ def belief_agents(
     """The two people of a ``told``, ``overlooked`` or ``stale`` episode (:data:`TASKS`): the
     owner (A1) wants the first item and comes to be sure it is at a wrong place, out of their
     view, without anything being moved; A2 wants the other item and starts sure of a wrong
-    place for it too (a belief from before the episode), so each episode shows two."""
+    place for it too (a belief from before the episode), so each episode shows two. Starts and
+    wrong places are chosen so that the walk there shows the belief for long
+    (:func:`revealing`)."""
     items = list(placed)
     wanted = items[0]
     cells = sorted(c for c in game_map.region_of if c not in {_cell(loc) for loc in game_map.locations})
     inside = [c for c in cells if game_map.region_of[c] not in game_map.outside_regions]
-    sees_spot = {c for c in inside if placed[wanted] in game_map.sees.get(c, ())}
-    if task == "overlooked":
-        pool = sorted(sees_spot)
-    elif task == "stale":
-        pool = [c for c in cells if game_map.region_of[c] in game_map.outside_regions]
+    if task == "stale":
+        pool = [c for c in cells if game_map.region_of[c] in game_map.outside_regions] or inside
     else:
-        pool = [c for c in inside if c not in sees_spot]
-    owner_home = _draw(pool or inside, rng)
-    target = _wrong_place(game_map, owner_home, placed[wanted], rng)
-    owner, other_home = [f'prefers = "{wanted}"'], next(h for h in homes if h != owner_home)
+        pool = inside
+    occupied = set(placed.values())
+    owner_home, target = revealing(game_map, pool, placed[wanted], rng, task == "overlooked", occupied)
+    owner, others = [f'prefers = "{wanted}"'], [c for c in inside if c != owner_home]
     mover: list[str] = []
     if task == "told":
         after = int(rng.integers(TELL_AFTER[0], TELL_AFTER[1] + 1))
         region = game_map.region_of[owner_home]
-        other_home = _draw(
-            [c for c in inside if game_map.region_of[c] == region and c != owner_home] or [owner_home], rng
-        )
+        others = [c for c in others if game_map.region_of[c] == region] or [owner_home]
         owner += [f'knows = ["{wanted}"]', f"wait = {after + 10}"]
         mover += [f'tell = ["A1", "{wanted}"]', f"tell_after = {after}", f"wait = {after + 1}"]
     elif task == "overlooked":
@@ -221,8 +234,10 @@ def belief_agents(
     else:
         owner += [f'believes = [["{wanted}", "{target}"]]']
     believes = [(wanted, target)] if task == "told" else []
+    other_home = _draw(others, rng)
     if len(items) > 1:
-        believes.append((items[1], _wrong_place(game_map, other_home, placed[items[1]], rng)))
+        other_home, wrong = revealing(game_map, others, placed[items[1]], rng, occupied=occupied)
+        believes.append((items[1], wrong))
     if believes:
         mover.append("believes = [" + ", ".join(f'["{i}", "{loc}"]' for i, loc in believes) + "]")
     other = items[1] if len(items) > 1 else "out"
@@ -230,6 +245,48 @@ def belief_agents(
         *person_lines("A1", owner_home, *owner),
         *person_lines("A2", other_home, f'prefers = "{other}"', *mover),
     ]
+
+
+def revealing(
+    game_map: GameMap,
+    pool: Sequence[GridCell],
+    truth: str,
+    rng: np.random.Generator,
+    overlooked: bool = False,
+    occupied: Collection[str] = (),
+) -> tuple[GridCell, str]:
+    """A start among ``pool`` and a wrong place for an item resting at ``truth`` whose walk
+    there shows the wrong belief for long: the cells walked before the wrong place comes into
+    view (or the item itself, unless it is overlooked); drawn among the pairs within 70% of
+    the best (of up to 24 starts). An overlooked item is in view at the start. Places in
+    ``occupied`` (where other items rest) are avoided where there are others: a walk to
+    another item reads as wanting that item, not as a false belief."""
+    starts = [pool[int(i)] for i in rng.choice(len(pool), size=min(len(pool), 24), replace=False)]
+    options = []
+    for home in starts:
+        view = game_map.sees.get(home, ())
+        if (truth in view) != overlooked:
+            continue
+        empty = [loc for loc in game_map.locations if loc.id not in occupied] or game_map.locations
+        for loc in empty:
+            if loc.id != truth and loc.id not in view:
+                options.append((_shown(game_map, home, loc, None if overlooked else truth), home, loc.id))
+    if not options:
+        home = _draw(pool, rng)
+        return home, _wrong_place(game_map, home, truth, rng)
+    best = max(score for score, _, _ in options)
+    good = [(home, target) for score, home, target in options if score >= 0.7 * best]
+    return good[int(rng.integers(len(good)))]
+
+
+def _shown(game_map: GameMap, home: GridCell, target: Location, truth: str | None) -> int:
+    """Cells walked from ``home`` towards ``target`` before it (or ``truth``) comes into view."""
+    path = shortest_path(game_map.walkable, home, _cell(target)) or []
+    for n, cell in enumerate(path):
+        view = game_map.sees.get(cell, ())
+        if target.id in view or (truth is not None and truth in view):
+            return n
+    return len(path)
 
 
 def _draw(cells: Sequence[GridCell], rng: np.random.Generator) -> GridCell:

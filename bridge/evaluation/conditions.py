@@ -62,9 +62,11 @@ class Condition:
         return f"{self.perception}-{self.minds}-{self.kind}"
 
     def task_of(self, seed: int) -> str | None:
-        """The task kind of the episode of ``seed`` (``None`` unless ``kind`` is ``tasks``)."""
+        """The task kind of the episode of ``seed`` (``None`` unless ``kind`` is ``tasks``), as
+        the generator picks it (``sim2d.tasks.task_of``: in turn, one step further every three
+        seeds, so that the three maps each get every kind)."""
         kinds = self.tasks or TASK_KINDS
-        return kinds[seed % len(kinds)] if self.kind == "tasks" else None
+        return kinds[(seed + seed // 3) % len(kinds)] if self.kind == "tasks" else None
 
     def brain_args(self) -> tuple[str, ...]:
         """What every brain of this condition is told (its perception)."""

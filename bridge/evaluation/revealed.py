@@ -7,8 +7,10 @@ belief gives it, and it is not there: their belief gives its true place less tha
 then tell that they believe it elsewhere; nothing else shows such a belief when it formed out
 of sight (a word the robot did not hear, an item overlooked in view, a belief from before).
 
-A *stretch* is a run of consecutive revealed ticks for one person, item and place. It is
-detected when the observer's P(false belief) for that person and item passes 0.5 before the
+A *stretch* is a run of consecutive revealed ticks for one person, item and place in which
+the person takes at least :data:`MIN_MOVES` steps before reaching the place (a pursuit that
+ends before the person has moved, say because a plan is dropped at once, shows nothing to
+anyone). It is detected when the observer's P(false belief) for that person and item passes 0.5 before the
 person reaches the place (stands on or next to it), in time for a robot to help; its lead is
 how many ticks before that.
 
@@ -26,6 +28,9 @@ from protocol import Truth
 
 from .metrics import FALSE_BELIEF_MASS
 
+MIN_MOVES = 2
+"""Steps (cells entered) a person must take in a stretch, before reaching its place, for it to
+count: a decision or two is the least any observer of behaviour needs."""
 Cell = tuple[int, int]
 Key = tuple[str, str]
 """``(person, item)``."""
@@ -79,9 +84,10 @@ def stretches(
 
     def close(key: Key) -> None:
         location, first, last, reached = open_.pop(key)
-        done.append(
-            Stretch(key[0], key[1], location, first, last, reached if reached is not None else last + 1)
-        )
+        deadline = reached if reached is not None else last + 1
+        walked = {cells[t][key[0]] for t in range(first, deadline) if key[0] in cells.get(t, {})}
+        if len(walked) > MIN_MOVES:
+            done.append(Stretch(key[0], key[1], location, first, last, deadline))
 
     for tick in sorted(truths):
         now = revealed(truths[tick])

@@ -15,7 +15,7 @@ from sim2d.engine import Engine
 from sim2d.generate import write_episode
 from sim2d.pursuit import Primitive, Reconsider, pursuit_of
 from sim2d.scenario import load_scenario
-from sim2d.tasks import BELIEF_TASKS, TASKS, task_of
+from sim2d.tasks import BELIEF_TASKS, TASKS, seed_of, task_of
 
 
 def revealed(truth: Truth) -> set[tuple[str, str, str]]:
@@ -47,7 +47,7 @@ def run(path: Path, ticks: int = 600) -> list[tuple[int, set[tuple[str, str, str
 @pytest.mark.parametrize("kind", BELIEF_TASKS)
 @pytest.mark.parametrize("map_name", ["paper", "house-a"])
 def test_the_owner_walks_to_the_wrong_place_nothing_moved(tmp_path: Path, kind: str, map_name: str) -> None:
-    seed = TASKS.index(kind) + len(TASKS)
+    seed = seed_of(kind, 1)
     assert task_of(seed) == kind
     path = write_episode(tmp_path, map_name, seed, kind="tasks")
     scenario = load_scenario(str(path))
@@ -61,7 +61,7 @@ def test_the_owner_walks_to_the_wrong_place_nothing_moved(tmp_path: Path, kind: 
 
 
 def test_told_happens_out_of_the_robots_hearing(tmp_path: Path) -> None:
-    path = write_episode(tmp_path, "paper", TASKS.index("told"), kind="tasks")
+    path = write_episode(tmp_path, "paper", seed_of("told"), kind="tasks")
     engine = Engine(load_scenario(str(path)), seed=1)
     says = []
     owner, teller = engine.people["A1"], engine.people["A2"]
@@ -122,6 +122,16 @@ def test_a_pointless_walk_is_dropped_after_the_persons_own_lag() -> None:
 
 
 def test_the_evaluation_knows_every_task_kind() -> None:
-    from bridge.evaluation.conditions import TASK_KINDS
+    from bridge.evaluation.conditions import TASK_KINDS, Condition
 
     assert TASK_KINDS == TASKS, f"bridge's TASK_KINDS {TASK_KINDS} differ from sim2d's TASKS {TASKS}"
+    for kinds in ((), ("told", "overlooked", "stale"), ("moved", "seen")):
+        condition = Condition(kind="tasks", tasks=kinds)
+        theirs = [task_of(seed, kinds or TASKS) for seed in range(1000, 1060)]
+        assert [condition.task_of(seed) for seed in range(1000, 1060)] == theirs, kinds
+
+
+def test_every_map_of_an_evaluation_gets_every_kind() -> None:
+    kinds = ("told", "overlooked", "stale")
+    pairs = {(i % 3, task_of(1000 + i, kinds)) for i in range(40)}
+    assert pairs == {(m, k) for m in range(3) for k in kinds}, sorted(pairs)

@@ -10,7 +10,7 @@ from sim2d.autonomous import AutonomousPerson
 from sim2d.engine import Engine
 from sim2d.generate import write_episode
 from sim2d.scenario import load_scenario
-from sim2d.tasks import TASKS, task_of
+from sim2d.tasks import seed_of, task_of
 
 
 def run(path: Path, ticks: int = 700) -> tuple[list[tuple[int, str, str, str | None, str | None]], int]:
@@ -48,7 +48,7 @@ def test_an_item_moved_while_its_owner_is_away_gives_them_a_false_belief(tmp_pat
 
 
 def test_a_contested_item_is_wanted_by_both(tmp_path: Path) -> None:
-    seed = TASKS.index("contested")
+    seed = seed_of("contested")
     scenario = load_scenario(str(write_episode(tmp_path, "house-a", seed, kind="tasks")))
     assert {p.prefers for p in scenario.people} == {scenario.items[0].id}
     assert all(p.jobs.errand == 0 and p.jobs.moves is None for p in scenario.people)
@@ -62,7 +62,7 @@ def test_everyday_episodes_are_unchanged_by_the_kind_option(tmp_path: Path) -> N
 
 def test_a_move_the_owner_watched_leaves_no_false_belief(tmp_path: Path) -> None:
     """Sally-Anne's true-belief control: the owner sees the item moved before the errand."""
-    seed = TASKS.index("seen")
+    seed = seed_of("seen")
     path = write_episode(tmp_path, "paper", seed, kind="tasks")
     scenario = load_scenario(str(path))
     owner, mover = scenario.people
@@ -110,7 +110,10 @@ def owner_timeline(path: Path) -> tuple[int | None, int | None, int | None, int]
     return out, back, dropped, false
 
 
-@pytest.mark.parametrize(("map_name", "seed"), [("paper", 0), ("house-a", 7), ("house-b", 1), ("house-b", 8)])
+@pytest.mark.parametrize(
+    ("map_name", "seed"),
+    [("paper", 0), ("house-a", seed_of("moved", 2)), ("house-b", 1), ("house-b", seed_of("hidden", 2))],
+)
 def test_the_move_lands_while_the_owner_is_out_shortly_before_they_are_back(
     tmp_path: Path, map_name: str, seed: int
 ) -> None:
@@ -126,7 +129,7 @@ def test_the_move_lands_while_the_owner_is_out_shortly_before_they_are_back(
 
 def test_the_owner_knows_where_their_item_is_whatever_the_minds(tmp_path: Path) -> None:
     """Rich minds start not knowing most things; a task's owner knows where they left theirs."""
-    seed = TASKS.index("moved")
+    seed = seed_of("moved")
     scenario = load_scenario(str(write_episode(tmp_path, "paper", seed, kind="tasks", minds="rich")))
     owner = scenario.people[0]
     assert owner.jobs.knows == (owner.prefers,)
@@ -142,7 +145,7 @@ def test_the_owner_knows_where_their_item_is_whatever_the_minds(tmp_path: Path) 
 def test_a_hidden_item_is_where_the_owner_looks_last(tmp_path: Path, search: str) -> None:
     from sim2d.tasks import search_order
 
-    seed = TASKS.index("hidden")
+    seed = seed_of("hidden")
     scenario = load_scenario(str(write_episode(tmp_path, "house-b", seed, kind="tasks")))
     game_map = scenario.map
     start = game_map.locations[0]

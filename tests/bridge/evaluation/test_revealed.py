@@ -14,7 +14,7 @@ from bridge.evaluation.runs import TruthView, _score
 from bridge.evaluation.scoredminds import Chance, ScoredAgent, ScoredBelief, ScoredMind
 from protocol import ItemBelief, ItemPlace, Prob, Pursuit, TrueMind, Truth
 
-SPOTS = {"L1": (0, 0), "L2": (5, 0)}
+SPOTS = {"L1": (0, 0), "L2": (7, 0)}
 BALL_P = [0.1, 0.2, 0.3, 0.6, 0.7, 0.8, 0.1]
 """The observer's P(false belief about the ball) at ticks 0..6 (flagged above 0.5: 3, 4, 5)."""
 
@@ -55,12 +55,17 @@ def mind(tick: int) -> ScoredMind:
 
 TRUTHS = {t: truth(t) for t in range(7)}
 CELLS = {t: {"A1": (t, 0)} for t in range(7)}
-"""A1 walks one cell a tick from (0, 0): next to L2 (5, 0) from tick 4."""
+"""A1 walks one cell a tick from (0, 0): next to L2 (7, 0) only from tick 6, after the stretch."""
 
 
 def test_a_revealed_stretch_runs_while_the_pursuit_shows_the_belief() -> None:
     found = stretches(TRUTHS, CELLS, SPOTS)
-    assert found == [Stretch("A1", "ball", "L2", first=2, last=5, deadline=4)], found
+    assert found == [Stretch("A1", "ball", "L2", first=2, last=5, deadline=6)], found
+
+
+def test_a_stretch_without_two_steps_shows_nothing() -> None:
+    standing = {t: {"A1": (min(t, 3), 0)} for t in range(7)}  # stops at (3, 0) from tick 3
+    assert stretches(TRUTHS, standing, SPOTS) == [], "two cells walked (2, 3) are one step"
 
 
 def test_only_revealed_or_moved_false_beliefs_are_knowable() -> None:
@@ -74,8 +79,8 @@ def test_the_scores_are_the_hand_computed_ones() -> None:
     view = TruthView(TRUTHS, {}, stretches(TRUTHS, CELLS, SPOTS))
     counts = _score({t: mind(t) for t in range(7)}, view, Outcome()).counts
     scores = counts.metrics()
-    # Detected at tick 3, before A1 is next to L2 (tick 4): one stretch of one, lead 1 tick.
-    assert (scores["revealed_detection"], scores["revealed_lead_median"]) == (1.0, 1.0)
+    # Detected at tick 3, before the stretch ends (tick 6): one stretch of one, lead 3 ticks.
+    assert (scores["revealed_detection"], scores["revealed_lead_median"]) == (1.0, 3.0)
     # Knowable: the ball at ticks 2-5 (flagged at 3, 4, 5); the skate's false belief counts
     # neither way; ticks 0, 1, 6 are negatives (none flagged). Precision 1, recall 3/4.
     assert (counts.known_tp, counts.known_fn, counts.known_fp, counts.known_tn) == (3, 1, 0, 3)
@@ -92,7 +97,7 @@ def test_the_scores_are_the_hand_computed_ones() -> None:
 def test_flagging_too_late_or_never_is_no_detection() -> None:
     view = TruthView(TRUTHS, {}, stretches(TRUTHS, CELLS, SPOTS))
     late = {t: mind(t) for t in range(7)}
-    late[3] = mind(2)  # first flagged at tick 4: A1 is already next to L2
+    late[3] = late[4] = late[5] = mind(2)  # flagged only at tick 6: the stretch is over
     scores = _score(late, view, Outcome()).counts.metrics()
     assert scores["revealed_detection"] == 0.0 and scores["revealed_lead_median"] is None
 
@@ -106,4 +111,4 @@ def test_a_majority_observer_never_flags_and_scores_the_base_rate_worse() -> Non
     total = Counts()
     total.add(counts)
     total.add(counts)
-    assert total.metrics()["brier"] == pytest.approx(counts.metrics()["brier"]) and total.leads == [1, 1]
+    assert total.metrics()["brier"] == pytest.approx(counts.metrics()["brier"]) and total.leads == [3, 3]
