@@ -36,7 +36,8 @@ the errand; putting it back would mislead them), and three where behaviour is th
 ``told`` (the other person, sure of a wrong place, tells the owner so out of the robot's
 hearing, and the owner goes there), ``overlooked`` (the owner, sure of a wrong place, stands
 in view of the item without noticing it, then goes to that place) and ``stale`` (the owner,
-sure of a wrong place from before the episode, comes in from outside and goes there)."""
+sure of a wrong place from before the episode, goes there, coming in from outside or from a
+room of the house)."""
 BELIEF_TASKS = ("told", "overlooked", "stale")
 """The kinds of :data:`TASKS` whose false belief only behaviour shows (:func:`belief_agents`)."""
 TELL_AFTER = (5, 30)
@@ -214,10 +215,7 @@ def belief_agents(
     wanted = items[0]
     cells = sorted(c for c in game_map.region_of if c not in {_cell(loc) for loc in game_map.locations})
     inside = [c for c in cells if game_map.region_of[c] not in game_map.outside_regions]
-    if task == "stale":
-        pool = [c for c in cells if game_map.region_of[c] in game_map.outside_regions] or inside
-    else:
-        pool = inside
+    pool = cells if task == "stale" else inside  # stale: coming in from outside, or already in
     occupied = set(placed.values())
     owner_home, target = revealing(game_map, pool, placed[wanted], rng, task == "overlooked", occupied)
     owner, others = [f'prefers = "{wanted}"'], [c for c in inside if c != owner_home]
@@ -270,7 +268,7 @@ def revealing(
         empty = [loc for loc in game_map.locations if loc.id not in occupied] or game_map.locations
         for loc in empty:
             if loc.id != truth and loc.id not in view:
-                options.append((_shown(game_map, home, loc, None if overlooked else truth), home, loc.id))
+                options.append((_shown(game_map, home, loc, truth, overlooked), home, loc.id))
     if not options:
         home = _draw(pool, rng)
         return home, _wrong_place(game_map, home, truth, rng)
@@ -279,14 +277,20 @@ def revealing(
     return good[int(rng.integers(len(good)))]
 
 
-def _shown(game_map: GameMap, home: GridCell, target: Location, truth: str | None) -> int:
-    """Cells walked from ``home`` towards ``target`` before it (or ``truth``) comes into view."""
-    path = shortest_path(game_map.walkable, home, _cell(target)) or []
-    for n, cell in enumerate(path):
+def _shown(game_map: GameMap, home: GridCell, target: Location, truth: str, overlooked: bool) -> int:
+    """Steps of the walk from ``home`` towards ``target`` that take the walker further from
+    ``truth`` (where the item is: steps nobody heading there would take, so they show the
+    belief), before ``target`` (or, unless the item is overlooked, ``truth``) comes into view."""
+    spot = next(_cell(loc) for loc in game_map.locations if loc.id == truth)
+    far = walking_distances(game_map.walkable, [spot])
+    path, shown, before = shortest_path(game_map.walkable, home, _cell(target)) or [], 0, far.get(home, 0)
+    for cell in path:
         view = game_map.sees.get(cell, ())
-        if target.id in view or (truth is not None and truth in view):
-            return n
-    return len(path)
+        if target.id in view or (not overlooked and truth in view):
+            break
+        shown += far.get(cell, 0) > before
+        before = far.get(cell, 0)
+    return shown
 
 
 def _draw(cells: Sequence[GridCell], rng: np.random.Generator) -> GridCell:
