@@ -15,10 +15,11 @@ from ..errors import SettingsError
 from ..settings import Settings
 from .correlation import JudgedFit, fit_judgments, judged_search
 from .crossval import folds
-from .fit import fit, write_fit
+from .fit import ModelFit, fit, write_fit
 from .grid import GRIDS, parse_grid
 from .judgments import Judgment, load_judgments
-from .search import DEFAULT_MODELS, MODELS
+from .optimise import BOUNDS, METHODS, Refinement, parse_bounds, refine
+from .search import DEFAULT_MODELS, MODELS, model_grid
 
 
 def fit_parser() -> argparse.ArgumentParser:
@@ -64,6 +65,33 @@ def add_fit_args(parser: argparse.ArgumentParser) -> None:
         metavar="FILE.csv",
         help="ratings of the recordings (episode, tick, person, quantity, target, value): also fit the "
         "parameters that correlate best with them, and write those as settings.toml",
+    )
+    add_refine_args(parser)
+
+
+def add_refine_args(parser: argparse.ArgumentParser) -> None:
+    """``--refine`` and its options (:mod:`brain.fitting.optimise`)."""
+    parser.add_argument(
+        "--refine",
+        action="store_true",
+        help="then refine the first model's parameters on every recording with a bounded optimiser "
+        "(scipy.optimize), started from the grid's best point; settings.toml gets the refined point",
+    )
+    parser.add_argument("--refine-method", choices=METHODS, default="powell", help="the optimiser")
+    parser.add_argument(
+        "--refine-evals",
+        type=int,
+        default=200,
+        help="at most this many points (one pass over every recording each)",
+    )
+    parser.add_argument(
+        "--bounds",
+        action="append",
+        default=[],
+        metavar="NAME=LO,HI",
+        help="replace one parameter's search range ("
+        + ", ".join(f"{k} [{b.low:g}, {b.high:g}]" for k, b in BOUNDS.items())
+        + "; log scale but for ignorance and step_cost)",
     )
 
 
@@ -112,10 +140,38 @@ def _judged(
     return [fit_judgments(m, *found[m], judgments, parts, args.seed) for m in models]
 
 
+def _refined(
+    args: argparse.Namespace,
+    traces: Sequence[Path],
+    fits: Sequence[ModelFit],
+    grid: Mapping[str, Sequence[float]],
+    settings: Settings,
+) -> Refinement | None:
+    """``--refine``: the first model refined from its grid point (``None`` without it)."""
+    if not args.refine:
+        return None
+    first = fits[0]
+    bounds = parse_bounds(list(model_grid(first.table.model, grid)), args.bounds)
+    if not bounds:
+        raise SettingsError(f"--refine: {first.table.model} has no parameter of --params to refine")
+    return refine(
+        traces,
+        first.table.model,
+        first.fitted,
+        settings.model,
+        bounds,
+        args.refine_method,
+        args.refine_evals,
+        args.workers,
+    )
+
+
 def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) -> int:
     """Run the fit and print the report."""
     grid = parse_grid(args.params, args.grid)
     models = [m.strip() for m in args.models.split(",") if m.strip()]
+    if args.refine:
+        parse_bounds(list(model_grid(models[0], grid)) if models[0] in MODELS else [], args.bounds)
     with tempfile.TemporaryDirectory() as scratch:
         traces = as_traces(args.recordings, Path(scratch))
         judgments = _judgments(args.judgments, traces, args.recordings) if args.judgments else []
@@ -131,9 +187,13 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
             args.backend,
         )
         judged = _judged(args, traces, judgments, grid, models, settings) if judgments else []
-        summary = write_fit(args.out, fits, list(args.recordings), grid, settings, args.seed, argv, judged)
+        refined = _refined(args, traces, fits, grid, settings)
+        summary = write_fit(
+            args.out, fits, list(args.recordings), grid, settings, args.seed, argv, judged, refined
+        )
     print((args.out / "report.md").read_text(encoding="utf-8"))
     source = summary["judgments"] if judged else summary["models"]
-    print(f"brain: wrote {args.out / 'settings.toml'} (fitted: {source[models[0]]['fitted']})")
+    written = refined.point if refined is not None and not judged else source[models[0]]["fitted"]
+    print(f"brain: wrote {args.out / 'settings.toml'} (fitted: {written})")
     sys.stdout.flush()
     return 0

@@ -2,8 +2,10 @@
 cross-validated by episode, and the models compared by held-out log-likelihood per action.
 
 Writes into the output folder: ``settings.toml`` (the first model fitted on every
-recording), ``fit.json`` (grids, every fold, every model's held-out score with a bootstrap
-95% interval, paired against the best), ``folds.csv`` and ``report.md``.
+recording: the optimiser's point when ``--refine`` ran, :mod:`brain.fitting.optimise`),
+``fit.json`` (grids, every fold, every model's held-out score with a bootstrap 95% interval,
+paired against the best, and the optimiser's result under ``refinement``), ``folds.csv`` and
+``report.md``.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from ..errors import SettingsError
 from ..settings import Settings, settings_toml
 from .correlation import JudgedFit
 from .crossval import Fold, best_point, cross_validate, folds, held_out_per_action
+from .optimise import Refinement, refinement_lines
 from .search import BRAIN_MODELS, MODELS, Table, model_settings, search
 
 
@@ -111,12 +114,16 @@ def write_fit(
     seed: int,
     command: Sequence[str],
     judged: Sequence[JudgedFit] = (),
+    refined: Refinement | None = None,
 ) -> dict[str, Any]:
     """The outputs (see the module docstring); returns ``fit.json``'s content. With
-    ``judged`` (a fit to judgments), ``settings.toml`` holds its first model's point."""
+    ``judged`` (a fit to judgments), ``settings.toml`` holds its first model's point; else,
+    with ``refined`` (the optimiser's result), its point."""
     out.mkdir(parents=True, exist_ok=True)
     first = fits[0]
     name, point = (judged[0].model, judged[0].fitted) if judged else (first.table.model, first.fitted)
+    if refined is not None and not judged:
+        name, point = refined.model, refined.point
     fitted = Settings(model=model_settings(name, settings.model, point), robot=settings.robot)
     (out / "settings.toml").write_text(settings_toml(fitted), encoding="utf-8")
     ranked = sorted(fits, key=lambda f: -f.held_out)
@@ -145,6 +152,8 @@ def write_fit(
         },
         "ranking": [f.table.model for f in ranked],
     }
+    if refined is not None:
+        summary["refinement"] = refined.as_json()
     if judged:
         summary["judgments"] = {
             j.model: {"fitted": j.fitted, "r": j.r, "fold_points": [j.points[p] for p in j.fold_points]}
@@ -210,6 +219,8 @@ def report(summary: Mapping[str, Any]) -> str:
         "an observer gives decisions no likelihood: it is compared on judgments only.",
         "",
     ]
+    if "refinement" in summary:
+        lines += refinement_lines(summary["refinement"])
     if "judgments" in summary:
         lines += _judgments_table(summary["judgments"])
     return "\n".join(lines)

@@ -106,7 +106,7 @@ Job = tuple[str, str, ModelSettings, tuple[Point, ...]]
 """One recording under one model's settings, at several values of the cheap parameters."""
 
 
-def _evaluate(job: Job) -> list[Evidence]:
+def evaluate_job(job: Job) -> list[Evidence]:
     """The evidence at each cheap point: one replayed pass when the model allows it
     (:mod:`brain.fitting.replay`), else one pass per point."""
     path, observer, settings, cheap = job
@@ -178,14 +178,14 @@ def _run(jobs: list[Job], workers: int, progress: bool, backend: str = "local") 
             from bridge.evaluation.raybackend import run_with_ray
 
             bar.update(task, total=len(jobs))
-            return run_with_ray(_evaluate, jobs, workers, lambda n: bar.advance(task, n))
+            return run_with_ray(evaluate_job, jobs, workers, lambda n: bar.advance(task, n))
         if workers <= 1:
             for job in jobs:
-                results.append(_evaluate(job))
+                results.append(evaluate_job(job))
                 bar.advance(task, len(job[3]))
             return results
         with ProcessPoolExecutor(max_workers=workers) as pool:
-            for job, evidence in zip(jobs, pool.map(_evaluate, jobs, chunksize=1), strict=True):
+            for job, evidence in zip(jobs, pool.map(evaluate_job, jobs, chunksize=1), strict=True):
                 results.append(evidence)
                 bar.advance(task, len(job[3]))
     return results

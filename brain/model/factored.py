@@ -32,7 +32,7 @@ from protocol import Scene
 
 from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
-from .belief import Percept
+from .belief import UNNOTICED, Percept
 from .estimates import Estimate, point_false_belief
 from .inference import hazard_matrix
 from .planner import (
@@ -176,9 +176,10 @@ class FactoredBeliefs:
         seen = np.array(p.seen, dtype=np.int64)  # (K,)
         visible = self.model.sees[p.cell][self.place]  # (V,)
         values = np.arange(self.model.n_values)
-        match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], ~visible[None, :])  # (K, V)
+        blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
+        match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)  # (K, V)
         likelihood = np.where(match, 1.0 - self.delta, self.delta)
-        affected = (seen[:, None] >= 0) | visible[None, :]  # (K, V_j)
+        affected = (seen[:, None] >= 0) | (visible[None, :] & (seen[:, None] != UNNOTICED))  # (K, V_j)
         g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
         t = likelihood[:, :, None] * g
         return t / t.sum(axis=1, keepdims=True)
@@ -191,9 +192,10 @@ class FactoredBeliefs:
         seen = np.array(p.seen, dtype=np.int64)
         visible = self.model.sees[p.cell][self.place]
         values = np.arange(self.model.n_values)
-        match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], ~visible[None, :])
+        blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
+        match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)
         likelihood = np.where(match, 1.0 - self.delta, self.delta)  # (K, V)
-        affected = (seen[:, None] >= 0) | visible[None, :]
+        affected = (seen[:, None] >= 0) | (visible[None, :] & (seen[:, None] != UNNOTICED))
         g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
         if predict:
             g = g / g.sum(axis=1, keepdims=True)

@@ -4,21 +4,24 @@ People in the model see every item in view; real people (and ``--minds rich`` si
 ones) sometimes overlook one, and then act on a belief their percepts no longer explain.
 :class:`LapseFilter` wraps any person filter in a small mixture of *rows*, each a copy of
 the filter that assumes a different set of items was overlooked: when an item comes into
-view that the row's person believes more likely than not to be elsewhere (a sight whose
-lapse leaves a false belief), the row splits in two, "noticed" (weight ``1 - miss``) and
-"missed" (weight ``miss``), and the missed row keeps the item out of its percepts for as
-long as it stays in view there (the person's belief about it stays as it was: they "see"
-what they expected, where they believe it if that spot is in view, else nothing). Each
-row's weight then follows the evidence of the person's decisions, so a person who walks
-back to where the item used to be makes the missed row the likely one: a false belief the
-percepts alone cannot show. Hearsay (``ModelSettings.hearsay``) splits rows the same way:
-when someone in the person's region believes an item to be where the row's person does not
-(``StepRecord.rumours``, from the tracker), a "told" row takes it in as the robot's speech
-is taken (weight: the chance it was said since the last step). Rows
-with the same overlooked items and (nearly) the same beliefs are merged, and at most
-``LAPSE_ROWS`` are kept. The estimate is the rows' mixture; the log-evidence is the mixture's
-(the log of the summed weights, which start at one). Smoothing returns the online estimates
-(the rows do not have a backward pass).
+view at a spot the row's person does not already believe more likely than not (a sight they
+would learn from), the row splits in two, "noticed" (weight ``1 - miss``) and "missed"
+(weight ``miss``), and the missed row keeps the item out of its percepts for as long as it
+stays in view there: its percepts say nothing of the item
+(:data:`~brain.model.belief.UNNOTICED`), so the person's belief about it stays as it was,
+right or wrong, sure or not (as ``--minds rich`` simulated people's does). Each row's
+weight then follows the evidence of the person's decisions, so a person who walks back to
+where the item used to be makes the missed row the likely one: a false belief the percepts
+alone cannot show. Hearsay (``ModelSettings.hearsay``) splits rows the same way: when someone
+in the person's region believes an item to be where the row's person does not
+(``StepRecord.rumours``, from the tracker), a "told" row takes it in as the robot's speech is
+taken (weight: the chance it was said since the last step). Rows with the same overlooked
+items and (nearly) the same beliefs are merged; the ``LAPSE_ROWS`` heaviest are kept, and
+besides them up to ``UNTESTED_ROWS`` lighter ones that behaviour has not yet shown wrong (a
+lapse's row is light from birth, and only the person's acting on the belief it left can lift
+it). The estimate is the rows' mixture; the log-evidence is the mixture's (the log of the
+summed weights, which start at one). Smoothing returns the online estimates (the rows do not
+have a backward pass).
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .belief import NOT_IN_VIEW, Percept
+from .belief import UNNOTICED, Percept
 from .estimates import Estimate, mix
 from .world import WorldModel
 
@@ -39,7 +42,12 @@ if TYPE_CHECKING:
     from .personmodel import PersonFilter, PersonModel, StepRecord
 
 LAPSE_ROWS = 8
-"""The most rows a person's mixture keeps (the lightest are dropped)."""
+"""The heaviest rows a person's mixture keeps whatever the evidence (:func:`_merged`)."""
+UNTESTED_ROWS = 8
+"""Rows kept besides those while behaviour has not spoken against them (:func:`_pruned`)."""
+UNTESTED_NATS = 3.0
+"""A row whose decisions' log-likelihood is this far below the best row's has been shown
+wrong by behaviour (a likelihood ratio of about 20) and may be dropped."""
 MERGE_TV = 1e-3
 """Rows whose beliefs differ by less than this (total variation, per item) are merged."""
 
@@ -57,6 +65,14 @@ class Row:
     """The row's estimate after its last step, read against that step's truth."""
     told: tuple[int, int] | None = None
     """``(item, value)`` the row's person is told at this step (hearsay), then ``None``."""
+    prior: float = 0.0
+    """The log of the prior chance of the row's lapses (the chances it split off with), so
+    ``log_weight - prior`` is the log-likelihood of the decisions under the row."""
+
+    @property
+    def evidence(self) -> float:
+        """The log-likelihood of the person's decisions under the row's lapses."""
+        return self.log_weight - self.prior
 
 
 @dataclass
@@ -87,14 +103,17 @@ class LapseFilter:
             )
             split = self._surprises(row, record.percept) if self.miss > 0 else []
             if split:
+                chance = float(np.log(self.miss))
                 lost = Row(
-                    row.log_weight + float(np.log(self.miss)),
+                    row.log_weight + chance,
                     copy.deepcopy(row.filter),
                     missed | frozenset(split),
                     row.beliefs,
+                    prior=row.prior + chance,
                 )
                 rows.append(lost)
                 row.log_weight += float(np.log1p(-self.miss))
+                row.prior += float(np.log1p(-self.miss))
             row.missed = missed
             rows.append(row)
             rows.extend(self._told(row, record))
@@ -109,9 +128,12 @@ class LapseFilter:
         self.read = (record.truth, [r.estimate for r in self.rows if r.estimate is not None])
 
     def _surprises(self, row: Row, p: Percept) -> list[int]:
-        """Items just come into view (or moved in view), not their own, that the row's person
-        believes more likely than not to be somewhere else: the sights whose lapse would
-        leave a false belief (overlooking an item one had no idea about changes little)."""
+        """Items just come into view (or moved in view), resting at a spot the row's person
+        does not already believe more likely than not: every sight they would learn from.
+        Overlooking one leaves them believing what they did (:meth:`_as_seen`): a false
+        belief when they were sure of another spot, ignorance when they had no idea, and a
+        belief the robot never saw form (a person who knew where things were before the
+        episode) is among the row's hypotheses either way."""
         out = []
         assert row.beliefs is not None
         for k, value in enumerate(p.seen):
@@ -119,8 +141,7 @@ class LapseFilter:
                 continue
             if self.last is not None and self.last.seen[k] == value:
                 continue
-            believed = int(np.argmax(row.beliefs[k]))
-            if believed != value // 2 and row.beliefs[k, believed] > 0.5:
+            if row.beliefs[k, value // 2] < 0.5:
                 out.append(k)
         return out
 
@@ -132,22 +153,24 @@ class LapseFilter:
             if chance <= 0 or int(np.argmax(row.beliefs[k])) == value // 2:
                 continue
             told_row = Row(
-                row.log_weight + float(np.log(chance)), copy.deepcopy(row.filter), row.missed, row.beliefs
+                row.log_weight + float(np.log(chance)),
+                copy.deepcopy(row.filter),
+                row.missed,
+                row.beliefs,
+                prior=row.prior + float(np.log(chance)),
             )
             told_row.told = (k, value)
             row.log_weight += float(np.log1p(-chance))
+            row.prior += float(np.log1p(-chance))
             out.append(told_row)
         return out
 
     def _as_seen(self, row: Row, p: Percept) -> Percept:
-        """``p`` with each overlooked item replaced by what the row's person expects there:
-        where they believe it, if that is in view, else not in view."""
+        """``p`` with each overlooked item :data:`~brain.model.belief.UNNOTICED`: the percept
+        says nothing about it, so the row's person believes of it what they did."""
         seen = list(p.seen)
-        beliefs = row.beliefs
-        for k in row.missed if beliefs is not None else ():
-            assert beliefs is not None
-            believed = int(np.argmax(beliefs[k]))
-            seen[k] = 2 * believed if self.model.sees[p.cell, believed] else NOT_IN_VIEW
+        for k in row.missed:
+            seen[k] = UNNOTICED
         if row.told is not None:  # hearsay: taken in as speech is
             seen[row.told[0]] = row.told[1]
             row.told = None
@@ -167,7 +190,8 @@ class LapseFilter:
 
 def _merged(rows: list[Row]) -> list[Row]:
     """Rows with the same overlooked items and (nearly) the same beliefs merged (their
-    weights summed, the heavier filter kept); at most :data:`LAPSE_ROWS`, heaviest first."""
+    weights and priors summed, the heavier filter kept), heaviest first, then
+    :func:`_pruned`."""
     kept: list[Row] = []
     for row in sorted(rows, key=lambda r: -r.log_weight):
         twin = next(
@@ -185,7 +209,22 @@ def _merged(rows: list[Row]) -> list[Row]:
             kept.append(row)
         else:
             twin.log_weight = float(np.logaddexp(twin.log_weight, row.log_weight))
-    return kept[:LAPSE_ROWS]
+            twin.prior = float(np.logaddexp(twin.prior, row.prior))
+    return _pruned(kept)
+
+
+def _pruned(rows: list[Row]) -> list[Row]:
+    """The :data:`LAPSE_ROWS` heaviest of ``rows`` (heaviest first), and up to
+    :data:`UNTESTED_ROWS` more, heaviest first, of those behaviour has not yet shown wrong:
+    whose decisions' log-likelihood is within :data:`UNTESTED_NATS` of the best row's. A lapse
+    starts light (its prior chance) and its row is as likely as the others until the person
+    acts on the belief it left (walks to where the item was): dropping it on its weight alone
+    would lose it before behaviour could show it."""
+    if len(rows) <= LAPSE_ROWS:
+        return rows
+    best = max(r.evidence for r in rows)
+    untested = [r for r in rows[LAPSE_ROWS:] if r.evidence >= best - UNTESTED_NATS]
+    return rows[:LAPSE_ROWS] + untested[:UNTESTED_ROWS]
 
 
 class LapseModel:

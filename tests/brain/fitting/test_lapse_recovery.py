@@ -1,0 +1,63 @@
+"""``toyroom fit --refine`` on people whose rate of overlooking things is known: the
+episodes of ``bench/lapse_recovery.py`` (two people who act by the brain's planner on the
+paper map, start knowing nothing, overlook an item coming into view with chance 0.2, and an
+unseen hand moving the item one of them wants into their view every 150 ticks), then the
+grid and the optimiser on ``miss``.
+
+Sixteen episodes keep this under a minute; they pin ``miss`` to within a factor of 2 of the
+truth. The factor of 1.5 the issue asks for needs more episodes: ``python
+bench/lapse_recovery.py --episodes 120`` (the README's numbers)."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import tomllib
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+from support import toyroom_fit as fit
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def bench() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("lapse_recovery", ROOT / "bench" / "lapse_recovery.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.timeout(300)
+def test_fit_refines_miss_to_near_the_generating_rate(tmp_path: Path) -> None:
+    traces = bench().recordings(tmp_path / "rec", miss=0.2, hearsay=0.0, episodes=16, ticks=2000)
+    out = tmp_path / "fit"
+    settings = ("--set", "beta=4", "--set", "hazard=0.02", "--set", "ignorance=1")
+    result = fit(
+        *traces,
+        *("--params", "miss", "--grid", "miss=0.02,0.4", "--models", "graded", "--folds", "2"),
+        *("--refine", *settings, "--out", out),
+    )
+    assert result.returncode == 0, result.stderr[-3000:]
+    summary = json.loads((out / "fit.json").read_text())
+    refined = summary["refinement"]
+    assert summary["models"]["graded"]["fitted"] == refined["start"], (
+        "the optimiser starts at the grid's point"
+    )
+    assert refined["log_likelihood"] > refined["start_log_likelihood"] + 1.0, refined
+    assert refined["converged"] and 3 <= refined["evaluations"] <= 200, refined
+    miss = refined["point"]["miss"]
+    assert 0.1 <= miss <= 0.4, f"expected miss 0.2 within a factor of 2, got {miss} ({refined})"
+    written = tomllib.loads((out / "settings.toml").read_text())["model"]
+    assert written["miss"] == miss and written["beta"] == 4.0, "settings.toml holds the refined point"
+    assert "Refined by the optimiser" in (out / "report.md").read_text()
+
+
+def test_bad_bounds_are_named_before_any_fitting(tmp_path: Path) -> None:
+    missing = tmp_path / "none.jsonl"
+    result = fit(
+        missing, missing, "--params", "miss", "--refine", "--bounds", "miss=0.5,0.1", "--out", tmp_path
+    )
+    assert result.returncode == 2 and "--bounds 'miss=0.5,0.1'" in result.stderr, result.stderr
