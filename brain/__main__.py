@@ -31,6 +31,7 @@ from bridge.flags import (
     command_parser,
     configure_logging,
 )
+from bridge.processes import exit_with_parent
 from bridge.recording.mcap import McapRecorder
 from bridge.recording.trace import read_trace
 from bridge.session import add_network_args, settings_from_args
@@ -277,6 +278,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())
             return 0
+        exit_with_parent()  # started by toyroom run or eval: not to outlive it
         episodes = episode_folders(args.episodes) if args.episodes else [(args.scenario, None)]
         if args.values_cache is not None:
             use_store(ValueDirectory(args.values_cache))

@@ -65,6 +65,26 @@ def wait_for_stop(stop: threading.Event, timeout: float | None = None) -> bool:
     return True
 
 
+def exit_with_parent() -> threading.Thread | None:
+    """For a node that blocks elsewhere than :func:`wait_for_stop` (the brain, waiting on the
+    engine): a daemon thread that sends this process SIGTERM once the process that started it
+    (:data:`PARENT_VARIABLE`) is gone, so it stops as on a signal instead of running on, an
+    orphan. ``None`` (no thread) for a node started by hand."""
+    parent = os.environ.get(PARENT_VARIABLE, "")
+    if not parent.isdigit():
+        return None
+
+    def watch() -> None:
+        while os.getppid() == int(parent):
+            time.sleep(POLL_S)
+        log.warning("the process that started this node (pid %s) is gone: stopping", parent)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    thread = threading.Thread(target=watch, name="parent-watch", daemon=True)
+    thread.start()
+    return thread
+
+
 def stop_process_group(process: subprocess.Popen[bytes], grace: float = 5.0) -> None:
     """Stop the process group ``process`` leads (``start_new_session=True``): SIGTERM, up to
     ``grace`` s for the leader to exit (reaped), then SIGKILL to whatever of the group is left

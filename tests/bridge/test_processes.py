@@ -69,3 +69,30 @@ def test_a_node_that_replaces_its_starter_keeps_what_it_inherited(monkeypatch):
     monkeypatch.setenv(PARENT_VARIABLE, "12345")
     assert node_environment(child=False)[PARENT_VARIABLE] == "12345"
     assert node_environment()[PARENT_VARIABLE] == str(os.getpid())
+
+
+def test_a_brain_whose_starter_is_killed_does_not_run_on() -> None:
+    """``python -m brain`` waiting for an engine that never comes, started by a process that
+    is then killed outright (SIGKILL: no chance to stop its children), stops by itself."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import uuid
+
+    import psutil
+
+    world = f"orphan-{uuid.uuid4().hex[:8]}"
+    brain_command = f"{sys.executable} -m brain --world {world} --log-level ERROR"
+    script = f"export TOYROOM_PARENT_PID=$$; {brain_command} & echo $!; wait"
+    starter = subprocess.Popen(["bash", "-c", script], stdout=subprocess.PIPE, text=True)
+    assert starter.stdout is not None
+    brain = psutil.Process(int(starter.stdout.readline()))
+    try:
+        os.kill(starter.pid, signal.SIGKILL)
+        starter.wait(timeout=10)
+        gone, _ = psutil.wait_procs([brain], timeout=20)
+        assert gone, "the brain was still running 20 s after the process that started it was killed"
+    finally:
+        if brain.is_running():
+            brain.kill()

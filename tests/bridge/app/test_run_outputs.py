@@ -130,6 +130,10 @@ def test_a_run_killed_outright_leaves_its_folder_marked(tmp_path: Path, world: s
             nodes = psutil.Process(process.pid).children(recursive=True)
             os.kill(process.pid, signal.SIGKILL)
             process.wait(timeout=30)
+            _, alive = psutil.wait_procs(nodes, timeout=30)
+            assert not alive, (
+                f"nodes still running 30 s after the run was killed: {[p.cmdline()[:4] for p in alive]}"
+            )
         finally:
             for node in [*nodes, *([psutil.Process(process.pid)] if process.poll() is None else [])]:
                 try:
