@@ -1,7 +1,7 @@
-"""The README's performance section, generated from ``bench.json``: a table of the numbers
+"""docs/performance.md, generated from ``bench.json``: a table of the numbers
 against their targets, the scaling table and ``scaling.png``.
 
-    python bench/perfreport.py DIR/bench.json [--readme README.md --figure docs/perf/scaling.png]
+    python bench/perfreport.py DIR/bench.json [--readme docs/performance.md --figure docs/perf/scaling.png]
 
 Writes ``DIR/perf.md`` and ``DIR/scaling.png``; with ``--readme``, replaces the text between
 ``<!-- perf:start -->`` and ``<!-- perf:end -->`` in the README and copies the figure to

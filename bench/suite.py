@@ -27,7 +27,7 @@
   (``bench/scaling.py``).
 
 It prints tables and writes ``DIR/bench.json``, ``DIR/perf.md`` and ``DIR/scaling.png``
-(``bench/perfreport.py``: the README's performance section).
+(``bench/perfreport.py``: docs/performance.md).
 """
 
 from __future__ import annotations

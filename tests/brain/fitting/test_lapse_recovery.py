@@ -6,7 +6,7 @@ grid and the optimiser on ``miss``.
 
 Sixteen episodes keep this under a minute; they pin ``miss`` to within a factor of 2 of the
 truth. The factor of 1.5 the issue asks for needs more episodes: ``python
-bench/lapse_recovery.py --episodes 120`` (the README's numbers)."""
+bench/lapse_recovery.py --episodes 120`` (the numbers in docs/fitting.md)."""
 
 from __future__ import annotations
 

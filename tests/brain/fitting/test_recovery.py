@@ -3,7 +3,7 @@
 and the generating model (graded beliefs) explains their actions better than truebelief.
 
 Four short episodes pin beta down but the hazard only coarsely (of 0.001, 0.02 and 0.4 it
-must pick 0.02; a grid of factor 2 steps needs the README's 40 episodes, where the whole
+must pick 0.02; a grid of factor 2 steps needs docs/fitting.md's 40 episodes, where the whole
 comparison is shown with intervals, the generating model first)."""
 
 from __future__ import annotations
