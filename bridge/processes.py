@@ -44,6 +44,16 @@ stopping its nodes, e.g. ``toyroom eval`` by SIGKILL or an unhandled SIGTERM), i
 running on, an orphan. A node started by hand (no variable) is left alone, ``nohup`` too."""
 
 
+STARTER_GONE = "the process that started this node (pid %s) is gone: stopping"
+
+
+def starter_gone() -> bool:
+    """Whether the process that started this node (:data:`PARENT_VARIABLE`) is no longer its
+    parent; never for a node started by hand (no variable)."""
+    parent = os.environ.get(PARENT_VARIABLE, "")
+    return parent.isdigit() and os.getppid() != int(parent)
+
+
 def stop_on_signals(stop: threading.Event) -> None:
     """Set ``stop`` on SIGINT and SIGTERM (call from the main thread)."""
     for sig in (signal.SIGINT, signal.SIGTERM):
@@ -54,10 +64,9 @@ def wait_for_stop(stop: threading.Event, timeout: float | None = None) -> bool:
     """Block until ``stop`` is set (or ``timeout`` seconds have passed), waking every
     ``POLL_S`` so that signal handlers run; whether ``stop`` is set."""
     deadline = None if timeout is None else time.monotonic() + timeout
-    parent = os.environ.get(PARENT_VARIABLE, "")
     while not stop.wait(POLL_S if deadline is None else max(0.0, min(POLL_S, deadline - time.monotonic()))):
-        if parent.isdigit() and os.getppid() != int(parent):
-            log.warning("the process that started this node (pid %s) is gone: stopping", parent)
+        if starter_gone():
+            log.warning(STARTER_GONE, os.environ[PARENT_VARIABLE])
             stop.set()
             return True
         if deadline is not None and time.monotonic() >= deadline:
@@ -70,14 +79,13 @@ def exit_with_parent() -> threading.Thread | None:
     engine): a daemon thread that sends this process SIGTERM once the process that started it
     (:data:`PARENT_VARIABLE`) is gone, so it stops as on a signal instead of running on, an
     orphan. ``None`` (no thread) for a node started by hand."""
-    parent = os.environ.get(PARENT_VARIABLE, "")
-    if not parent.isdigit():
+    if not os.environ.get(PARENT_VARIABLE, "").isdigit():
         return None
 
     def watch() -> None:
-        while os.getppid() == int(parent):
+        while not starter_gone():
             time.sleep(POLL_S)
-        log.warning("the process that started this node (pid %s) is gone: stopping", parent)
+        log.warning(STARTER_GONE, os.environ[PARENT_VARIABLE])
         os.kill(os.getpid(), signal.SIGTERM)
 
     thread = threading.Thread(target=watch, name="parent-watch", daemon=True)
