@@ -9,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from protocol import Pursuit, Truth
+from bridge.evaluation.revealed import revealed
+from protocol import Pursuit
 from sim2d.autonomous import AutonomousPerson
 from sim2d.engine import Engine
 from sim2d.generate import write_episode
@@ -18,29 +19,18 @@ from sim2d.scenario import load_scenario
 from sim2d.tasks import BELIEF_TASKS, TASKS, seed_of, task_of
 
 
-def revealed(truth: Truth) -> set[tuple[str, str, str]]:
-    """``(person, item, place)`` for each person after an item, heading for a place their
-    belief gives it, where it is not (their belief gives its true place less than 0.1)."""
-    where = {p.item: p.location for p in truth.items}
-    out = set()
-    for mind in truth.agents:
-        pursuit = mind.pursuit
-        if pursuit is None or pursuit.item is None or pursuit.location is None:
-            continue
-        belief = {p.id: p.p for b in mind.beliefs if b.item == pursuit.item for p in b.locations}
-        true = where[pursuit.item]
-        if pursuit.location != true and belief.get(true, 0.0) < 0.1 and belief.get(pursuit.location, 0.0) > 0:
-            out.add((mind.agent, pursuit.item, pursuit.location))
-    return out
-
-
 def run(path: Path, ticks: int = 600) -> list[tuple[int, set[tuple[str, str, str]]]]:
+    """Per tick, ``(person, item, place)`` of every revealed pursuit (the evaluation's reading:
+    :func:`bridge.evaluation.revealed.revealed`)."""
     engine = Engine(load_scenario(str(path)), seed=1)
     ticks_seen = []
     while not engine.done and engine.world.tick < ticks:
         result = engine.step()
         assert result.truth is not None
-        ticks_seen.append((result.truth.tick, revealed(result.truth)))
+        shown = revealed(result.truth)
+        ticks_seen.append(
+            (result.truth.tick, {(person, item, place) for (person, item), place in shown.items()})
+        )
     return ticks_seen
 
 
