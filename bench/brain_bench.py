@@ -24,7 +24,7 @@ from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from protocol import Event, Scene, State
 from sim2d.engine import Engine
-from sim2d.generate import write_episode
+from sim2d.generation import write_episode
 from sim2d.scenario import load_scenario
 
 

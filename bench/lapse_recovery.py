@@ -1,6 +1,6 @@
 """Does ``toyroom fit --refine`` recover ``miss`` and ``hearsay`` from people whose lapses are
 known? Episodes on the paper map whose two people act by the brain's own planner (``--minds
-model``: :mod:`sim2d.planned`) and overlook items (``Autonomy.miss``) and tell each other
+model``: :mod:`sim2d.people.planned`) and overlook items (``Autonomy.miss``) and tell each other
 where things are (``Autonomy.hearsay``) at known rates; then the fit of ``miss`` (and
 ``hearsay``) over their recordings, grid first, then the optimiser.
 
@@ -42,7 +42,7 @@ from brain.settings import ModelSettings, Settings
 from bridge.recording.trace import Trace, trace_line
 from protocol import ClockMode, Keys
 from sim2d.engine import Engine
-from sim2d.policytable import load_policy_table
+from sim2d.people import load_policy_table
 from sim2d.scenario import Scenario, load_scenario
 from sim2d.world import World
 

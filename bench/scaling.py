@@ -36,7 +36,7 @@ from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from protocol import Event, State
 from sim2d.engine import Engine
-from sim2d.generate import write_house_episode
+from sim2d.generation import write_house_episode
 from sim2d.scenario import load_scenario
 
 FAMILY = ((4, 2, 2), (5, 3, 2), (6, 3, 2), (8, 4, 2), (10, 6, 2), (12, 6, 2), (16, 8, 6), (20, 10, 8))

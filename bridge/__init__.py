@@ -12,9 +12,17 @@ from .handshake import handshake, serve_info
 from .lockstep import LockstepClient
 from .presence import Peer, PresenceEvent, PresenceWatcher, Token
 from .processes import node_command, source_file, start_node, stop_node, stop_on_signals, wait_for_stop
-from .pubsub import Congestion, Publisher, Queryable, Received, Subscriber, query
-from .router import Router, run_router
-from .session import SessionSettings, build_config, is_loopback, open_session, world_endpoint, world_port
+from .pubsub import Congestion, Publisher, Received, Subscriber
+from .queries import Queryable, query
+from .session import (
+    Router,
+    SessionSettings,
+    build_config,
+    is_loopback,
+    open_session,
+    world_endpoint,
+    world_port,
+)
 
 __all__ = [
     "node_command",
@@ -47,7 +55,6 @@ __all__ = [
     "is_loopback",
     "open_session",
     "query",
-    "run_router",
     "serve_info",
     "world_endpoint",
     "world_port",

@@ -19,7 +19,8 @@ import zenoh
 from protocol import Encoding, Keys, Message
 
 from .presence import PresenceEvent, PresenceWatcher, Token
-from .pubsub import Congestion, Publisher, Queryable, Received, Subscriber, query
+from .pubsub import Congestion, Publisher, Received, Subscriber
+from .queries import Queryable, query
 from .session import SessionSettings, open_session
 
 log = logging.getLogger("toyroom.bridge")
@@ -83,7 +84,7 @@ class Bridge:
     def query(
         self, key: str, request: Message | None, expected: type[M], *, timeout: float | None = 5.0
     ) -> M:
-        """Query ``key`` and return the answer (see :func:`bridge.pubsub.query`)."""
+        """Query ``key`` and return the answer (see :func:`bridge.queries.query`)."""
         return query(self.session, key, request, expected, timeout=timeout, encoding=self.encoding)
 
     def queryable(
@@ -95,7 +96,7 @@ class Bridge:
         allow_empty: bool = True,
         inline: bool = False,
     ) -> Queryable[Message]:
-        """Answer queries on ``key`` with ``handler`` (see :class:`bridge.pubsub.Queryable`)."""
+        """Answer queries on ``key`` with ``handler`` (see :class:`bridge.queries.Queryable`)."""
         return self._track(
             Queryable(self.session, key, handler, expected=expected, allow_empty=allow_empty, inline=inline)
         )

@@ -18,7 +18,7 @@ from protocol import PROTOCOL_VERSION, EngineInfo, Hello, Message, check_version
 
 from .bridge import Bridge
 from .errors import NoReply
-from .pubsub import Queryable
+from .queries import Queryable
 
 log = logging.getLogger("toyroom.bridge")
 

@@ -18,6 +18,7 @@ import json
 import logging
 import re
 import zlib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
@@ -197,3 +198,41 @@ def settings_from_args(args: argparse.Namespace) -> SessionSettings:
         connect=tuple(args.connect) if args.connect else None,
         config_file=args.zenoh_config,
     )
+
+
+DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"
+
+
+class Router:
+    """A Zenoh router (the meeting point for nodes on several machines: they connect to its
+    endpoint in ``client`` mode or as peers) session listening on ``listen``; a context manager."""
+
+    def __init__(self, listen: Sequence[str], *, config_file: Path | None = None) -> None:
+        settings = SessionSettings(
+            mode="router",
+            listen=tuple(listen) if listen else None,
+            connect=() if config_file is None else None,
+            config_file=config_file,
+        )
+        config = build_config("router", settings)
+        try:
+            self.session = zenoh.open(config)
+        except Exception as err:
+            raise ConfigError(f"cannot start a Zenoh router on {', '.join(listen)}: {err}") from None
+        configured = json.loads(config.get_json("listen/endpoints"))
+        if isinstance(configured, dict):  # per-mode defaults
+            configured = configured.get("router", [])
+        self.listen = tuple(listen) or tuple(configured or ())
+        self._closed = False
+
+    def close(self) -> None:
+        """Stop the router; safe to call twice."""
+        if not self._closed:
+            self._closed = True
+            self.session.close()
+
+    def __enter__(self) -> Router:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -3,10 +3,10 @@ as TOML, physics, scripted and autonomous people, the robot's body, and the engi
 
 from .engine import Engine
 from .errors import ScenarioError, Sim2dError
-from .generate import write_episode, write_house_episode
-from .maps import GameMap, load_map
+from .generation.episodes import write_episode, write_house_episode
 from .node import EngineNode
-from .scenario import Scenario, load_scenario, scenario_names
+from .scenario.maps import GameMap, load_map
+from .scenario.scenario import Scenario, load_scenario, scenario_names
 
 __all__ = [
     "load_map",

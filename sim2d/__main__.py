@@ -26,8 +26,8 @@ from protocol import ClockMode
 from .engine import Engine
 from .errors import Sim2dError
 from .node import EngineNode
-from .policytable import load_policy_table
-from .scenario import scenario_names
+from .people.policytable import load_policy_table
+from .scenario.scenario import scenario_names
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -97,7 +97,7 @@ def export_main(argv: Sequence[str]) -> int:
 
 def generate_parser() -> argparse.ArgumentParser:
     """``python -m sim2d generate``'s options."""
-    from .generate import ITEM_SHAPES, KINDS, MAPS, MINDS
+    from .generation.episodes import ITEM_SHAPES, KINDS, MAPS, MINDS
 
     parser = command_parser(
         "python -m sim2d generate",
@@ -147,7 +147,7 @@ def generate_parser() -> argparse.ArgumentParser:
 def generate_main(argv: Sequence[str]) -> int:
     """``python -m sim2d generate --map M --seed S --out DIR``: write a random episode
     (``--rooms R --items K``: on a new house of that size instead)."""
-    from .generate import write_episode, write_house_episode
+    from .generation.episodes import write_episode, write_house_episode
 
     parser = generate_parser()
     args = parser.parse_args(argv)
@@ -177,7 +177,7 @@ def generate_main(argv: Sequence[str]) -> int:
 
 def _task_kinds(text: str) -> tuple[str, ...]:
     """``--tasks``'s comma-separated kinds, checked (a bad one is a usage error naming it)."""
-    from .tasks import check_kinds
+    from .generation.tasks import check_kinds
 
     try:
         return check_kinds([kind.strip() for kind in text.split(",") if kind.strip()])
@@ -187,7 +187,7 @@ def _task_kinds(text: str) -> tuple[str, ...]:
 
 def _episode_list(parser: argparse.ArgumentParser, entries: Sequence[str]) -> list[tuple[str, int]]:
     """``MAP:SEED`` entries as ``(map, seed)``; a bad one is a usage error that names it."""
-    from .generate import MAPS
+    from .generation.episodes import MAPS
 
     out = []
     for entry in entries:

@@ -26,16 +26,17 @@ from protocol import (
     Truth,
 )
 
-from .autonomous import AutonomousPerson
 from .errors import ScenarioError
-from .hearsay import exchange, tell_jobs
-from .maps import agent_spec
-from .people import Person, ScriptedPerson
-from .planned import PlannedPerson
-from .policytable import PolicyTable
+from .people.autonomous import AutonomousPerson
+from .people.hearsay import exchange, tell_jobs
+from .people.person import Person
+from .people.planned import PlannedPerson
+from .people.policytable import PolicyTable
+from .people.scripted import ScriptedPerson
 from .robot import RobotBody
-from .scenario import AgentSetup, RobotMode, Scenario, load_scenario
-from .world import World
+from .scenario.maps import agent_spec
+from .scenario.scenario import AgentSetup, RobotMode, Scenario, load_scenario
+from .world.world import World
 
 ENGINE_NAME = "sim2d 0.1.0"
 
@@ -74,7 +75,7 @@ class Engine:
         self.substeps = substeps
         self.robot_override = robot
         self.policy = policy
-        """The brain's planner table, for people with ``planner = "model"`` (:mod:`sim2d.planned`)."""
+        """The brain's planner table, for people with ``planner = "model"`` (:mod:`sim2d.people.planned`)."""
         self.check_policy = check_policy
         self.episode = 0
         self._load(scenario if isinstance(scenario, Scenario) else load_scenario(scenario), seed)
@@ -97,7 +98,7 @@ class Engine:
         acts = (self.robot_override or scenario.robot) == "act"
         self.robots = {r.id: RobotBody(r.id, acts, scenario.name) for r in scenario.robots}
         self.gossip = np.random.default_rng([seed, len(scenario.people)])
-        """Draws of hearsay (:mod:`sim2d.hearsay`), apart from every person's own."""
+        """Draws of hearsay (:mod:`sim2d.people.hearsay`), apart from every person's own."""
         self.settled = 0
         self.done = False
 

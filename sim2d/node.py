@@ -38,7 +38,7 @@ from protocol import (
 
 from .engine import Engine, TickResult
 from .errors import ScenarioError
-from .scenario import scenario_names
+from .scenario.scenario import scenario_names
 
 log = logging.getLogger("toyroom.sim2d")
 

@@ -30,8 +30,8 @@ from protocol import (
     UnknownAction,
 )
 
-from .people import Person
-from .world import World
+from .people.person import Person
+from .world.world import World
 
 MANIPULATION_TICKS = 3
 """Ticks a pick, place or give takes."""
@@ -42,7 +42,7 @@ EARSHOT_CELLS = 2
 
 
 class RobotBody:
-    """Executes one robot's commands in a :class:`~sim2d.world.World`."""
+    """Executes one robot's commands in a :class:`~sim2d.world.world.World`."""
 
     def __init__(self, robot_id: str, acts: bool, scenario_name: str) -> None:
         self.id = robot_id

@@ -5,6 +5,7 @@ Nodes are started as processes; this module never imports ``sim2d`` or ``brain``
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import shlex
 import sys
@@ -16,6 +17,8 @@ from ..evaluation.conditions import POLICIES, Condition
 from ..flags import PROG_ENV, settings_argv
 from ..processes import check_brain_settings, node_environment, stop_on_signals, wait_for_stop
 from ..session import SessionSettings, settings_from_args
+
+log = logging.getLogger("toyroom.bridge")
 
 CSHARP_MESSAGES = "clients/unity/Runtime/Protocol/Messages.g.cs"
 """The C# SDK's generated message classes, in the source checkout."""
@@ -68,12 +71,16 @@ def schema_main(check: bool, directory: Path | None = None, csharp: bool = False
 
 
 def router_main(listen: Sequence[str], config_file: Path | None) -> int:
-    """Run a Zenoh router until interrupted."""
-    from ..router import run_router
+    """Run a Zenoh router until interrupted (a warning when it listens beyond loopback:
+    secure such a setup with TLS and access control, ``docs/deployment.md``)."""
+    from ..session import Router
 
     stop = threading.Event()
     stop_on_signals(stop)
-    run_router(listen, config_file=config_file, stop=stop)
+    with Router(listen, config_file=config_file) as router:
+        log.info("router %s listening on %s", router.session.zid(), ", ".join(router.listen))
+        print(f"toyroom router listening on {', '.join(router.listen)}", flush=True)
+        wait_for_stop(stop)
     return 0
 
 
@@ -191,7 +198,7 @@ def _schema(args: argparse.Namespace) -> int:
 
 
 def _router(args: argparse.Namespace) -> int:
-    from ..router import DEFAULT_ROUTER_ENDPOINT
+    from ..session import DEFAULT_ROUTER_ENDPOINT
 
     default = [] if args.zenoh_config else [DEFAULT_ROUTER_ENDPOINT]  # a config file says where
     return router_main(args.listen or default, args.zenoh_config)

@@ -27,7 +27,7 @@ PERCEPTIONS = ("omniscient", "embodied")
 MINDS = ("simple", "rich", "model")
 KINDS = ("everyday", "tasks")
 TASK_KINDS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
-"""The kinds of task episodes, in the generator's order (``sim2d.tasks.TASKS``; a test keeps
+"""The kinds of task episodes, in the generator's order (``sim2d.generation.tasks.TASKS``; a test keeps
 the two equal: the bridge never imports the engine)."""
 POLICIES = ("tom", "tidy", "announce")
 """The acting robot's policies an evaluation may run (the brain's ``RobotSettings.policy``;
@@ -63,7 +63,7 @@ class Condition:
 
     def task_of(self, seed: int) -> str | None:
         """The task kind of the episode of ``seed`` (``None`` unless ``kind`` is ``tasks``), as
-        the generator picks it (``sim2d.tasks.task_of``: in turn, one step further every three
+        the generator picks it (``sim2d.generation.tasks.task_of``: in turn, one step further every three
         seeds, so that the three maps each get every kind)."""
         kinds = self.tasks or TASK_KINDS
         return kinds[(seed + seed // 3) % len(kinds)] if self.kind == "tasks" else None

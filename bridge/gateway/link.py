@@ -2,15 +2,15 @@
 
 A :class:`ClientLink` reads the client's frames on the socket's handler thread and acts on
 them (puts, declarations, replies); Zenoh's threads hand it samples and queries, which it
-sends at once (a WebSocket send is thread-safe). Everything it declared, its liveliness
-token included, is undeclared when the socket closes, and its unanswered queries are
-answered with an error, so the querier learns at once that the engine has gone.
+sends at once (a WebSocket send is thread-safe); it holds each query until the client
+replies (:mod:`.pending`). Everything it declared, its liveliness token included, is
+undeclared when the socket closes, and its unanswered queries are answered with an error,
+so the querier learns at once that the engine has gone.
 """
 
 from __future__ import annotations
 
 import hmac
-import itertools
 import logging
 import threading
 from collections.abc import Callable
@@ -45,11 +45,9 @@ from protocol.frames import (
 )
 
 from ..pubsub import FOREVER
+from .pending import PendingQueries
 
 log = logging.getLogger("toyroom.gateway")
-
-MAX_PENDING = 256
-"""Unanswered queries a client may hold; the oldest is refused beyond that."""
 
 _frames = msgspec.json.Decoder(ClientFrame)
 _encoder = msgspec.json.Encoder()
@@ -114,9 +112,7 @@ class ClientLink:
         self._subscribers: dict[int, Any] = {}
         self._queryables: dict[int, Any] = {}
         self._publishers: dict[str, zenoh.Publisher] = {}
-        self._pending: dict[int, tuple[zenoh.Query, Encoding, int]] = {}
-        self._lock = threading.Lock()
-        self._qids = itertools.count(1)
+        self._pending = PendingQueries()
         self.closed = False
 
     # ----- sending -------------------------------------------------------------------------
@@ -284,20 +280,14 @@ class ClientLink:
                 refusal = ErrorReply(code=ErrorCode.BAD_REQUEST, message=f"not JSON or MessagePack: {err}")
                 query.reply_err(encode(refusal, encoding), encoding=zenoh.Encoding(encoding.value))
                 return
-        qid = next(self._qids)
-        with self._lock:
-            self._pending[qid] = (query, encoding, serve)
-            oldest = next(iter(self._pending)) if len(self._pending) > MAX_PENDING else None
-        if oldest is not None:
-            self.answer_error(oldest, f"the client left {MAX_PENDING} queries unanswered")
+        qid = self._pending.hold(query, encoding, serve)
         self.send(Query(serve=serve, qid=qid, key=self.relative(str(query.key_expr)), payload=payload))
 
     def reply(self, frame: Reply) -> None:
-        with self._lock:
-            pending = self._pending.pop(frame.qid, None)
+        pending = self._pending.take(frame.qid)
         if pending is None:
             raise Refusal("unknown_id", f"no unanswered query {frame.qid}", frame.qid)
-        query, encoding, _ = pending
+        query, encoding = pending
         data = checked_payload(frame.payload, f"reply to query {frame.qid}", frame.qid)
         if encoding is Encoding.MSGPACK:
             data = msgspec.msgpack.encode(msgspec.json.decode(data))
@@ -306,39 +296,12 @@ class ClientLink:
         else:
             query.reply_err(data, encoding=zenoh.Encoding(encoding.value))
 
-    def release(self, qid: int) -> None:
-        """Let go of a held query unanswered: its querier learns at once that nobody answers
-        (as when a Zenoh engine dies), instead of waiting out its timeout."""
-        with self._lock:
-            pending = self._pending.pop(qid, None)
-        if pending is not None:
-            try:
-                pending[0].drop()
-            except Exception:
-                pass
-
-    def answer_error(self, qid: int, why: str) -> None:
-        """Refuse a held query (``internal``), e.g. one of too many held."""
-        with self._lock:
-            pending = self._pending.pop(qid, None)
-        if pending is None:
-            return
-        query, encoding, _ = pending
-        refusal = ErrorReply(code=ErrorCode.INTERNAL, message=why)
-        try:
-            query.reply_err(encode(refusal, encoding), encoding=zenoh.Encoding(encoding.value))
-        except Exception:
-            pass
-
     def unserve(self, frame: Unserve) -> None:
         queryable = self._queryables.pop(frame.id, None)
         if queryable is None:
             raise Refusal("unknown_id", f"no served key {frame.id}", frame.id)
         queryable.undeclare()
-        with self._lock:
-            held = [qid for qid, (_, _, serve) in self._pending.items() if serve == frame.id]
-        for qid in held:
-            self.release(qid)
+        self._pending.release_served(frame.id)
 
     def get(self, frame: Get) -> None:
         key = self.full_key(frame.key, frame.id, wildcards=True)
@@ -373,10 +336,7 @@ class ClientLink:
         if self.closed:
             return
         self.closed = True
-        with self._lock:
-            held = list(self._pending)
-        for qid in held:
-            self.release(qid)
+        self._pending.release_all()
         for entity in [self._token, *self._subscribers.values(), *self._queryables.values()]:
             try:
                 if entity is not None:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from support import MindCsv, toyroom_run
 
-from sim2d.generate import write_house_episode
+from sim2d.generation import write_house_episode
 
 
 def test_toyroom_run_on_a_ten_room_six_item_house(tmp_path: Path) -> None:

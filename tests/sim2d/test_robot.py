@@ -23,7 +23,7 @@ from protocol import (
     SayTopic,
 )
 from sim2d.engine import Engine
-from sim2d.maps import SCENARIO_DIR
+from sim2d.scenario.maps import SCENARIO_DIR
 
 SCENARIO = f"""
 name = "robot-test"

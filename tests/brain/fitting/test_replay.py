@@ -15,7 +15,7 @@ from brain.settings import ModelSettings
 from bridge.recording.trace import Trace
 from protocol import ClockMode, Observer
 from sim2d.engine import Engine
-from sim2d.policytable import load_policy_table
+from sim2d.people import load_policy_table
 from sim2d.scenario import load_scenario
 
 POINTS = [

@@ -17,7 +17,7 @@ from brain.model.world import build_world_model
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from sim2d.engine import Engine
-from sim2d.generate import write_house_episode
+from sim2d.generation import write_house_episode
 from sim2d.scenario import load_scenario
 
 

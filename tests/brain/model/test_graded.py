@@ -182,7 +182,7 @@ def test_graded_uses_the_graded_factored_model_on_large_houses(caplog: pytest.Lo
 
     from brain.model.gradedfactored import GradedFactoredModel
     from brain.model.personmodel import FactoredModel, person_model
-    from sim2d.generate import write_house_episode
+    from sim2d.generation import write_house_episode
     from sim2d.scenario import load_scenario
 
     with tempfile.TemporaryDirectory() as tmp:

@@ -12,8 +12,7 @@ from brain.outputs.policytable import action_names, write_policy_table
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from sim2d.engine import Engine
-from sim2d.planned import PlannedPerson
-from sim2d.policytable import load_policy_table
+from sim2d.people import PlannedPerson, load_policy_table
 from sim2d.scenario import load_scenario
 
 SETTINGS = dataclasses.replace(ModelSettings(), beta=4.0, hazard=0.02)

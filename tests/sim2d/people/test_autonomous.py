@@ -1,0 +1,78 @@
+"""Autonomous simulated people: true beliefs that follow the visibility rule exactly, and
+their true minds on the truth channel."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sim2d.engine import Engine
+from sim2d.people.belief import PersonBelief
+
+LOCS = ["P1", "S1", "S2", "P2"]
+
+
+def test_seen_items_are_where_they_are_seen() -> None:
+    belief = PersonBelief(["ball"], LOCS)
+    belief.perceive({"P1", "S1"}, {"ball": "S1"})
+    assert belief.of("ball").tolist() == [0, 1, 0, 0]
+
+
+def test_an_item_not_in_view_is_not_at_a_visible_location() -> None:
+    belief = PersonBelief(["ball"], LOCS)
+    belief.perceive({"P1", "S1"}, {})
+    assert belief.of("ball").tolist() == [0, 0, 0.5, 0.5]
+
+
+def test_unseen_moves_leave_the_belief_alone() -> None:
+    belief = PersonBelief(["ball"], LOCS)
+    belief.perceive({"P1", "S1"}, {"ball": "S1"})
+    belief.perceive(set(), {})  # outside: the ball is moved to S2 unseen
+    assert belief.of("ball").tolist() == [0, 1, 0, 0], "people assume unseen things stay put"
+    belief.perceive({"P1", "S1"}, {})  # back: the ball is not in S1 any more
+    assert belief.of("ball").tolist() == [0, 0, 0.5, 0.5]
+
+
+def test_being_told_replaces_the_belief() -> None:
+    belief = PersonBelief(["ball"], LOCS)
+    belief.perceive({"P1", "S1"}, {"ball": "S1"})
+    belief.told("ball", "P2")
+    assert belief.most_likely("ball") == "P2"
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_beliefs_follow_visibility_through_an_episode(seed: int) -> None:
+    """Each tick, for every autonomous person: an item in view is believed where it is, and
+    no probability rests on a visible location that holds nothing of the item."""
+    engine = Engine("paper-auto", seed=seed)
+    world = engine.world
+    checked = 0
+    while not engine.done and world.tick < 800:
+        result = engine.step()
+        assert result.truth is not None
+        for mind in result.truth.agents:
+            visible, seen = world.percept(mind.agent)
+            for belief in mind.beliefs:
+                probs = {p.id: p.p for p in belief.locations}
+                assert abs(sum(probs.values()) - 1) < 1e-5  # probabilities travel rounded to 6 digits
+                if belief.item in seen:
+                    assert probs[seen[belief.item]] == pytest.approx(1.0), (world.tick, mind.agent, belief)
+                else:
+                    assert all(probs[loc] == 0 for loc in visible), (world.tick, mind.agent, belief, visible)
+                checked += 1
+    assert checked > 1000
+    kinds = {p.preference for p in engine.truth().agents}  # type: ignore[union-attr]
+    assert kinds <= {"skate", "ball", "out"}
+
+
+def test_same_seed_same_minds_other_seed_other_story() -> None:
+    def story(seed: int) -> list[tuple[str, str]]:
+        engine = Engine("paper-auto", seed=seed)
+        out = []
+        while not engine.done and engine.world.tick < 600:
+            out += [(e.kind.value, e.actor) for e in engine.step().events]
+        return out
+
+    assert story(4) == story(4)
+    assert story(4) != story(5)
+    assert np.isfinite(len(story(6)))
