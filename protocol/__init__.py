@@ -24,6 +24,8 @@ from .mind import (
     Preferred,
     Prob,
     RobotActivity,
+    TaskEnd,
+    TaskOutcome,
     WorldBelief,
 )
 from .registry import BY_TAG, MESSAGE_TYPES, tag_of
@@ -125,6 +127,8 @@ __all__ = [
     "Reset",
     "Resume",
     "RobotActivity",
+    "TaskEnd",
+    "TaskOutcome",
     "WorldBelief",
     "RobotCommand",
     "Say",

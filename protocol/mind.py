@@ -125,14 +125,36 @@ class AgentMind(msgspec.Struct, frozen=True):
     worlds: tuple[WorldBelief, ...] = ()
 
 
+class TaskOutcome(enum.Enum):
+    """How a robot's task ended."""
+
+    DONE = "done"
+    DROPPED = "dropped"
+
+
+class TaskEnd(msgspec.Struct, frozen=True):
+    """A robot task that ended at this tick (protocol 1.3)."""
+
+    task: str
+    """The kind of task, as ``RobotActivity.task`` named it while it ran (e.g. ``"put back"``)."""
+    detail: str
+    """What it was, as ``RobotActivity.detail`` said while it ran."""
+    outcome: TaskOutcome
+    reason: str = ""
+    """Why it was dropped, e.g. ``"no longer needed: A1 took the ball"`` (empty when done)."""
+
+
 class RobotActivity(msgspec.Struct, frozen=True):
     """What a robot is doing: its current ``task`` and the last thing it said."""
 
     robot: Id
     task: str
-    """e.g. ``"idle"``, ``"inform A1 of skate"``, ``"bring skate to A1"``, ``"go home"``."""
+    """e.g. ``"idle"``, ``"inform"``, ``"swap"``, ``"put back"``, ``"go home"``."""
     detail: str = ""
     utterance: str | None = None
+    ended: TaskEnd | None = None
+    """The task that ended at this tick, if one did (protocol 1.3): a begun task is carried
+    through, or dropped with its reason."""
 
 
 class Mind(Message, frozen=True, kw_only=True, tag="mind"):

@@ -8,11 +8,11 @@ from collections.abc import Callable
 import py_trees
 from py_trees.common import Access, Status
 
-from protocol import Cell, Navigate, Request
+from protocol import Cell, Navigate, Request, TaskEnd, TaskOutcome
 
 from ..settings import RobotSettings
 from .context import RobotContext, Skip, Step
-from .situation import Finder, Inform, Occupied, Task
+from .situation import Finder, Inform, Occupied, Task, why_unneeded
 
 
 def _client(behaviour: py_trees.behaviour.Behaviour, namespace: str) -> py_trees.blackboard.Client:
@@ -61,7 +61,21 @@ class TaskBranch(py_trees.composites.Sequence):
         if ctx.branch == self.name and new_status in (Status.SUCCESS, Status.FAILURE, Status.INVALID):
             if new_status is Status.SUCCESS and ctx.task is not None:
                 ctx.done.add(ctx.task)
+            if ctx.task is not None and new_status is not Status.INVALID:
+                done = new_status is Status.SUCCESS
+                outcome = TaskOutcome.DONE if done else TaskOutcome.DROPPED
+                reason = "" if done else _failure(self)
+                ctx.ended = TaskEnd(task=self.name, detail=describe(ctx.task), outcome=outcome, reason=reason)
             ctx.task, ctx.branch, ctx.finder = None, None, None
+
+
+def _failure(behaviour: py_trees.behaviour.Behaviour) -> str:
+    """Why a failed subtree failed: the step that failed, and what it said."""
+    step = behaviour
+    while isinstance(step, py_trees.composites.Composite) and step.current_child is not None:
+        step = step.current_child
+    said = step.feedback_message
+    return f"{step.name}: {said}" if said else f"{step.name} failed"
 
 
 class Act(py_trees.behaviour.Behaviour):
@@ -119,7 +133,8 @@ class Act(py_trees.behaviour.Behaviour):
         status = ctx.book.status(self.command)
         if self.guarded and (status is None or not status.state.final) and ctx.give_up():
             ctx.book.cancel(self.command)
-            self.feedback_message = "no longer needed"
+            why = why_unneeded(ctx.task, ctx.snapshot, ctx.settings) if ctx.task and ctx.snapshot else ""
+            self.feedback_message = f"no longer needed ({why})" if why else "no longer needed"
             return Status.FAILURE
         if status is None or not status.state.final:
             if ctx.now - self.started > self.timeout(ctx.settings):
@@ -174,4 +189,4 @@ def describe(task: Task) -> str:
     if isinstance(task, Occupied):
         offer = f" for the {task.offer}" if task.offer else ""
         return f"{task.person} wants the {task.item} {task.holder} has: ask for a swap{offer}"
-    return f"put the {task.item} back at {task.location}, where {task.owner} left it"
+    return f"put the {task.item} back at {task.location}, {task.why or 'for ' + task.owner}"

@@ -8,7 +8,7 @@ import enum
 from collections import Counter
 from dataclasses import dataclass, field
 
-from protocol import NEIGHBOURS, Action, Cell, GridCell, Navigate
+from protocol import NEIGHBOURS, Action, Cell, GridCell, Navigate, TaskEnd
 
 from ..settings import RobotSettings
 from .commands import CommandBook
@@ -48,6 +48,8 @@ class RobotContext:
     """``(branch, task)`` -> the engine time a finder has seen the task since, tick after tick."""
     unneeded_since: float | None = None
     """The engine time since which the current task has not been called for (:meth:`give_up`)."""
+    ended: TaskEnd | None = None
+    """The task that ended at this tick (done, or dropped and why), until it is published."""
 
     @property
     def now(self) -> float:

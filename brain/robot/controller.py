@@ -75,5 +75,9 @@ class RobotBrain:
         self.tree.context.book.record(status)
 
     def activity(self) -> RobotActivity:
+        """What the robot is doing, once per tick: a task that ended is told once."""
         ctx = self.tree.context
-        return RobotActivity(robot=self.robot, task=ctx.activity, detail=ctx.detail, utterance=ctx.utterance)
+        ended, ctx.ended = ctx.ended, None
+        return RobotActivity(
+            robot=self.robot, task=ctx.activity, detail=ctx.detail, utterance=ctx.utterance, ended=ended
+        )

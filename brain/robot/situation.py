@@ -46,11 +46,13 @@ class Occupied:
 
 @dataclass(frozen=True)
 class PutBack:
-    """Put ``item`` back at ``location``, where ``owner`` (who left it) believes it is."""
+    """Put ``item`` back at ``location`` for ``owner``, who believes it is there; ``why``
+    says where that belief comes from, for the task's text (``"where mia left it"``)."""
 
     item: str
     location: str
     owner: str
+    why: str = ""
 
 
 Task = Inform | Occupied | PutBack
@@ -212,7 +214,16 @@ def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]
             break
         if found is None or misled(snap, k, location, found[0]) >= settings.put_back_harm:
             continue
-        yield PutBack(item=item, location=found[1], owner=found[0])
+        yield PutBack(item=item, location=found[1], owner=found[0], why=_believed_why(snap, item, *found))
+
+
+def _believed_why(snap: Snapshot, item: str, person: str, location: str) -> str:
+    """Where ``person``'s belief that ``item`` is at ``location`` comes from, as a task's text
+    says it: they put it down there (and it was moved from there since), or only believe it."""
+    moved_from = snap.moves[item][0] if item in snap.moves else None
+    if snap.owners.get(item) == person and moved_from == location:
+        return f"where {person} left it"
+    return f"where {person} believes it is"
 
 
 def misled(snap: Snapshot, k: int, location: str, helped: str) -> float:
@@ -233,7 +244,9 @@ def tidy_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
     for item, (source, target, mover) in snap.moves.items():
         location, holder = snap.item(item)
         if holder is None and location == target:
-            yield PutBack(item=item, location=source, owner=mover)
+            yield PutBack(
+                item=item, location=source, owner=mover, why=f"where it was before {mover} moved it"
+            )
 
 
 def announce_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
@@ -254,3 +267,30 @@ Finder = Callable[[Snapshot, RobotSettings], Iterator[Task]]
 def still_needed(finder: Finder, task: Task, snap: Snapshot, settings: RobotSettings) -> bool:
     """Whether ``finder`` still sees ``task`` in the world as it is now."""
     return any(candidate == task for candidate in finder(snap, settings))
+
+
+def why_unneeded(task: Task, snap: Snapshot, settings: RobotSettings) -> str:
+    """Why a begun ``task`` is no longer called for, in words for ``events.csv``: the first of
+    the checks its finder makes that the world as it is now fails."""
+    item = task.item
+    location, holder = snap.item(item)
+    person = task.owner if isinstance(task, PutBack) else task.person
+    est = snap.estimates.get(person)
+    k = snap.model.items.index(item)
+    if isinstance(task, Occupied):
+        if holder != task.holder:
+            return f"{task.holder} no longer has the {item}"
+    elif holder is not None:
+        return f"{holder} took the {item}"
+    elif isinstance(task, Inform) and location != task.location:
+        return f"the {item} is no longer at {task.location}"
+    if snap.holding(person) is not None:
+        return f"{person} is carrying the {snap.holding(person)}"
+    if est is not None and est.false_belief[k] < settings.belief_threshold and not isinstance(task, Occupied):
+        return f"{person} probably knows where the {item} is now"
+    if isinstance(task, PutBack) and location is not None:
+        if misled(snap, k, location, person) >= settings.put_back_harm:
+            return f"putting the {item} back would mislead someone who believes it at {location}"
+    if not isinstance(task, PutBack):
+        return f"{person} is no longer heading for the {item}"
+    return f"{person} probably no longer believes the {item} at {task.location}"

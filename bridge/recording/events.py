@@ -5,6 +5,9 @@ Header ``tick,actor,kind,item,location,target,detail``. Engine events keep their
 ``request``, ``reply``, ``waypoint``); every robot command status is a row of kind
 ``command`` whose ``detail`` reads ``<id> <action> <state>`` (and the reason or answer), with
 the command's item, location (a location id, or a cell as ``col,row``) and target person.
+A robot's tasks, read off the brain's ``mind`` messages, are rows of kind ``task`` whose
+``detail`` reads ``begin <task>: <what>`` when one begins, and ``done <task>: <what>`` or
+``dropped <task>: <what> (<why>)`` when it ends (protocol 1.3's ``robots[].ended``).
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from protocol import (
     CommandStatus,
     Event,
     Give,
+    Mind,
     Navigate,
     Pick,
     Place,
@@ -91,6 +95,37 @@ def _status_row(status: CommandStatus, command: RobotCommand | None) -> EventRow
     return EventRow(status.tick, status.robot, "command", item, location, target, detail)
 
 
+IDLE = ("idle", "go home")
+"""Robot activities that are not tasks."""
+
+
+def _task_rows(mind: Mind, last: dict[str, tuple[str, str]]) -> list[EventRow]:
+    """The ``task`` rows of one mind message: a task that ended, and one that began (its
+    activity differs from the robot's in the last mind, ``last``, which this updates)."""
+    rows = []
+    for activity in mind.robots:
+        ended = activity.ended
+        if ended is not None:
+            detail = f"{ended.outcome.value} {ended.task}: {ended.detail}"
+            rows.append(
+                EventRow(
+                    mind.tick,
+                    activity.robot,
+                    "task",
+                    detail=detail + (f" ({ended.reason})" if ended.reason else ""),
+                )
+            )
+        now = (activity.task, activity.detail)
+        if activity.task not in IDLE and now != last.get(activity.robot):
+            rows.append(
+                EventRow(
+                    mind.tick, activity.robot, "task", detail=f"begin {activity.task}: {activity.detail}"
+                )
+            )
+        last[activity.robot] = now
+    return rows
+
+
 def _nearest(sent: list[tuple[int, RobotCommand]], order: int) -> RobotCommand | None:
     """Of the commands recorded with a status's id (``(order, command)`` in trace order), the
     one recorded nearest to the status (before it on a tie): the recorder writes messages as
@@ -110,8 +145,11 @@ def event_rows(trace: Path) -> list[EventRow]:
         if isinstance(message, RobotCommand):
             commands.setdefault((message.robot, message.id), []).append((order, message))
     rows: list[tuple[int, int, EventRow]] = []
+    last: dict[str, tuple[str, str]] = {}
     for order, message in records:
-        if isinstance(message, Event):
+        if isinstance(message, Mind):
+            rows += [(message.tick, order, row) for row in _task_rows(message, last)]
+        elif isinstance(message, Event):
             rows.append((message.tick, order, _event_row(message)))
         elif isinstance(message, CommandStatus):
             command = _nearest(commands.get((message.robot, message.command), []), order)

@@ -83,6 +83,10 @@ def test_paper_tidy_puts_the_ball_back_before_a1_returns(tmp_path: Path) -> None
     assert events.first_tick(actor="A1", kind="take", item="ball", location="S2") > back, (
         "A1 finds the ball in S2"
     )
+    task = "put back: put the ball back at S2, where A1 left it"
+    begun = events.first_tick(actor="robot", kind="task", detail=f"begin {task}")
+    done = events.first_tick(actor="robot", kind="task", detail=f"done {task}")
+    assert begun <= picked and placed <= done, (begun, picked, placed, done)
     robot_ends_at_home(out)
 
 
