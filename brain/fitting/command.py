@@ -53,7 +53,13 @@ def add_fit_args(parser: argparse.ArgumentParser) -> None:
         "--backend",
         choices=("local", "ray"),
         default="local",
-        help="worker processes, or Ray tasks (the 'ray' extra; RAY_ADDRESS for a cluster)",
+        help="worker processes, or Ray tasks (the 'ray' extra)",
+    )
+    parser.add_argument(
+        "--address",
+        metavar="HOST:PORT",
+        help="with --backend ray: the Ray cluster to run the grid search on (default: $RAY_ADDRESS; "
+        "none: a Ray started here, on loopback); the recordings go to its nodes by value",
     )
     parser.add_argument(
         "--out", type=Path, required=True, help="directory for settings.toml, fit.json, report.md"
@@ -168,6 +174,8 @@ def _refined(
 
 def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) -> int:
     """Run the fit and print the report."""
+    if args.address and args.backend != "ray":
+        raise SettingsError("--address is a Ray cluster's: it needs --backend ray")
     grid = parse_grid(args.params, args.grid)
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     if args.refine:
@@ -185,6 +193,7 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
             args.workers,
             not args.no_progress,
             args.backend,
+            args.address,
         )
         judged = _judged(args, traces, judgments, grid, models, settings) if judgments else []
         refined = _refined(args, traces, fits, grid, settings)

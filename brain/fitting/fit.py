@@ -90,9 +90,10 @@ def fit(
     workers: int = 2,
     progress: bool = True,
     backend: str = "local",
+    address: str | None = None,
 ) -> list[ModelFit]:
     """Search, then cross-validate each model with a model of actions (folds shared by every
-    model).
+    model); ``backend`` and ``address``: where the search runs (:func:`~.search.search`).
 
     Raises:
         SettingsError: naming an unknown model, or a first model that is not the brain's
@@ -100,7 +101,7 @@ def fit(
     check_models(models)
     check_recordings(traces, k)
     acting = [m for m in models if MODELS[m].actions]
-    tables = search(traces, acting, grid, settings.model, workers, progress, backend)
+    tables = search(traces, acting, grid, settings.model, workers, progress, backend, address)
     parts = folds(len(traces), k, seed)
     return [ModelFit(t, cross_validate(t.ll, t.actions, parts), t.points[best_point(t.ll)]) for t in tables]
 

@@ -14,6 +14,7 @@ compared by held-out log-likelihood per action.
 from __future__ import annotations
 
 import dataclasses
+import tempfile
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -106,11 +107,31 @@ Job = tuple[str, str, ModelSettings, tuple[Point, ...]]
 """One recording under one model's settings, at several values of the cheap parameters."""
 
 
+@lru_cache(maxsize=4)
+def _shipped_trace(data: bytes, name: str) -> Trace:
+    """A recording that came by value (a Ray task's), read once per worker process."""
+    with tempfile.TemporaryDirectory(prefix="toyroom-fit-") as scratch:
+        path = Path(scratch) / name
+        path.write_bytes(data)
+        return read_trace(path)
+
+
 def evaluate_job(job: Job) -> list[Evidence]:
     """The evidence at each cheap point: one replayed pass when the model allows it
     (:mod:`brain.fitting.replay`), else one pass per point."""
-    path, observer, settings, cheap = job
-    trace = _trace(path)
+    return _evidence(_trace(job[0]), job)
+
+
+def evaluate_shipped(job: Job, recording: tuple[str, bytes]) -> list[Evidence]:
+    """:func:`evaluate_job` with the recording by value, ``(its name, its bytes)``, instead of
+    its path (a file of the driver's machine): a Ray task's."""
+    name, data = recording
+    return _evidence(_shipped_trace(data, name), job)
+
+
+def _evidence(trace: Trace, job: Job) -> list[Evidence]:
+    """The evidence of ``job`` at its cheap points on ``trace`` (its recording)."""
+    _, observer, settings, cheap = job
     if observer == MOTION:
         return motion_evidence(trace, settings, cheap)
     fast = evidence_at_points(trace, settings, Observer(observer), cheap)
@@ -136,10 +157,12 @@ def search(
     workers: int = 2,
     progress: bool = True,
     backend: str = "local",
+    address: str | None = None,
 ) -> list[Table]:
     """Evaluate every model at every point of its grid on every recording (the points that
     differ only in :data:`~brain.fitting.replay.CHEAP` parameters in one job), in worker
-    processes or as Ray tasks (``backend``)."""
+    processes or as Ray tasks (``backend``; ``address``: the Ray cluster's, default
+    ``RAY_ADDRESS``)."""
     jobs: list[Job] = []
     index: list[tuple[str, list[int], int]] = []
     for e, path in enumerate(traces):
@@ -151,7 +174,7 @@ def search(
                 cheap = tuple({k: v for k, v in grid_points[p].items() if k in CHEAP} for p in members)
                 jobs.append((str(path), observer, settings, cheap))
                 index.append((name, members, e))
-    results = _run(jobs, workers, progress, backend)
+    results = _run(jobs, workers, progress, backend, address)
     tables = {name: _empty_table(name, points(model_grid(name, grid)), len(traces)) for name in models}
     for (name, members, e), evidence in zip(index, results, strict=True):
         for p, ev in zip(members, evidence, strict=True):
@@ -166,9 +189,12 @@ def _empty_table(name: str, grid_points: list[Point], episodes: int) -> Table:
     )
 
 
-def _run(jobs: list[Job], workers: int, progress: bool, backend: str = "local") -> list[list[Evidence]]:
+def _run(
+    jobs: list[Job], workers: int, progress: bool, backend: str = "local", address: str | None = None
+) -> list[list[Evidence]]:
     """Every job's evidence, in order, with a progress bar over (model, point, recording) runs:
-    in worker processes, or as Ray tasks (``backend = "ray"``, :mod:`bridge.evaluation.raybackend`)."""
+    in worker processes, or as Ray tasks (``backend = "ray"``, :mod:`bridge.evaluation.raybackend`)
+    on the cluster at ``address``, each recording sent to the nodes by value."""
     from rich.progress import Progress
 
     results: list[list[Evidence]] = []
@@ -178,7 +204,14 @@ def _run(jobs: list[Job], workers: int, progress: bool, backend: str = "local") 
             from bridge.evaluation.raybackend import run_with_ray
 
             bar.update(task, total=len(jobs))
-            return run_with_ray(evaluate_job, jobs, workers, lambda n: bar.advance(task, n))
+            return run_with_ray(
+                evaluate_shipped,
+                jobs,
+                workers,
+                lambda n: bar.advance(task, n),
+                address=address,
+                shipped=lambda job: [job[0]],
+            )
         if workers <= 1:
             for job in jobs:
                 results.append(evaluate_job(job))

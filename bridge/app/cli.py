@@ -184,6 +184,13 @@ def _eval_command(command: Command) -> None:
         "--backend", choices=("local", "ray"), default="local", help="local threads, or Ray tasks"
     )
     evaluation.add_argument(
+        "--address",
+        metavar="HOST:PORT",
+        help="with --backend ray: the Ray cluster to run on (default: $RAY_ADDRESS; none: a Ray "
+        "started here, on loopback); each node runs its episodes' engines and brains on its own "
+        "loopback (docs/deployment.md)",
+    )
+    evaluation.add_argument(
         "--out", type=Path, default=Path("out/eval"), help="directory for metrics and report"
     )
     evaluation.add_argument(

@@ -97,8 +97,10 @@ def eval_main(
     record: bool = False,
     max_ticks: int = 1000,
     batch: int = 10,
+    address: str | None = None,
 ) -> int:
-    """Run the evaluation with a progress bar and print the metrics."""
+    """Run the evaluation with a progress bar and print the metrics (``address``: the Ray
+    cluster's, with ``backend`` ``ray``)."""
     from rich.console import Console
     from rich.markdown import Markdown
     from rich.progress import Progress
@@ -124,6 +126,7 @@ def eval_main(
             record=record,
             max_ticks=max_ticks,
             batch=batch,
+            address=address,
         )
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
@@ -260,6 +263,9 @@ def _eval(args: argparse.Namespace) -> int:
     if args.batch < 1:
         print(f"toyroom eval: --batch must be at least 1 episode, got {args.batch}", file=sys.stderr)
         return 2
+    if args.address and args.backend != "ray":
+        print("toyroom eval: --address is a Ray cluster's: it needs --backend ray", file=sys.stderr)
+        return 2
     command = shlex.join(["toyroom", *sys.argv[1:]])
     return eval_main(
         args.episodes,
@@ -274,6 +280,7 @@ def _eval(args: argparse.Namespace) -> int:
         args.record,
         max_ticks=args.max_ticks,
         batch=args.batch,
+        address=args.address,
     )
 
 

@@ -17,7 +17,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import logging
-import resource
 import shutil
 import subprocess
 import tempfile
@@ -37,6 +36,7 @@ from .generation import MAPS, generate, map_of, scenarios_of
 from .planned import policy_table
 from .report import report
 from .runs import MOTION, RunResult, RunSpec, run_once
+from .timing import cpu_seconds, timing
 
 log = logging.getLogger("toyroom.eval")
 
@@ -226,13 +226,15 @@ def evaluate(
     record: bool = False,
     max_ticks: int = 1000,
     batch: int = BATCH,
+    address: str | None = None,
 ) -> dict[str, Any]:
     """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
     and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
     ``--set belief_model=point``; ``command``: the command line, for the report;
     ``record``: keep every run's MCAP recording under ``out/recordings/``; ``max_ticks``: each
     episode's length; ``batch``: at most this many episodes share their node processes, 1:
-    none do, :func:`batches`)."""
+    none do, :func:`batches`; ``address``: with the Ray backend, the cluster's, default
+    ``RAY_ADDRESS``, :mod:`.rayepisodes`)."""
     out.mkdir(parents=True, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
     started, cpu = time.monotonic(), cpu_seconds()  # generating the episodes counts too
@@ -242,7 +244,7 @@ def evaluate(
         for i, scenario in enumerate(scenarios_of(Path(workdir), episodes, seed, c, max_ticks))
     ]
     try:
-        results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl", batch)
+        results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl", batch, address)
     finally:  # the solved Q-values (--values-cache) are a cache of this evaluation only
         shutil.rmtree(Path(workdir) / "values", ignore_errors=True)
     took = time.monotonic() - started
@@ -274,38 +276,6 @@ def evaluate(
     )
     (out / "report.md").write_text(report(metrics, out))
     return metrics
-
-
-def cpu_seconds() -> dict[str, float]:
-    """CPU seconds used so far by this process (the evaluator) and by its finished child
-    processes (the nodes, and the scenario generator)."""
-    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
-    return {"evaluator": me.ru_utime + me.ru_stime, "nodes": children.ru_utime + children.ru_stime}
-
-
-def timing(
-    results: list[dict[str, Any]], took: float, workers: int, cpu: dict[str, float] | None = None
-) -> dict[str, Any]:
-    """How long the evaluation took: wall seconds in all and per episode (with ``workers`` at
-    a time), one episode's own seconds and each kind of run's, averaged, and the CPU seconds
-    per episode of the evaluator and of the node processes (``cpu``: the whole evaluation's;
-    ``None`` with Ray, whose workers are not this process's children). The wall seconds per
-    episode can be no lower than the CPU seconds per episode over the machine's cores."""
-    own = [r["seconds"] for r in results if "seconds" in r]
-    runs: dict[str, list[float]] = {}
-    for r in results:
-        for name, seconds in r.get("run_seconds", {}).items():
-            runs.setdefault(name, []).append(seconds)
-    return {
-        "seconds": took,
-        "workers": workers,
-        "seconds_per_episode": took / max(1, len(results)),
-        "episode_seconds_mean": sum(own) / len(own) if own else None,
-        "run_seconds_mean": {name: sum(v) / len(v) for name, v in sorted(runs.items())},
-        "cpu_seconds_per_episode": (
-            None if cpu is None else {k: v / max(1, len(results)) for k, v in sorted(cpu.items())}
-        ),
-    }
 
 
 def _chunks(results: list[dict[str, Any]], size: int) -> list[list[dict[str, Any]]]:
@@ -367,13 +337,15 @@ def _run_jobs(
     progress: Callable[[int], None] | None,
     partial: Path,
     batch: int = BATCH,
+    address: str | None = None,
 ) -> list[dict[str, Any]]:
-    """Every job's result, in the order of ``jobs`` (each kept in ``partial`` as it comes
-    back, locally; ``batch``: episodes per batch, :func:`batches`)."""
+    """Every job's result, in the order of ``jobs``, each kept in ``partial`` as it comes
+    back (``batch``: episodes per batch, locally, :func:`batches`; with Ray, each episode a
+    task on the cluster at ``address``, :mod:`.rayepisodes`)."""
     if backend == "ray":
-        from .raybackend import run_with_ray
+        from .rayepisodes import run_on_ray
 
-        return run_with_ray(run_episode, jobs, workers, progress)
+        return run_on_ray(jobs, workers, progress, partial, address)
     results: dict[int, dict[str, Any]] = {}
     order = {id(job): n for n, job in enumerate(jobs)}
     with ThreadPoolExecutor(max_workers=workers) as pool, partial.open("w") as kept:

@@ -285,7 +285,7 @@ def score_tick(
             true = {p.id: p.p for p in belief.locations}
             guess = inferred.get(belief.item, {})
             counts.tv_sum += 0.5 * sum(
-                abs(true.get(loc, 0.0) - guess.get(loc, 0.0)) for loc in set(true) | set(guess)
+                abs(true.get(loc, 0.0) - guess.get(loc, 0.0)) for loc in sorted(set(true) | set(guess))
             )
             counts.tv_n += 1
             where = true_location.get(belief.item)
