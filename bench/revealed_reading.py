@@ -87,12 +87,18 @@ def readings(folder: Path) -> list[dict]:
             return (utility - OTHER) / (PREFERRED - OTHER)
 
         walked = {cells[t][s.person] for t in ticks if s.person in cells.get(t, {})}
-        rows.append({
-            "episode": folder.name, "person": s.person, "item": s.item, "steps": len(walked) - 1,
-            "sure_knew": values[("belief", s.first, s.person, s.item, true)] > 0.99,
-            "p_false_belief": max(values[("false_belief", t, s.person, s.item, "")] for t in ticks),
-            "p_wants_start": wants(s.first), "p_wants_max": max(wants(t) for t in ticks),
-        })
+        rows.append(
+            {
+                "episode": folder.name,
+                "person": s.person,
+                "item": s.item,
+                "steps": len(walked) - 1,
+                "sure_knew": values[("belief", s.first, s.person, s.item, true)] > 0.99,
+                "p_false_belief": max(values[("false_belief", t, s.person, s.item, "")] for t in ticks),
+                "p_wants_start": wants(s.first),
+                "p_wants_max": max(wants(t) for t in ticks),
+            }
+        )
     return rows
 
 
@@ -109,19 +115,25 @@ def main() -> int:
     rows = [row for scenario in scenarios for row in readings(run(scenario, folder / "runs", args.set))]
     print("episode              person item   steps sure_knew P(fb)max P(wants)start P(wants)max")
     for r in rows:
-        print(f"{r['episode']:<20} {r['person']:<6} {r['item']:<6} {r['steps']:>5} {r['sure_knew']!s:>9} "
-              f"{r['p_false_belief']:>8.2f} {r['p_wants_start']:>13.2f} {r['p_wants_max']:>11.2f}")
+        print(
+            f"{r['episode']:<20} {r['person']:<6} {r['item']:<6} {r['steps']:>5} {r['sure_knew']!s:>9} "
+            f"{r['p_false_belief']:>8.2f} {r['p_wants_start']:>13.2f} {r['p_wants_max']:>11.2f}"
+        )
     n = len(rows)
     if not n:
         print("no revealed stretches")
         return 1
     detected = sum(r["p_false_belief"] > 0.5 for r in rows)
-    print(f"\n{n} stretches, median {statistics.median(r['steps'] for r in rows)} steps; "
-          f"detected (P(fb) > 0.5 before the place): {detected} ({detected / n:.2f})")
+    print(
+        f"\n{n} stretches, median {statistics.median(r['steps'] for r in rows)} steps; "
+        f"detected (P(fb) > 0.5 before the place): {detected} ({detected / n:.2f})"
+    )
     print(f"sure at the start that the person knew the true place: {sum(r['sure_knew'] for r in rows)}")
     wanted = sum(r["p_wants_max"] > 0.5 for r in rows)
-    print(f"P(wants the item) above 0.5 at some tick of the stretch: {wanted} ({wanted / n:.2f}); "
-          f"median at the start {statistics.median(r['p_wants_start'] for r in rows):.2f}")
+    print(
+        f"P(wants the item) above 0.5 at some tick of the stretch: {wanted} ({wanted / n:.2f}); "
+        f"median at the start {statistics.median(r['p_wants_start'] for r in rows):.2f}"
+    )
     return 0
 
 

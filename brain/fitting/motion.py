@@ -29,7 +29,7 @@ from protocol.carry import carry_locations
 from protocol.geometry import GridCell
 
 from ..model.arrays import BoolArray, FloatArray
-from ..model.personmodel import StepRecord
+from ..model.personinterface import StepRecord
 from ..model.planner import Policy
 from ..model.world import WorldModel
 from ..settings import ModelSettings

@@ -8,8 +8,8 @@ on those, vectorised over the points: ``P`` points cost one tracker pass, one be
 revision per step and ``P`` small ``(G, U, A)`` choice rules, instead of ``P`` passes.
 
 The pass uses a tracker whose filters only keep their records (:class:`RecordOnly`); the
-replay is :class:`brain.model.personmodel.GradedFilter`'s (graded beliefs, QMDP: the
-default, ``truebelief``, ``nocost``) or :class:`~brain.model.personmodel.ExactFilter`'s
+replay is :class:`brain.model.gradedperson.GradedFilter`'s (graded beliefs, QMDP: the
+default, ``truebelief``, ``nocost``) or :class:`~brain.model.exactperson.ExactFilter`'s
 (``point``) arithmetic on stacked posteriors, checked against them point by point in
 ``tests/brain/fitting/test_replay.py``. Other models (belief-space planning, lapses,
 factored scenes, an embodied robot's branches) return ``None``: the caller runs them per
@@ -29,8 +29,10 @@ from protocol import Observer
 
 from ..model.arrays import FloatArray
 from ..model.estimates import Estimate
+from ..model.exactperson import ExactModel
 from ..model.graded import choice_likelihood, expected_q
-from ..model.personmodel import ExactModel, GradedModel, PersonFilter, PersonModel, StepRecord
+from ..model.gradedperson import GradedModel
+from ..model.personinterface import PersonFilter, PersonModel, StepRecord
 from ..settings import ModelSettings
 from ..tracking.tracker import MindTracker
 from .evidence import Evidence

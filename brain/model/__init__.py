@@ -6,8 +6,11 @@ a posterior."""
 from .arrays import BoolArray, FloatArray, IntArray
 from .belief import BeliefModel, Percept, percept, told, true_values
 from .estimates import OUT, Estimate, estimate, false_belief_probability, reread
+from .exactperson import ExactModel
+from .factoredperson import FactoredModel
 from .inference import HmmStep, forward, forward_step, smooth, switch_probability
-from .personmodel import ExactModel, FactoredModel, PersonFilter, PersonModel, StepRecord, person_model
+from .personinterface import PersonFilter, PersonModel, StepRecord
+from .personmodel import person_model
 from .planner import TAKE, Move, Policy, cached_policy, plan
 from .revisions import SharedRevisions
 from .world import MOVE_STEPS, WorldModel, build_world_model

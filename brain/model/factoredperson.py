@@ -1,4 +1,4 @@
-"""The factored model as a person model (:mod:`brain.model.personmodel`'s interface): the
+"""The factored model as a person model (:mod:`brain.model.personinterface`): the
 filter of :mod:`brain.model.factored`, and its smoother (:mod:`brain.model.factoredsmoother`)."""
 
 from __future__ import annotations
@@ -6,7 +6,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,9 +26,7 @@ from .factored import (
 )
 from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
 from .inference import log_of
-
-if TYPE_CHECKING:
-    from .personmodel import StepRecord
+from .personinterface import StepRecord
 
 
 class FactoredModel:

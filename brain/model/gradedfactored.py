@@ -21,7 +21,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -36,10 +35,8 @@ from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy, f
 from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
 from .graded import choice_likelihood, informed_weights, initial_points
 from .inference import hazard_matrix, log_of
+from .personinterface import StepRecord
 from .planner import Move
-
-if TYPE_CHECKING:
-    from .personmodel import StepRecord
 
 
 class GradedFactoredModel:

@@ -30,16 +30,13 @@ import copy
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .belief import UNNOTICED, Percept
 from .estimates import Estimate, mix
+from .personinterface import PersonFilter, PersonModel, StepRecord
 from .world import WorldModel
-
-if TYPE_CHECKING:
-    from .personmodel import PersonFilter, PersonModel, StepRecord
 
 LAPSE_ROWS = 8
 """The heaviest rows a person's mixture keeps whatever the evidence (:func:`_merged`)."""

@@ -1,7 +1,8 @@
 """Following every person of a scene tick by tick: :class:`MindTracker` (one observer's
 estimates, online and smoothed)."""
 
-from .tracker import MindTracker, PersonTrack
+from .track import PersonTrack
+from .tracker import MindTracker
 
 __all__ = [
     "MindTracker",

@@ -12,7 +12,6 @@ over) is a step with the percept alone. Between steps the estimate is carried fo
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 import msgspec
 import numpy as np
@@ -22,49 +21,17 @@ from protocol import Activity, AgentKind, Event, EventKind, Observer, Scene, Sta
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, percept, told, true_values
 from ..model.estimates import Estimate, mix, reread
+from ..model.gradedperson import GradedModel
 from ..model.inference import switch_probability
-from ..model.personmodel import GradedModel, PersonFilter, StepRecord, person_model
+from ..model.personinterface import StepRecord
+from ..model.personmodel import person_model
 from ..model.planner import TAKE, Move, drop_action, play_action, use_action
 from ..model.revisions import SharedRevisions
 from ..model.world import MOVE_STEPS
 from ..settings import ModelSettings
 from .statecheck import check_items
+from .track import Chain, PersonTrack
 from .worldview import WorldView
-
-
-@dataclass
-class Chain:
-    """One person's chain in one branch of the world: its steps and filtered posteriors."""
-
-    percept: Percept | None = None
-    steps: list[StepRecord] = field(default_factory=list)
-    filter: PersonFilter | None = None
-    """The online filter (in the model's form), ``None`` before the first sight."""
-    estimates: list[Estimate] = field(default_factory=list)
-    """Each step's online estimate, its false beliefs read against the branch's world then."""
-
-
-@dataclass
-class PersonTrack:
-    """One person: what was last seen of them, their chain in every branch of the world, and
-    the estimates reported (the branches' mixture after each step)."""
-
-    agent: str
-    cell: int | None = None
-    moved_from: int | None = None
-    """The cell the person left on their last move."""
-    held: int = 0
-    last_decision: float | None = None
-    last_step: float | None = None
-    """The engine time of the person's last step (for forgetting since)."""
-    waited: bool = False
-    """Whether the current pause was already counted as a decision to wait."""
-    settled: bool = False
-    """Whether the person played or left: no decision is due until they act again."""
-    chains: list[Chain] = field(default_factory=lambda: [Chain()])
-    steps: list[StepRecord] = field(default_factory=list)
-    """The steps of the likeliest branch (every branch steps at the same ticks)."""
-    estimates: list[Estimate] = field(default_factory=list)
 
 
 class MindTracker:

@@ -55,7 +55,8 @@ def test_a_rumour_splits_off_a_told_row_with_its_chance() -> None:
 
     from brain.model.belief import NOT_IN_VIEW, Percept
     from brain.model.lapses import LapseModel
-    from brain.model.personmodel import StepRecord, base_person_model
+    from brain.model.personinterface import StepRecord
+    from brain.model.personmodel import base_person_model
 
     settings = ModelSettings(hearsay=1.0)
     scene = corridor_scene()
@@ -102,7 +103,8 @@ def test_a_forgetful_person_outside_grows_unsure() -> None:
     """The person sees the ball at B, then, outside, takes a step whose record says 0.3 of
     each belief drifted: the robot expects them to give B 0.7 + 0.3 / 2."""
     from brain.model.belief import NOT_IN_VIEW, Percept
-    from brain.model.personmodel import StepRecord, base_person_model
+    from brain.model.personinterface import StepRecord
+    from brain.model.personmodel import base_person_model
 
     scene = corridor_scene()
     model = base_person_model(scene, ModelSettings())

@@ -1,0 +1,79 @@
+"""The point-belief model as a person model (:mod:`brain.model.personinterface`): the joint
+``(W, U)`` posterior over believed worlds and candidate desires (the paper's model; online
+and smoothed)."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from protocol import Scene
+
+from ..settings import ModelSettings
+from .arrays import FloatArray
+from .belief import BeliefModel
+from .desires import Desires
+from .estimates import Estimate, estimate
+from .inference import HmmStep, forward_step, log_of, smooth
+from .personinterface import StepRecord
+from .planner import Policy, cached_policy
+
+
+class ExactModel:
+    """The joint model; ``true_world``: the observer assumes people know the true world."""
+
+    exact = True
+
+    def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
+        self.policy: Policy = cached_policy(scene, settings)
+        self.model = self.policy.model
+        self.desires = Desires(self.policy.utilities)
+        self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
+        self.true_world = true_world
+
+    def prior(self) -> FloatArray:
+        """``(W, U)`` uniform over the worlds the scene allows and the candidate desires."""
+        allowed = self.model.allowed.astype(np.float64)
+        U = len(self.policy.utilities)
+        return np.repeat(allowed[:, None], U, axis=1) / (allowed.sum() * U)
+
+    def new_filter(self) -> ExactFilter:
+        return ExactFilter(self, self.prior())
+
+    def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
+        return self.policy.action_likelihood(cell, held, action)
+
+    def hmm_step(self, record: StepRecord) -> HmmStep:
+        """The step with its ``(W, W)`` belief transition rebuilt from the percept."""
+        if self.true_world:
+            transition = self.beliefs.true_world(record.truth, record.percept)
+        else:
+            transition = self.beliefs.transition(record.percept)
+        return HmmStep(record.tick, transition, record.likelihood, record.switch)
+
+    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
+        posteriors = smooth(self.prior(), [self.hmm_step(r) for r in records])
+        return [
+            estimate(self.model, p, r.truth, self.desires) for p, r in zip(posteriors, records, strict=True)
+        ]
+
+
+@dataclass
+class ExactFilter:
+    """The ``(W, U)`` forward pass of one person."""
+
+    owner: ExactModel
+    posterior: FloatArray
+    log_evidence: float = 0.0
+
+    def step(self, record: StepRecord) -> None:
+        if record.likelihood is not None:
+            self.log_evidence += log_of(float((self.posterior * record.likelihood).sum()))
+        self.posterior = forward_step(self.posterior, self.owner.hmm_step(record))
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        est = estimate(self.owner.model, self.posterior, truth, self.owner.desires)
+        return dataclasses.replace(est, log_evidence=self.log_evidence)

@@ -1,0 +1,220 @@
+"""Graded beliefs as a person model (:mod:`brain.model.personinterface`): each person holds
+a graded belief of their own and plans with it (:mod:`brain.model.graded`);
+``ModelSettings.belief_model = "graded"``; online and smoothed."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from protocol import Scene
+
+from ..settings import ModelSettings
+from .arrays import FloatArray
+from .belief import BeliefModel
+from .desires import Desires
+from .estimates import Estimate, estimate, reread
+from .graded import InitialBeliefs, drift, expected_joint, qmdp_likelihood, update_beliefs
+from .inference import hazard_matrix, log_of
+from .lookahead import cached_lookahead
+from .personinterface import StepRecord
+from .planner import Policy, cached_policy
+from .revisions import SharedRevisions
+
+
+class GradedModel:
+    """Graded beliefs (:mod:`brain.model.graded`): the posterior is over ``G`` hypotheses of
+    the person's initial belief and ``D`` preferences; each hypothesis's belief follows the
+    person's percepts. ``true_world``: the observer assumes people know the true world."""
+
+    exact = True
+
+    def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
+        self.policy: Policy = cached_policy(scene, settings)
+        self.model = self.policy.model
+        self.desires = Desires(self.policy.utilities)
+        self.settings = settings
+        self.beliefs = BeliefModel(self.model, settings.r, settings.delta)
+        self.true_world = true_world
+        self.hypotheses = InitialBeliefs(self.model, settings)
+        self.initial = self.hypotheses.beliefs
+        self.place_of = (
+            self.model.place[:, :, None] == np.arange(self.model.n_locations)[None, None, :]
+        ).astype(np.float64)
+        """``(W, K, L)`` one where world ``w`` puts item ``k`` at location ``l``."""
+        self.rest_of = (
+            (self.model.worlds[:, :, None] == 2 * np.arange(self.model.n_locations)[None, None, :])
+            .reshape(self.model.n_worlds, -1)
+            .astype(np.float64)
+        )
+        """``(W, K L)`` one where world ``w`` has item ``k`` resting at location ``l``."""
+        self.lookahead = cached_lookahead(scene, settings) if settings.person_planner == "belief" else None
+        self.revisions: SharedRevisions | None = None
+        """Revisions shared with the brain's other models that revise alike (``None``: not
+        shared; :mod:`brain.model.revisions`)."""
+        self.revision_key: tuple[object, ...] = (scene.name, settings.belief_update)
+        """What :meth:`revise` reads besides its arguments: models with equal keys revise alike."""
+        self.revision_key += (settings.r, settings.delta, settings.prior_resolution, settings.ignorance)
+
+    def prior(self, truth: tuple[int, ...] | None = None) -> FloatArray:
+        """``(G, U)``: the hypotheses' prior weights given the true item values at the person's
+        first sight (:meth:`InitialBeliefs.given`; without ``truth``, the grid's own), uniform
+        over candidate desires."""
+        U = len(self.policy.utilities)
+        weights = self.hypotheses.weights if truth is None else self.hypotheses.given(truth)
+        return np.repeat(weights[:, None] / U, U, axis=1)
+
+    @property
+    def shared(self) -> SharedRevisions | None:
+        """:attr:`revisions`, unless this model's revision reads the truth (``true_world``), not
+        only the percept: then it shares nothing."""
+        return None if self.true_world else self.revisions
+
+    def new_filter(self) -> GradedFilter:
+        if self.shared is not None:
+            return GradedFilter(self, self.shared.initial(self.revision_key, self.initial), self.prior())
+        return GradedFilter(self, self.initial.copy(), self.prior())
+
+    def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
+        """The point model's ``(W, U)`` likelihood (kept in the record; the graded filter
+        computes its own from ``StepRecord.decision``)."""
+        return self.policy.action_likelihood(cell, held, action)
+
+    def decision_likelihood(self, beliefs: FloatArray, record: StepRecord) -> FloatArray | None:
+        """``(G, U)`` QMDP likelihood of the record's decision (``None`` for a percept alone)."""
+        if record.decision is None:
+            return None
+        cell, held, action = record.decision
+        beta, epsilon = self.settings.beta, self.settings.epsilon
+        if self.lookahead is not None:
+            rest = (beliefs @ self.rest_of).reshape(len(beliefs), self.model.n_items, self.model.n_locations)
+            return self.lookahead.likelihood(rest, cell, held, action, beta, epsilon)
+        q = self.policy.q[:, self.policy.state_slice(cell, held), :]
+        if _one_world(beliefs):  # truebelief: every hypothesis sits in the one true world
+            one = qmdp_likelihood(beliefs[:1], q, action, beta, epsilon)
+            return np.repeat(one, len(beliefs), axis=0)
+        return qmdp_likelihood(beliefs, q, action, beta, epsilon)
+
+    def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
+        """Every hypothesis's belief after the record's percept (taken from another model
+        of the brain that revised the same array alike, when shared)."""
+        if self.shared is None:
+            return self._revise(beliefs, record)
+        return self.shared.revise(
+            self.revision_key,
+            record.tick,
+            record.percept,
+            record.forget,
+            beliefs,
+            lambda before: self._revise(before, record),
+        )
+
+    def _revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
+        if self.true_world:  # every belief moves to the one true world (one row of the transition)
+            out = np.zeros_like(beliefs)
+            out[:, self.beliefs.true_target(record.truth, record.percept)] = beliefs.sum(axis=1)
+            return out
+        if record.forget > 0:
+            model = self.model
+            beliefs = drift(beliefs, model.n_items, model.n_values, record.forget) * model.allowed[None, :]
+            beliefs = beliefs / beliefs.sum(axis=1, keepdims=True)
+        return update_beliefs(beliefs, self.beliefs, record.percept, self.settings.belief_update)
+
+    def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
+        """Forward-backward over ``(g, d)`` (``g`` never changes; ``d`` may switch), then the
+        beliefs replayed to read each step's estimate."""
+        beliefs, alpha = self.initial.copy(), self.prior(records[0].truth if records else None)
+        alphas, steps = [], []
+        for record in records:
+            likelihood = self.decision_likelihood(beliefs, record)
+            alpha = _filter_step(alpha, likelihood, record.switch)
+            beliefs = self._revise(beliefs, record)
+            alphas.append(alpha)
+            steps.append((likelihood, record.switch))
+        back = np.ones_like(alpha)
+        posteriors = [alphas[-1]] if alphas else []
+        for t in range(len(records) - 1, 0, -1):
+            likelihood, switch = steps[t]
+            mixed = back @ hazard_matrix(back.shape[1], switch).T if switch > 0 else back
+            back = mixed * likelihood if likelihood is not None else mixed
+            back /= back.sum()
+            joint = alphas[t - 1] * back
+            posteriors.append(joint / joint.sum())
+        posteriors.reverse()
+        beliefs, out = self.initial.copy(), []
+        for record, posterior in zip(records, posteriors, strict=True):
+            beliefs = self._revise(beliefs, record)
+            out.append(self.read(beliefs, posterior, record.truth))
+        return out
+
+    def read(self, beliefs: FloatArray, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
+        """The estimate of ``(G, W)`` beliefs under a ``(G, U)`` posterior, with the
+        hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
+        model = self.model
+        marginals = (  # (G, K, L), shared with the other models that hold this very array
+            self._marginals(beliefs)
+            if self.shared is None
+            else self.shared.read(("marginals", *self.revision_key), beliefs, self._marginals)
+        )
+        base = estimate(model, expected_joint(beliefs, posterior), truth, self.desires)
+        graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
+        return reread(graded, truth, self.settings.false_belief_mass)
+
+    def _marginals(self, beliefs: FloatArray) -> FloatArray:
+        """``(G, K, L)`` each item's location under each of ``(G, W)`` beliefs."""
+        model = self.model
+        flat = beliefs @ self.place_of.reshape(model.n_worlds, -1)
+        return flat.reshape(len(beliefs), model.n_items, model.n_locations)
+
+
+def _one_world(beliefs: FloatArray) -> bool:
+    """Whether every row of ``(G, W)`` beliefs is the same and puts all its mass on one world
+    (as ``truebelief``'s do after the first step): one row's likelihood is then every row's,
+    to the bit (each product has one nonzero term). Cheap to refute on the first and last
+    rows, which differ under any observer that keeps graded hypotheses apart."""
+    first = beliefs[0]
+    return (
+        len(beliefs) > 1
+        and bool(np.array_equal(first, beliefs[-1]))
+        and np.count_nonzero(first) == 1
+        and bool((beliefs == first).all())
+    )
+
+
+def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
+    """``(G, U)`` posterior after a step: the decision's likelihood, then the preference switch."""
+    if likelihood is not None:
+        alpha = alpha * likelihood
+    if switch > 0:
+        alpha = alpha @ hazard_matrix(alpha.shape[1], switch)
+    return alpha / alpha.sum()
+
+
+@dataclass
+class GradedFilter:
+    """The graded forward pass of one person: each hypothesis's belief and the posterior."""
+
+    owner: GradedModel
+    beliefs: FloatArray
+    """``(G, W)``."""
+    posterior: FloatArray
+    """``(G, U)``."""
+    log_evidence: float = 0.0
+    started: bool = False
+    """Whether a step was taken: the first sets the prior by the world then."""
+
+    def step(self, record: StepRecord) -> None:
+        if not self.started:
+            self.posterior, self.started = self.owner.prior(record.truth), True
+        likelihood = self.owner.decision_likelihood(self.beliefs, record)
+        if likelihood is not None:
+            self.log_evidence += log_of(float((self.posterior * likelihood).sum()))
+        self.posterior = _filter_step(self.posterior, likelihood, record.switch)
+        self.beliefs = self.owner.revise(self.beliefs, record)
+
+    def estimate(self, truth: tuple[int, ...]) -> Estimate:
+        est = self.owner.read(self.beliefs, self.posterior, truth)
+        return dataclasses.replace(est, log_evidence=self.log_evidence)

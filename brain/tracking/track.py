@@ -1,0 +1,45 @@
+"""One person as the tracker follows them: what was last seen of them (:class:`PersonTrack`)
+and their chain of steps and estimates in each branch of the unseen world (:class:`Chain`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..model.belief import Percept
+from ..model.estimates import Estimate
+from ..model.personinterface import PersonFilter, StepRecord
+
+
+@dataclass
+class Chain:
+    """One person's chain in one branch of the world: its steps and filtered posteriors."""
+
+    percept: Percept | None = None
+    steps: list[StepRecord] = field(default_factory=list)
+    filter: PersonFilter | None = None
+    """The online filter (in the model's form), ``None`` before the first sight."""
+    estimates: list[Estimate] = field(default_factory=list)
+    """Each step's online estimate, its false beliefs read against the branch's world then."""
+
+
+@dataclass
+class PersonTrack:
+    """One person: what was last seen of them, their chain in every branch of the world, and
+    the estimates reported (the branches' mixture after each step)."""
+
+    agent: str
+    cell: int | None = None
+    moved_from: int | None = None
+    """The cell the person left on their last move."""
+    held: int = 0
+    last_decision: float | None = None
+    last_step: float | None = None
+    """The engine time of the person's last step (for forgetting since)."""
+    waited: bool = False
+    """Whether the current pause was already counted as a decision to wait."""
+    settled: bool = False
+    """Whether the person played or left: no decision is due until they act again."""
+    chains: list[Chain] = field(default_factory=lambda: [Chain()])
+    steps: list[StepRecord] = field(default_factory=list)
+    """The steps of the likeliest branch (every branch steps at the same ticks)."""
+    estimates: list[Estimate] = field(default_factory=list)
