@@ -85,6 +85,10 @@ class ModelSettings:
         forget: the rate (per second) at which a person's belief about each item drifts
             toward uniform over the locations (graded beliefs in the exact model; what is in
             view is put right by the next percept); 0 (the default): people never forget.
+        nested_peek: the rate (per second) at which a person thinks another, out of their
+            sight, may have come back and looked unseen (nested beliefs,
+            :mod:`brain.model.nested`: their model of the other drifts toward their own
+            belief); 0: what they last saw the other see is all they credit.
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
             from its low to its high value (``desire_levels**(K + 1) - 1`` candidates).
     """
@@ -118,6 +122,7 @@ class ModelSettings:
     miss: float = 0.0
     hearsay: float = 0.0
     forget: float = 0.0
+    nested_peek: float = 0.002
 
     def __post_init__(self) -> None:
         checks = {
@@ -143,6 +148,7 @@ class ModelSettings:
             "miss": 0.0 <= self.miss < 1.0,
             "hearsay": self.hearsay >= 0.0,
             "forget": self.forget >= 0.0,
+            "nested_peek": self.nested_peek >= 0.0,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:
@@ -172,6 +178,7 @@ ALLOWED = {
     "miss": "0 <= miss < 1",
     "hearsay": "hearsay >= 0",
     "forget": "forget >= 0",
+    "nested_peek": "nested_peek >= 0",
     "confirm_seconds": "confirm_seconds >= 0",
     "attempts": "an int >= 1",
     "navigate_timeout": "navigate_timeout > 0",

@@ -205,13 +205,20 @@ def _unknown_command(data: bytes, encoding: Encoding) -> RobotCommand:
     """A command of a kind this side does not know, kept as an :class:`UnknownAction`."""
     try:
         loose = _LOOSE[encoding].decode(data)
-    except msgspec.ValidationError as err:
+    except msgspec.DecodeError as err:  # ValidationError included
         reason, path = _split(err)
         raise ProtocolError(reason, message_type="robot_command", field=path) from None
     kind = loose.action.get("kind")
     if not isinstance(kind, str) or not kind:
         raise ProtocolError(
             "expected a command kind (a string)", message_type="robot_command", field="$.action.kind"
+        )
+    bad = [name for name in loose.action if not (isinstance(name, str) and name.isidentifier())]
+    if bad:
+        raise ProtocolError(
+            f"expected field names that are identifiers, got {bad[0]!r}",
+            message_type="robot_command",
+            field="$.action",
         )
     note_unknown("command kind", kind)
     action = unknown_action(kind, loose.action)

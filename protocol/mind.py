@@ -101,6 +101,14 @@ class WorldBelief(msgspec.Struct, frozen=True):
     p: Probability
 
 
+class NestedBelief(msgspec.Struct, frozen=True):
+    """Where a person believes ``agent`` (another person) believes each item is (protocol 1.3):
+    the brain's estimate, one ``ItemBelief`` per item of the scene."""
+
+    agent: Id
+    beliefs: tuple[ItemBelief, ...]
+
+
 class AgentMind(msgspec.Struct, frozen=True):
     """The brain's estimate of one person's mind.
 
@@ -123,6 +131,9 @@ class AgentMind(msgspec.Struct, frozen=True):
     false_belief: tuple[Prob, ...] = ()
     desire: Desire | None = None
     worlds: tuple[WorldBelief, ...] = ()
+    nested_beliefs: tuple[NestedBelief, ...] = ()
+    """Protocol 1.3: per other person B, where this person believes B believes each item is
+    (what this person can tell of B's percepts: what B saw while this person saw B)."""
 
 
 class TaskOutcome(enum.Enum):

@@ -128,6 +128,12 @@ class MindCsv:
     def preference(self, agent: str, tick: int, item: str, column: str = "p_smoothed") -> float:
         return float(self.index[(tick, agent, "preference", item, "")][column])
 
+    def nested(
+        self, agent: str, tick: int, other: str, item: str, location: str, column: str = "p_online"
+    ) -> float:
+        """P(``agent`` believes ``other`` believes ``item`` is at ``location``) at ``tick``."""
+        return float(self.index[(tick, agent, "nested_belief", item, f"{other}:{location}")][column])
+
     def false_belief(self, agent: str, tick: int, item: str, column: str = "p_online") -> float:
         """P(the agent's belief gives ``item``'s true location too little mass) at ``tick``."""
         return float(self.index[(tick, agent, "false_belief", item, "")][column])

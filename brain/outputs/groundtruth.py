@@ -4,7 +4,7 @@ for drawing beside the model's estimates. Analysis data only: inference never re
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from protocol.bundled import bundled_dir
 
@@ -13,11 +13,14 @@ GROUND_TRUTH_DIR = bundled_dir("brain", "groundtruth")
 
 @dataclass(frozen=True)
 class TruthStep:
-    """Ground truth at one labelled step: belief per item over locations, preference over items."""
+    """Ground truth at one labelled step: belief per item over locations, preference over
+    items, and ``believed_by``: per other person, where they believe this agent believes each
+    item is (nested beliefs)."""
 
     label: str
     belief: dict[str, dict[str, float]]
     preference: dict[str, float]
+    believed_by: dict[str, dict[str, dict[str, float]]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -41,6 +44,10 @@ def load_ground_truth(scenario: str) -> GroundTruth | None:
             label=str(step["label"]),
             belief={item: dict(dist) for item, dist in step.get("belief", {}).items()},
             preference=dict(step.get("preference", {})),
+            believed_by={
+                person: {item: dict(dist) for item, dist in items.items()}
+                for person, items in step.get("believed_by", {}).items()
+            },
         )
         for step in data.get("steps", [])
     )

@@ -6,7 +6,9 @@ one ``belief`` row per item and location (``value`` = the location id), then one
 row per item (``value`` empty): the probability that the person's belief gives the item's
 true location at that tick less than ``ModelSettings.false_belief_mass``, then the ``desire``
 rows (:func:`_desire_rows`: expected utilities, pairwise preferences, the most probable
-ranking), the ``world`` rows (:func:`_world_rows`) and one ``log_evidence`` row: the
+ranking), the ``world`` rows (:func:`_world_rows`), the ``nested_belief`` rows
+(:func:`_nested_rows`: where the person believes each other person believes each item is,
+``value`` = ``OTHER:location``) and one ``log_evidence`` row: the
 marginal log-likelihood of the person's decisions up to that tick (``p_online``; natural
 log, not a probability) and over the whole run (``p_smoothed``). ``label`` is the
 scenario step the person completed at that tick, else empty. Between a person's steps the
@@ -104,8 +106,27 @@ def mind_rows(tracker: MindTracker) -> list[MindRow]:
             rows += _false_belief_rows(tracker, tick, label, person, online, smooth)
             rows += _desire_rows(tracker, tick, label, person, online, smooth)
             rows += _world_rows(tracker, tick, label, person, online, smooth)
+            rows += _nested_rows(tracker, tick, label, person)
             total = track.estimates[-1].log_evidence
             rows.append(MindRow(tick, label, person, "log_evidence", "", "", online.log_evidence, total))
+    return rows
+
+
+def _nested_rows(tracker: MindTracker, tick: int, label: str, person: str) -> list[MindRow]:
+    """``nested_belief`` rows: per other person B, item and location, where ``person``
+    believes B believes the item is (``value`` = ``B:location``). Nested beliefs have no
+    backward pass: ``p_smoothed`` repeats ``p_online``."""
+    nested = tracker.nested_ticks.get(tick)
+    if nested is None:
+        return []
+    model, rows = tracker.model, []
+    for (a, b), where in zip(tracker.nested.pairs, nested, strict=True):
+        if a != person:
+            continue
+        for k, item in enumerate(model.items):
+            for li, location in enumerate(model.locations):
+                p = float(where[k, li])
+                rows.append(MindRow(tick, label, person, "nested_belief", item, f"{b}:{location}", p, p))
     return rows
 
 

@@ -16,6 +16,7 @@ from protocol import (
     Intention,
     ItemBelief,
     Mind,
+    NestedBelief,
     Placement,
     Preferred,
     Prob,
@@ -47,18 +48,37 @@ def mind_message(
         if est is None:
             continue
         kept = cache.get(person) if cache is not None else None
-        if kept is not None and kept[0] is est:
+        nested = nested_message(tracker, person)
+        if kept is not None and kept[0] is est and kept[1].nested_beliefs == nested:
             agents.append(kept[1])
             continue
-        agents.append(agent_mind(tracker, person, est))
+        agents.append(agent_mind(tracker, person, est, nested))
         if cache is not None:
             cache[person] = (est, agents[-1])
     robots = (robot,) if robot is not None else ()
     return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents), robots=robots)
 
 
-def agent_mind(tracker: MindTracker, person: str, est: Estimate) -> AgentMind:
-    """One person's part of the ``mind`` message."""
+def nested_message(tracker: MindTracker, person: str) -> tuple[NestedBelief, ...]:
+    """Where ``person`` believes each other person believes each item is, at the last tick."""
+    nested = tracker.nested
+    if nested.values is None:
+        return ()
+    model, out = tracker.model, []
+    for (a, b), where in zip(nested.pairs, np.round(nested.all_locations(), 6).tolist(), strict=True):
+        if a == person:
+            beliefs = tuple(
+                ItemBelief(item=item, locations=tuple(map(Prob, model.locations, row)))
+                for item, row in zip(model.items, where, strict=True)
+            )
+            out.append(NestedBelief(agent=b, beliefs=beliefs))
+    return tuple(out)
+
+
+def agent_mind(
+    tracker: MindTracker, person: str, est: Estimate, nested: tuple[NestedBelief, ...] = ()
+) -> AgentMind:
+    """One person's part of the ``mind`` message (``nested``: :func:`nested_message`)."""
     model = tracker.model
     # rounded as arrays, then read as Python floats: a round() per number is most of the cost
     rows = np.round(np.asarray(est.beliefs, dtype=np.float64), 6).tolist()
@@ -91,6 +111,7 @@ def agent_mind(tracker: MindTracker, person: str, est: Estimate) -> AgentMind:
             )
             for w, p in est.top_worlds(tracker.settings.top_worlds)
         ),
+        nested_beliefs=nested,
     )
 
 

@@ -23,12 +23,13 @@ from ..model.belief import Percept, percept, told, true_values
 from ..model.estimates import Estimate, mix, reread
 from ..model.gradedperson import GradedModel
 from ..model.inference import switch_probability
+from ..model.nested import NestedBeliefs
 from ..model.personinterface import StepRecord
 from ..model.personmodel import person_model
-from ..model.planner import TAKE, Move, drop_action, play_action, use_action
+from ..model.planner import Move, play_action
 from ..model.revisions import SharedRevisions
-from ..model.world import MOVE_STEPS
 from ..settings import ModelSettings
+from .decisions import decided_action
 from .statecheck import check_items
 from .track import Chain, PersonTrack
 from .worldview import WorldView
@@ -85,6 +86,11 @@ class MindTracker:
         self._online: dict[str, tuple[tuple[object, ...], Estimate]] = {}
         """Person -> the last online estimate and what it was read from (chains are only ever
         dropped, so their count names the set left)."""
+        s = self.settings
+        self.nested = NestedBeliefs(self.model, self.people, s.r, s.delta, s.nested_peek)
+        """Where each person believes each other believes each item is (:mod:`brain.model.nested`)."""
+        self.nested_ticks: dict[int, FloatArray] = {}
+        """Tick -> ``(P, K, L)`` the nested beliefs then, per pair of ``self.nested.pairs``."""
 
     # ----- feeding --------------------------------------------------------------------
 
@@ -121,6 +127,25 @@ class MindTracker:
             if cell is None:
                 continue
             self._observe_person(self.tracks[person], state, cell, holding.get(person), truths, events)
+        self._observe_nested(state, cell_of, holding, events)
+
+    def _observe_nested(
+        self,
+        state: State,
+        cell_of: dict[str, int | None],
+        holding: dict[str, str | None],
+        events: Sequence[Event],
+    ) -> None:
+        """Feed the nested beliefs one tick: where each person is and what they perceive (in
+        the likeliest branch of the unseen world)."""
+        items = self.model.items
+        cells = {p: c for p in self.people if (c := cell_of.get(p)) is not None}
+        held = {p: items.index(h) + 1 if (h := holding.get(p)) in items else 0 for p in cells}
+        percepts = {p: self._percept(p, c, held[p], self.truth, events) for p, c in cells.items()}
+        self.nested.observe(
+            state.time, cells, percepts, lambda p: e.beliefs if (e := self.online(p)) else None
+        )
+        self.nested_ticks[state.tick] = self.nested.all_locations()
 
     def branch_weights(self) -> FloatArray:
         """``(H,)`` the posterior of each branch of the unseen world: its prior share times how
@@ -183,7 +208,7 @@ class MindTracker:
             self._push(track, tick, seen, None, truths, switch=0.0, now=state.time)
             track.last_decision = state.time
         else:
-            action = self._action(track, cell, events)
+            action = decided_action(self.model, track.agent, track.cell, cell, events)
             if any(a.id == track.agent and a.activity is Activity.PLAYING for a in state.agents):
                 track.settled = True
             if action is None and self._waiting(track, cell, state.time):
@@ -253,29 +278,6 @@ class MindTracker:
         if wait <= 0 or track.waited or track.settled or cell != track.cell or self.model.outside[cell]:
             return False
         return now - (track.last_decision or 0.0) >= wait
-
-    def _action(self, track: PersonTrack, cell: int, events: Sequence[Event]) -> int | None:
-        model = self.model
-        K = model.n_items
-        for event in events:
-            if event.actor != track.agent:
-                continue
-            if event.kind is EventKind.TAKE and event.item in model.items:
-                return TAKE + model.items.index(event.item)
-            if event.kind is EventKind.DROP:
-                return drop_action(K)
-            if event.kind is EventKind.PLAY:
-                return play_action(K)
-            if event.kind is EventKind.USE and event.item in model.items:
-                return use_action(K, model.items.index(event.item))
-        assert track.cell is not None
-        if cell == track.cell:
-            return None
-        old, new = model.cells[track.cell], model.cells[cell]
-        delta = (int(new[0] - old[0]), int(new[1] - old[1]))
-        if delta in MOVE_STEPS:
-            return Move(MOVE_STEPS.index(delta)).value
-        return None  # a jump (a reset, a lost tick): no decision to explain
 
     def _push(
         self,

@@ -105,6 +105,17 @@ def test_unknown_message_type_is_named() -> None:
     assert "unknown message type 'teleport'" in str(caught.value)
 
 
+def test_a_command_of_unknown_kind_with_a_field_name_no_struct_can_hold_is_refused() -> None:
+    """Found by fuzzing: a field name that is not an identifier used to raise a TypeError."""
+    doc = _example_doc("robot_command")
+    doc["action"] = {"kind": "wave", "hand side": "left"}
+    with pytest.raises(
+        ProtocolError, match="expected field names that are identifiers, got 'hand side'"
+    ) as caught:
+        decode(json.dumps(doc).encode())
+    assert caught.value.field == "$.action"
+
+
 def test_unexpected_message_type_is_refused() -> None:
     with pytest.raises(ProtocolError, match="expected a 'state' message, got a 'step' message"):
         decode(example_paths()["step"].read_bytes(), State)

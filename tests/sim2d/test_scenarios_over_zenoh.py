@@ -19,6 +19,7 @@ EXPECTED_LABELS = {
     "paper-robot-decline": ["0", "1", "2", "3", "4", "swapped", "5", "6"],
     "paper-tidy": ["0", "1", "2", "3", "4", "moved", "5", "6"],
     "sally-anne": ["play", "basket", "out", "moved", "back"],
+    "sally-anne-window": ["play", "basket", "out", "moved", "peeked", "back", "take", "play-again"],
 }
 
 

@@ -126,6 +126,8 @@ namespace Toyroom.Protocol
         public List<string> FalseBeliefs { get; set; } = new List<string>();
         [JsonProperty("intention")]
         public Intention Intention { get; set; }
+        [JsonProperty("nested_beliefs")]
+        public List<NestedBelief> NestedBeliefs { get; set; } = new List<NestedBelief>();
         [JsonProperty("preference")]
         public List<Prob> Preference { get; set; } = new List<Prob>();
         [JsonProperty("worlds")]
@@ -693,6 +695,21 @@ namespace Toyroom.Protocol
         public Cell Cell { get; set; }
         public const string Tag = "navigate";
         public Navigate() { Kind = Tag; }
+    }
+
+    /// <summary>
+    /// Where a person believes <c>agent</c> (another person) believes each item is (protocol 1.3):
+    /// the brain's estimate, one <c>ItemBelief</c> per item of the scene.
+    /// </summary>
+    public sealed class NestedBelief
+    {
+        /// <summary>
+        /// An identifier: a letter, then up to 63 letters, digits, '_' or '-'.
+        /// </summary>
+        [JsonProperty("agent")]
+        public string Agent { get; set; }
+        [JsonProperty("beliefs")]
+        public List<ItemBelief> Beliefs { get; set; } = new List<ItemBelief>();
     }
 
     /// <summary>

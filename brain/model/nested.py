@@ -1,0 +1,136 @@
+"""Nested beliefs: where person A believes person B believes each item is (pure numpy).
+
+A's model of B is B's belief filter (the paper's update, :mod:`brain.model.belief`, item by
+item) run on the percepts A can attribute to B: while A sees B, B's belief follows what B
+sees; while A does not, it stays put, except that A may think B came back and looked unseen:
+at a rate ``peek`` per second, A's model of B moves toward what A believes
+(:class:`NestedBeliefs`). This is what separates it from the robot's own estimate of B, which
+follows every percept of B's that the robot sees.
+
+Who sees whom: a person sees another exactly where they would see an item the other carries
+(:meth:`~brain.model.world.WorldModel.sees_carrier`, the scene's visibility by
+``protocol.carry.CarrierSight``).
+
+The paper's update is a product over items (the percept's likelihood and the change weights
+both are), so one item's update is exact for a belief that is a product over items, which
+this keeps: ``(P, K, V)`` for the ``P`` ordered pairs of people, per item a distribution over
+its values (``2 l`` resting at location ``l``, ``2 l + 1`` carried near it).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Mapping, Sequence
+
+import numpy as np
+
+from .arrays import FloatArray
+from .belief import UNNOTICED, Percept
+from .world import WorldModel
+
+
+def item_transitions(model: WorldModel, p: Percept, r: float, delta: float) -> FloatArray:
+    """``(K, V, V)``: per item, ``T[i, j] = P(value i now | value j before, percept p)`` of
+    the paper's update (``r`` for a change the person can see, ``delta`` for a percept the
+    value does not reproduce); columns sum to one."""
+    V = model.n_values
+    values = np.arange(V)
+    seen = np.array(p.seen)[:, None]  # (K, 1)
+    visible = model.sees[p.cell][values // 2][None, :]  # (1, V): the value's place is in view
+    match = np.where(seen >= 0, values[None, :] == seen, (seen == UNNOTICED) | ~visible)  # (K, V)
+    likelihood = np.where(match, 1.0 - delta, delta)
+    may_change = (seen >= 0) | (visible & (seen != UNNOTICED))  # (K, V) by the old value j
+    change = (
+        np.where(may_change[:, None, :], r, 0.0)
+        + np.eye(V)[None, :, :] * np.where(may_change, 1.0 - r, 1.0)[:, None, :]
+    )
+    t = likelihood[:, :, None] * change  # (K, V_i, V_j)
+    return t / t.sum(axis=1, keepdims=True)
+
+
+class NestedBeliefs:
+    """For each ordered pair ``(A, B)`` of ``people``, the robot's estimate of A's belief about
+    B's belief: ``(K, V)`` per pair. Feed it one tick at a time (:meth:`observe`).
+
+    Args:
+        model: the scene's world model.
+        people: the person ids, in the order the pairs are built from.
+        r, delta: the belief update's factors (``ModelSettings``).
+        peek: the rate (per second) at which A thinks B may have come back and looked unseen,
+            moving A's model of B toward A's own belief (0: never).
+    """
+
+    def __init__(
+        self, model: WorldModel, people: Sequence[str], r: float, delta: float, peek: float = 0.0
+    ) -> None:
+        self.model, self.r, self.delta, self.peek = model, r, delta, peek
+        self.people = list(people)
+        self.pairs = list(itertools.permutations(self.people, 2))
+        self.values: FloatArray | None = None
+        """``(P, K, V)``; ``None`` until the first tick."""
+        self.time: float | None = None
+        self._transitions: dict[Percept, FloatArray] = {}
+
+    def observe(
+        self,
+        time: float,
+        cells: Mapping[str, int],
+        percepts: Mapping[str, Percept],
+        belief_of: Callable[[str], FloatArray | None],
+    ) -> None:
+        """One tick at engine time ``time`` (s): each person's cell index and percept (people
+        the robot cannot place are missing), and ``belief_of(person)``, the robot's estimate of
+        that person's own belief, ``(K, L)`` (read only when needed). At the first tick every
+        pair starts from B's own estimated belief (uniform when there is none)."""
+        if self.values is None:
+            uniform = np.full((self.model.n_items, self.model.n_locations), 1.0 / self.model.n_locations)
+            starts = {
+                p: self._resting(own if (own := belief_of(p)) is not None else uniform) for p in self.people
+            }
+            shape = (0, self.model.n_items, self.model.n_values)
+            self.values = (
+                np.stack([starts[other] for _, other in self.pairs]) if self.pairs else np.zeros(shape)
+            )
+            self.time = time
+            return
+        elapsed = 0.0 if self.time is None else max(time - self.time, 0.0)
+        self.time = time
+        transitions = {b: self._transition(p) for b, p in percepts.items()}
+        blend = 1.0 - np.exp(-self.peek * elapsed)
+        for n, (a, b) in enumerate(self.pairs):
+            if self.sees(cells.get(a), cells.get(b)) and b in transitions:
+                self.values[n] = np.einsum("kij,kj->ki", transitions[b], self.values[n])
+            elif blend > 0.0 and (own := belief_of(a)) is not None:
+                self.values[n] = (1.0 - blend) * self.values[n] + blend * self._resting(own)
+
+    def _transition(self, p: Percept) -> FloatArray:
+        """:func:`item_transitions` of ``p``, remembered (a percept repeats tick after tick)."""
+        found = self._transitions.get(p)
+        if found is None:
+            if len(self._transitions) >= 4096:
+                self._transitions.clear()
+            found = self._transitions[p] = item_transitions(self.model, p, self.r, self.delta)
+        return found
+
+    def sees(self, viewer: int | None, other: int | None) -> bool:
+        """Whether a person on cell index ``viewer`` sees one on ``other``."""
+        if viewer is None or other is None:
+            return False
+        return bool(self.model.sees_carrier(viewer, np.array(other)))
+
+    def locations(self, a: str, b: str) -> FloatArray:
+        """``(K, L)`` where A believes B believes each item is (carried counts near its place)."""
+        return self.all_locations()[self.pairs.index((a, b))]
+
+    def all_locations(self) -> FloatArray:
+        """``(P, K, L)``: :meth:`locations` of every pair, in the order of ``pairs``."""
+        if self.values is None:
+            raise ValueError("no tick observed yet")
+        model = self.model
+        return self.values.reshape(len(self.pairs), model.n_items, model.n_locations, 2).sum(axis=3)
+
+    def _resting(self, beliefs: FloatArray) -> FloatArray:
+        """``(K, V)``: a ``(K, L)`` belief over locations as values, each at rest there."""
+        out = np.zeros((self.model.n_items, self.model.n_values))
+        out[:, 0::2] = beliefs
+        return out
