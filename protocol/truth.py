@@ -10,7 +10,7 @@ from typing import Annotated
 import msgspec
 
 from .message import Id, Message, Tick
-from .mind import ItemBelief
+from .mind import ItemBelief, NestedBelief
 
 
 class Pursuit(msgspec.Struct, frozen=True):
@@ -34,6 +34,9 @@ class TrueMind(msgspec.Struct, frozen=True):
     pursuit: Pursuit | None = None
     """Their current plan, when the engine knows it (an evaluator reads *revealed* false
     beliefs off it: after an item, heading for a place where it is not)."""
+    nested: tuple[NestedBelief, ...] = ()
+    """Protocol 1.3: per other person, where this person believes that one believes each item
+    is, when the engine models it (by the protocol's "who sees whom")."""
 
 
 class ItemPlace(msgspec.Struct, frozen=True):

@@ -101,6 +101,18 @@ class Engine:
         """Draws of hearsay (:mod:`sim2d.people.hearsay`), apart from every person's own."""
         self.settled = 0
         self.done = False
+        self._observe_nested([p for p in self.people.values() if isinstance(p, AutonomousPerson)])
+
+    def _observe_nested(self, autonomous: list[AutonomousPerson]) -> None:
+        """Each autonomous person takes in what the others they see perceive now (nested
+        beliefs, :mod:`sim2d.people.nested`)."""
+
+        def belief_of(other: str) -> np.ndarray | None:
+            person = self.people.get(other)
+            return person.belief.p if isinstance(person, AutonomousPerson) else None
+
+        for person in autonomous:
+            person.nested.observe(self.world, belief_of)
 
     def _autonomous(self, setup: AgentSetup, rng: np.random.Generator) -> AutonomousPerson:
         """An autonomous person: by their own habits, or by the planner's table."""
@@ -199,6 +211,7 @@ class Engine:
         autonomous = [p for p in self.people.values() if isinstance(p, AutonomousPerson)]
         exchange(autonomous, world, self.gossip, self.scenario.autonomy.hearsay)
         tell_jobs(autonomous, world)
+        self._observe_nested(autonomous)
         for robot in self.robots.values():
             robot.update(world, self.people)
         world.step_physics()

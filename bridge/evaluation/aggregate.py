@@ -111,6 +111,7 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
         "observers": {name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
         "paired_differences": differences,
         "revealed_stretches": totals[BTOM].stretches if BTOM in totals else None,
+        "nested_pairs": totals[BTOM].nested_n if BTOM in totals else None,
         "false_belief_causes": {
             name: counts.recall_by_cause()
             for name, counts in {**totals, MAJORITY: majority_counts(totals[BTOM], goal)}.items()

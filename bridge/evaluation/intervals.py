@@ -25,6 +25,9 @@ METRICS = (
     "brier",
     "log_loss",
     "brier_skill",
+    "nested_belief_accuracy",
+    "nested_first_order_accuracy",
+    "nested_gain",
 )
 
 

@@ -122,6 +122,11 @@ class Counts:
     detected: int = 0
     leads: list[int] = field(default_factory=list)
     """Revealed stretches, how many were detected in time, and each detection's lead (ticks)."""
+    nested_n: int = 0
+    nested_right: int = 0
+    nested_first_right: int = 0
+    """Nested beliefs that differ from the other's own (:mod:`.nestedscore`), how many the
+    observer's nested estimate read right, and how many its first-order estimate did."""
 
     def add(self, other: Counts) -> None:
         for name in SUMS:
@@ -166,7 +171,19 @@ class Counts:
             "knowable_false_belief_f1": _f1(self.known_tp, self.known_fp, self.known_fn)[2],
             "revealed_detection": self.detected / self.stretches if self.stretches else None,
             "revealed_lead_median": float(statistics.median(self.leads)) if self.leads else None,
+            **self.nested_scores(),
             **self.proper_scores(),
+        }
+
+    def nested_scores(self) -> dict[str, float | None]:
+        """``nested_belief_accuracy``, its first-order baseline's, and the difference."""
+        if not self.nested_n:
+            return {"nested_belief_accuracy": None, "nested_first_order_accuracy": None, "nested_gain": None}
+        right, first = self.nested_right / self.nested_n, self.nested_first_right / self.nested_n
+        return {
+            "nested_belief_accuracy": right,
+            "nested_first_order_accuracy": first,
+            "nested_gain": right - first,
         }
 
     def proper_scores(self) -> dict[str, float | None]:
@@ -213,6 +230,9 @@ SUMS = (
     "fb_n",
     "stretches",
     "detected",
+    "nested_n",
+    "nested_right",
+    "nested_first_right",
 )
 """The fields of :class:`Counts` that add up."""
 

@@ -33,6 +33,14 @@ BEHAVIOUR_NOTE = (
     "(lower is better) and `brier_skill` (1 - Brier / the base rate's; above 0 beats always "
     "answering the base rate) of P(false belief) over every person-item-tick."
 )
+NESTED = ("nested_belief_accuracy", "nested_first_order_accuracy", "nested_gain")
+NESTED_NOTE = (
+    "What each person believes the others believe, where it differs from what they believe "
+    "(person-pair-item-ticks, both sure): `nested_belief_accuracy`, the share whose most "
+    "probable location the observer's nested estimate gets right; "
+    "`nested_first_order_accuracy`, the same answered with its estimate of the other's own "
+    "belief (a baseline); `nested_gain`, the difference (same resamples: a paired interval)."
+)
 HELP = ("success", "ticks_to_goal_fb", "ticks_from_false_belief", "wasted_trips", "interruptions")
 ORACLE = (
     "With simple minds and an omniscient robot, `perceptonly` is an oracle of people's beliefs: "
@@ -71,7 +79,7 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
     lines = _rows(metrics["observers"], METRICS, "observer")
     differences = metrics.get("paired_differences")
     if differences:
-        names = [m for m in next(iter(differences.values())) if m not in BEHAVIOUR]
+        names = [m for m in next(iter(differences.values())) if m not in (*BEHAVIOUR, *NESTED)]
         lines += [
             "",
             "btom minus each other observer, paired by episode (an interval without 0 is a difference):",
@@ -89,6 +97,10 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             "",
             *_rows(differences, names, "observer"),
         ]
+    nested = metrics.get("nested_pairs")
+    if nested:
+        lines += ["", f"{NESTED_NOTE} ({nested} person-pair-item-ticks)", ""]
+        lines += _rows(metrics["observers"], NESTED, "observer")
     lines += _causes(metrics.get("false_belief_causes"))
     if metrics.get("robot"):
         lines += [

@@ -30,6 +30,7 @@ from ..session import SessionSettings
 from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
 from .metrics import Counts, Outcome, false_belief_causes, score_tick
+from .nestedscore import score_nested
 from .outcome import judge
 from .revealed import Stretch, knowable, stretches
 from .scoredminds import ScoredMind, read_scored_minds
@@ -279,7 +280,9 @@ def _score(minds: Mapping[int, Mind | ScoredMind], truth: TruthView, outcome: Ou
             continue
         now = truth.truths[tick]
         where = {place.item: place.location for place in now.items}
-        result.counts.add(score_tick(minds[tick], now, where, seen, truth.causes[tick], truth.known[tick]))
+        counts = score_tick(minds[tick], now, where, seen, truth.causes[tick], truth.known[tick])
+        score_nested(minds[tick], now, counts)
+        result.counts.add(counts)
         result.ticks += 1
     for stretch in truth.stretches:
         lead = detection_lead(minds, stretch)

@@ -29,6 +29,13 @@ class ScoredBelief(msgspec.Struct, frozen=True):
     locations: tuple[Chance, ...]
 
 
+class ScoredNested(msgspec.Struct, frozen=True):
+    """Where the person believes ``agent`` believes each item is."""
+
+    agent: str
+    beliefs: tuple[ScoredBelief, ...]
+
+
 class ScoredAgent(msgspec.Struct, frozen=True):
     """What the evaluation scores of the brain's estimate of one person."""
 
@@ -38,6 +45,7 @@ class ScoredAgent(msgspec.Struct, frozen=True):
     false_beliefs: tuple[str, ...] = ()
     false_belief: tuple[Chance, ...] = ()
     """P(false belief) per item."""
+    nested_beliefs: tuple[ScoredNested, ...] = ()
 
 
 class ScoredMind(msgspec.Struct, frozen=True):

@@ -37,13 +37,14 @@ from collections import deque
 
 import numpy as np
 
-from protocol import EventKind, ItemBelief, Prob, Pursuit, TrueMind
+from protocol import AgentKind, EventKind, NestedBelief, Pursuit, TrueMind
 
 from ..scenario.autonomy import Autonomy
 from ..scenario.scenario import AgentSetup
 from ..world.world import World
-from .belief import PersonBelief
+from .belief import PersonBelief, item_beliefs
 from .firstjobs import FirstJobs
+from .nested import NestedMinds
 from .pursuit import Primitive, Reconsider, pointless, pursuit_of
 
 OUT = "out"
@@ -60,6 +61,9 @@ class AutonomousPerson:
         self.options = [*items, OUT]
         self.preference = setup.prefers if setup.prefers is not None else str(rng.choice(self.options))
         self.belief = PersonBelief(items, [loc.id for loc in world.map.locations])
+        others = [a.id for a in world.agents.values() if a.kind is AgentKind.PERSON and a.id != self.id]
+        self.nested = NestedMinds(self.id, others, items, [loc.id for loc in world.map.locations])
+        """What this person believes the others believe (:mod:`sim2d.people.nested`)."""
         self.plan: deque[Primitive] = deque()
         self.current: Primitive | None = None
         self.left = 0
@@ -84,21 +88,22 @@ class AutonomousPerson:
     def mind(self) -> TrueMind:
         """The person's true belief, preference and pursuit (for ``engine/truth``); made again
         only when one of them has changed since the last call."""
-        key = self.belief.p.tobytes()
+        key = b"".join([self.belief.p.tobytes(), *(b.p.tobytes() for b in self.nested.beliefs.values())])
         last = self._mind
         if last is not None and last[0] == key and last[1] == self.preference and last[2] == self.pursuit:
             return last[3]
-        beliefs = tuple(
-            ItemBelief(
-                item=item,
-                locations=tuple(
-                    Prob(loc, round(float(p), 6))
-                    for loc, p in zip(self.belief.locations, self.belief.of(item), strict=True)
-                ),
-            )
-            for item in self.belief.items
+        nested = tuple(
+            NestedBelief(agent=other, beliefs=item_beliefs(belief))
+            for other, belief in self.nested.beliefs.items()
+            if self.nested.started
         )
-        mind = TrueMind(agent=self.id, beliefs=beliefs, preference=self.preference, pursuit=self.pursuit)
+        mind = TrueMind(
+            agent=self.id,
+            beliefs=item_beliefs(self.belief),
+            preference=self.preference,
+            pursuit=self.pursuit,
+            nested=nested,
+        )
         self._mind = (key, self.preference, self.pursuit, mind)
         return mind
 

@@ -21,6 +21,8 @@ from collections.abc import Collection, Mapping, Sequence
 import numpy as np
 import numpy.typing as npt
 
+from protocol import ItemBelief, Prob
+
 FloatArray = npt.NDArray[np.float64]
 
 
@@ -119,3 +121,17 @@ class PersonBelief:
             row[self.locations.index(loc)] = -1.0
         best = int(np.argmax(row))
         return self.locations[best] if row[best] > 0 else None
+
+
+def item_beliefs(belief: PersonBelief) -> tuple[ItemBelief, ...]:
+    """A belief as the protocol's ``ItemBelief`` list (probabilities to 6 places)."""
+    return tuple(
+        ItemBelief(
+            item=item,
+            locations=tuple(
+                Prob(loc, round(float(p), 6))
+                for loc, p in zip(belief.locations, belief.of(item), strict=True)
+            ),
+        )
+        for item in belief.items
+    )

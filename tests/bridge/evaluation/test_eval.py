@@ -69,6 +69,9 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
             "brier",
             "log_loss",
             "brier_skill",
+            "nested_belief_accuracy",
+            "nested_first_order_accuracy",
+            "nested_gain",
         }, observer
         assert set(values["false_belief_f1"]) == set(values["goal_false_belief_f1"]) == {"mean", "lo", "hi"}
         assert set(values["brier"]) == set(values["brier_skill"]) == {"mean", "lo", "hi"}

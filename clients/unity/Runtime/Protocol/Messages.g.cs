@@ -1117,6 +1117,8 @@ namespace Toyroom.Protocol
         public string Agent { get; set; }
         [JsonProperty("beliefs")]
         public List<ItemBelief> Beliefs { get; set; } = new List<ItemBelief>();
+        [JsonProperty("nested")]
+        public List<NestedBelief> Nested { get; set; } = new List<NestedBelief>();
         /// <summary>
         /// An identifier: a letter, then up to 63 letters, digits, '_' or '-'.
         /// </summary>
