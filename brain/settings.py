@@ -183,6 +183,7 @@ ALLOWED = {
     "attempts": "an int >= 1",
     "navigate_timeout": "navigate_timeout > 0",
     "action_timeout": "action_timeout > 0",
+    "deception_threshold": "0 <= deception_threshold <= 1",
 }
 """What the settings allow of each value they check, as their errors say it (``toyroom run``
 checks them with ``python -m brain check-settings`` before any process starts)."""
@@ -225,6 +226,11 @@ class RobotSettings:
         policy: ``tom`` (the paper's tree, on the people's inferred minds), or a baseline
             without theory of mind: ``tidy`` (put every moved item back where it was) or
             ``announce`` (tell everyone about every move).
+        deception_threshold: a move reads as a likely deception (:mod:`brain.robot.deception`)
+            when its mover believes, at least this probably, that someone who most probably
+            wants the item still believes it where it was (did not see the move).
+        on_deception: ``tell`` the deceived person where the item is (and no put-back behind
+            the mover's back), or ``put_back`` as for any move.
     """
 
     preference_threshold: float = 0.6
@@ -239,11 +245,17 @@ class RobotSettings:
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0
     policy: str = "tom"
+    deception_threshold: float = 0.5
+    on_deception: str = "tell"
 
     def __post_init__(self) -> None:
         if self.policy not in ROBOT_POLICIES:
             raise ValueError(
                 f"invalid robot settings: policy={self.policy!r} (one of {', '.join(ROBOT_POLICIES)})"
+            )
+        if self.on_deception not in ("tell", "put_back"):
+            raise ValueError(
+                f"invalid robot settings: on_deception={self.on_deception!r} (one of tell, put_back)"
             )
         checks = {name: 0.0 <= getattr(self, name) <= 1.0 for name in ROBOT_SHARES}
         checks |= {"confirm_seconds": self.confirm_seconds >= 0, "attempts": self.attempts >= 1}
@@ -263,6 +275,7 @@ ROBOT_SHARES = (
     "put_back_harm",
     "inform_mass",
     "swap_accept",
+    "deception_threshold",
 )
 """:class:`RobotSettings` that are probabilities (or shares of one): each in [0, 1]."""
 

@@ -155,6 +155,17 @@ class TaskEnd(msgspec.Struct, frozen=True):
     """Why it was dropped, e.g. ``"no longer needed: A1 took the ball"`` (empty when done)."""
 
 
+class LikelyDeception(msgspec.Struct, frozen=True):
+    """The robot's reading of a move as a likely deception (protocol 1.3): ``mover`` moved
+    ``item``, which ``person`` wants, believing ``person`` did not see; ``p`` is P(the mover
+    thinks the person still believes it where it was) x P(the person wants it)."""
+
+    mover: Id
+    person: Id
+    item: Id
+    p: Probability
+
+
 class RobotActivity(msgspec.Struct, frozen=True):
     """What a robot is doing: its current ``task`` and the last thing it said."""
 
@@ -166,6 +177,8 @@ class RobotActivity(msgspec.Struct, frozen=True):
     ended: TaskEnd | None = None
     """The task that ended at this tick, if one did (protocol 1.3): a begun task is carried
     through, or dropped with its reason."""
+    deceptions: tuple[LikelyDeception, ...] = ()
+    """Moves that stand and read as likely deceptions at this tick (protocol 1.3)."""
 
 
 class Mind(Message, frozen=True, kw_only=True, tag="mind"):

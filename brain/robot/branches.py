@@ -12,15 +12,14 @@ from protocol import Give, GridCell, Pick, Place, Request, Say, SayTopic
 from ..settings import ROBOT_POLICIES, RobotSettings
 from .behaviours import Act, FindTask, GoHome, TaskBranch
 from .context import RobotContext, Skip, Step
+from .deception import inform_or_deceived, put_back_unless_deceived
 from .situation import (
     Finder,
     Inform,
     Occupied,
     PutBack,
     announce_tasks,
-    inform_tasks,
     occupied_tasks,
-    put_back_tasks,
     tidy_tasks,
 )
 
@@ -71,7 +70,7 @@ def offer_spot(ctx: RobotContext, offer: str) -> Step:
     return ctx.near(ctx.location_cell(location) if location else ctx.cell_of(holder or ""))
 
 
-def inform_branch(ns: str, finder: Finder = inform_tasks) -> TaskBranch:
+def inform_branch(ns: str, finder: Finder = inform_or_deceived) -> TaskBranch:
     """A person heads for an item that is not where they believe: tell them where it is
     (``finder``: who is told what; the ``announce`` policy tells everyone of every move)."""
     say = Act(
@@ -89,7 +88,7 @@ def inform_branch(ns: str, finder: Finder = inform_tasks) -> TaskBranch:
         "inform",
         ns,
         [
-            FindTask("false belief?" if finder is inform_tasks else "moved?", "inform", finder, ns),
+            FindTask("moved?" if finder is announce_tasks else "false belief?", "inform", finder, ns),
             go_to("go to the person", lambda c: c.cell_of(_inform(c).person), ns, guarded=True),
             say,
         ],
@@ -188,14 +187,14 @@ def swap_branch(ns: str) -> TaskBranch:
     )
 
 
-def put_back_branch(ns: str, finder: Finder = put_back_tasks) -> TaskBranch:
+def put_back_branch(ns: str, finder: Finder = put_back_unless_deceived) -> TaskBranch:
     """An item was moved while the person who left it was away: bring it back (``finder``:
     which items; the ``tidy`` policy puts back every one that was moved)."""
     return TaskBranch(
         "put back",
         ns,
         [
-            FindTask("moved while away?" if finder is put_back_tasks else "moved?", "put back", finder, ns),
+            FindTask("moved?" if finder is tidy_tasks else "moved while away?", "put back", finder, ns),
             go_to("go to the item", lambda c: c.cell_of_item(_put_back(c).item), ns, guarded=True),
             Act("pick it", lambda c: Pick(item=_put_back(c).item), ns),
             go_to("go to its place", lambda c: c.location_cell(_put_back(c).location), ns),

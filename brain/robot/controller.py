@@ -9,10 +9,20 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from protocol import AgentKind, CommandStatus, Event, EventKind, RobotActivity, RobotCommand, State
+from protocol import (
+    AgentKind,
+    CommandStatus,
+    Event,
+    EventKind,
+    LikelyDeception,
+    RobotActivity,
+    RobotCommand,
+    State,
+)
 
 from ..settings import RobotSettings
 from ..tracking.tracker import MindTracker
+from .deception import deceptions
 from .situation import Snapshot
 from .tree import RobotTree
 
@@ -66,6 +76,7 @@ class RobotBrain:
             owners=self.owners,
             moved_from={p: t.moved_from for p, t in self.tracker.tracks.items()},
             moves=self.moves,
+            nested=self.tracker.nested,
         )
         self.tree.tick(snapshot)
         return self.tree.context.book.drain()
@@ -78,6 +89,12 @@ class RobotBrain:
         """What the robot is doing, once per tick: a task that ended is told once."""
         ctx = self.tree.context
         ended, ctx.ended = ctx.ended, None
+        read = deceptions(ctx.snapshot, ctx.settings) if ctx.snapshot is not None else ()
         return RobotActivity(
-            robot=self.robot, task=ctx.activity, detail=ctx.detail, utterance=ctx.utterance, ended=ended
+            robot=self.robot,
+            task=ctx.activity,
+            detail=ctx.detail,
+            utterance=ctx.utterance,
+            ended=ended,
+            deceptions=tuple(LikelyDeception(d.mover, d.person, d.item, round(d.p, 6)) for d in read),
         )

@@ -21,6 +21,7 @@ import numpy as np
 from protocol import AgentKind, Scene, State
 
 from ..model.estimates import Estimate
+from ..model.nested import NestedBeliefs
 from ..model.world import WorldModel
 from ..settings import RobotSettings
 
@@ -72,6 +73,8 @@ class Snapshot:
     """Person id -> the cell index they left on their last move (``None``: not moved yet)."""
     moves: Mapping[str, tuple[str, str, str]] = dataclasses.field(default_factory=dict)
     """Item id -> ``(from, to, mover)``: the last time a person moved it from spot to spot."""
+    nested: NestedBeliefs | None = None
+    """What each person believes the others believe (:mod:`brain.model.nested`)."""
 
     @property
     def people(self) -> list[str]:

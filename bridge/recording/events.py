@@ -7,7 +7,9 @@ Header ``tick,actor,kind,item,location,target,detail``. Engine events keep their
 the command's item, location (a location id, or a cell as ``col,row``) and target person.
 A robot's tasks, read off the brain's ``mind`` messages, are rows of kind ``task`` whose
 ``detail`` reads ``begin <task>: <what>`` when one begins, and ``done <task>: <what>`` or
-``dropped <task>: <what> (<why>)`` when it ends (protocol 1.3's ``robots[].ended``).
+``dropped <task>: <what> (<why>)`` when it ends (protocol 1.3's ``robots[].ended``); a move
+the robot reads as a likely deception is a row of kind ``deception`` (actor the mover, target
+the person deceived) at the first tick it reads it in the run (``robots[].deceptions``).
 """
 
 from __future__ import annotations
@@ -99,9 +101,13 @@ IDLE = ("idle", "go home")
 """Robot activities that are not tasks."""
 
 
-def _task_rows(mind: Mind, last: dict[str, tuple[str, str]]) -> list[EventRow]:
+def _task_rows(
+    mind: Mind, last: dict[str, tuple[str, str]], last_deceptions: set[tuple[str, str, str]]
+) -> list[EventRow]:
     """The ``task`` rows of one mind message: a task that ended, and one that began (its
-    activity differs from the robot's in the last mind, ``last``, which this updates)."""
+    activity differs from the robot's in the last mind, ``last``, which this updates), and a
+    ``deception`` row for each likely deception the robot reads for the first time in the run
+    (``last_deceptions``: those read so far, updated too)."""
     rows = []
     for activity in mind.robots:
         ended = activity.ended
@@ -115,6 +121,14 @@ def _task_rows(mind: Mind, last: dict[str, tuple[str, str]]) -> list[EventRow]:
                     detail=detail + (f" ({ended.reason})" if ended.reason else ""),
                 )
             )
+        for d in activity.deceptions:
+            if (d.mover, d.person, d.item) not in last_deceptions:
+                detail = (
+                    f"likely deception (p {d.p:.2f}): {d.mover} moved the {d.item} {d.person} wants, "
+                    f"believing {d.person} did not see"
+                )
+                rows.append(EventRow(mind.tick, d.mover, "deception", d.item, "", d.person, detail))
+        last_deceptions.update((d.mover, d.person, d.item) for d in activity.deceptions)
         now = (activity.task, activity.detail)
         if activity.task not in IDLE and now != last.get(activity.robot):
             rows.append(
@@ -146,9 +160,10 @@ def event_rows(trace: Path) -> list[EventRow]:
             commands.setdefault((message.robot, message.id), []).append((order, message))
     rows: list[tuple[int, int, EventRow]] = []
     last: dict[str, tuple[str, str]] = {}
+    deceived: set[tuple[str, str, str]] = set()
     for order, message in records:
         if isinstance(message, Mind):
-            rows += [(message.tick, order, row) for row in _task_rows(message, last)]
+            rows += [(message.tick, order, row) for row in _task_rows(message, last, deceived)]
         elif isinstance(message, Event):
             rows.append((message.tick, order, _event_row(message)))
         elif isinstance(message, CommandStatus):

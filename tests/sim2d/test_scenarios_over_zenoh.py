@@ -18,6 +18,7 @@ EXPECTED_LABELS = {
     "paper-robot": ["0", "1", "2", "3", "4", "swapped", "5", "6"],
     "paper-robot-decline": ["0", "1", "2", "3", "4", "swapped", "5", "6"],
     "paper-tidy": ["0", "1", "2", "3", "4", "moved", "5", "6"],
+    "paper-deceive": ["0", "1", "2", "3", "moved", "4"],
     "sally-anne": ["play", "basket", "out", "moved", "back"],
     "sally-anne-window": ["play", "basket", "out", "moved", "peeked", "back", "take", "play-again"],
 }

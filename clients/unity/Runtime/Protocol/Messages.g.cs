@@ -631,6 +631,32 @@ namespace Toyroom.Protocol
     }
 
     /// <summary>
+    /// The robot's reading of a move as a likely deception (protocol 1.3): <c>mover</c> moved
+    /// <c>item</c>, which <c>person</c> wants, believing <c>person</c> did not see; <c>p</c> is P(the mover
+    /// thinks the person still believes it where it was) x P(the person wants it).
+    /// </summary>
+    public sealed class LikelyDeception
+    {
+        /// <summary>
+        /// An identifier: a letter, then up to 63 letters, digits, '_' or '-'.
+        /// </summary>
+        [JsonProperty("item")]
+        public string Item { get; set; }
+        /// <summary>
+        /// An identifier: a letter, then up to 63 letters, digits, '_' or '-'.
+        /// </summary>
+        [JsonProperty("mover")]
+        public string Mover { get; set; }
+        [JsonProperty("p")]
+        public double P { get; set; }
+        /// <summary>
+        /// An identifier: a letter, then up to 63 letters, digits, '_' or '-'.
+        /// </summary>
+        [JsonProperty("person")]
+        public string Person { get; set; }
+    }
+
+    /// <summary>
     /// An item location (a spot where items rest), inside one region.
     ///
     /// <c>play</c> marks a play spot: a person holding an item may play with it there. <c>use</c>
@@ -923,6 +949,8 @@ namespace Toyroom.Protocol
     /// </summary>
     public sealed class RobotActivity
     {
+        [JsonProperty("deceptions")]
+        public List<LikelyDeception> Deceptions { get; set; } = new List<LikelyDeception>();
         [JsonProperty("detail")]
         public string Detail { get; set; } = "";
         [JsonProperty("ended")]
