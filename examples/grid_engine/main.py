@@ -25,6 +25,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
+import grid_world
 from grid_scenario import Scenario, read_scenario
 from grid_world import PROTOCOL, GridWorld
 from transport import MALFORMED, GatewayTransport, Request, ZenohTransport
@@ -291,6 +292,7 @@ class GridEngine:
 
 
 def main() -> int:
+    global PROTOCOL
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenario", default="paper-robot")
     parser.add_argument("--world", default="default")
@@ -299,6 +301,11 @@ def main() -> int:
         "--break", dest="broken", choices=(*BREAKS, "list"), help="a deliberate defect ('list': print them)"
     )
     parser.add_argument("--newer", action="store_true", help=f"speak as a peer of protocol {NEWER}")
+    parser.add_argument(
+        "--speak",
+        metavar="VERSION",
+        help=f"stamp every message with this version, e.g. 1.1 (default {PROTOCOL})",
+    )
     parser.add_argument(
         "--lockstep", action="store_true", help="accepted for symmetry with sim2d (always lock-step)"
     )
@@ -311,6 +318,8 @@ def main() -> int:
         for name, what in BREAKS.items():
             print(f"{name:20} {what}")
         return 0
+    if args.speak:  # an older peer: the same messages (nothing this engine sends is newer than 1.1)
+        PROTOCOL = grid_world.PROTOCOL = args.speak
     engine = GridEngine(args.world, args.scenario, args.robot, args.broken, args.newer, args.gateway)
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):

@@ -147,3 +147,18 @@ def test_conform_command_passes_and_the_token_goes_with_the_engine(world: str) -
         assert watcher.wait_alive("sim2d", timeout=5.0)
         engine.close()
         assert watcher.wait_gone("sim2d", timeout=2.0), "the engine's liveliness token outlived it"
+
+
+def test_a_protocol_1_1_engine_still_passes_conform(world: str) -> None:
+    """Minor versions only add optional fields: an engine stamping 1.1 on every message passes
+    the kit of this side (1.3), with the difference said once, not failed."""
+    with GridEngineProcess(world, "--scenario", "paper-robot", "--speak", "1.1"):
+        result = subprocess.run(
+            [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "10"],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "0 failed" in result.stdout, result.stdout
+    assert "1.1" in result.stdout + result.stderr, "the minor-version difference should be said"
