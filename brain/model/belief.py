@@ -65,6 +65,11 @@ def true_values(
     return tuple(values)
 
 
+PERCEPTS_KEPT = 50_000
+"""The most percepts a world model keeps worked out (:attr:`WorldModel.percepts`; then it
+starts again): a few episodes' worth."""
+
+
 def percept(
     model: WorldModel, cell: int, truth: tuple[int, ...], own: int | None, carriers: Sequence[int] = ()
 ) -> Percept:
@@ -74,7 +79,23 @@ def percept(
     is seen only where its carrier is seen (:meth:`WorldModel.sees_carrier`), not wherever
     the location it counts at is in view: an item carried through a hall counts at a
     location elsewhere, which shows nothing. Without ``carriers`` (or with -1 for a carried
-    item) the carry location's sight is used."""
+    item) the carry location's sight is used. Worked out once per model and arguments (a
+    percept is immutable: the kept one is handed out again)."""
+    key = (int(cell), tuple(truth), own, tuple(int(c) for c in carriers))
+    kept = model.percepts.get(key)
+    if isinstance(kept, Percept):
+        return kept
+    if len(model.percepts) >= PERCEPTS_KEPT:
+        model.percepts.clear()
+    made = _percept(model, cell, truth, own, carriers)
+    model.percepts[key] = made
+    return made
+
+
+def _percept(
+    model: WorldModel, cell: int, truth: tuple[int, ...], own: int | None, carriers: Sequence[int]
+) -> Percept:
+    """:func:`percept`, worked out."""
     seen = []
     for k, value in enumerate(truth):
         carrier = carriers[k] if k < len(carriers) else -1

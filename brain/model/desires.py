@@ -24,11 +24,12 @@ from __future__ import annotations
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from ..settings import ModelSettings
-from .arrays import FloatArray
+from .arrays import FloatArray, first_max
 
 DESIRE_MODELS = ("favourite", "graded")
 
@@ -101,10 +102,10 @@ class DesireSummary:
     rankings: Sequence[tuple[tuple[int, ...], ...]]
     ranking_mass: FloatArray
 
-    @property
+    @cached_property
     def ranking(self) -> tuple[tuple[int, ...], ...]:
-        """The most probable ranking."""
-        return self.rankings[int(np.argmax(self.ranking_mass))]
+        """The most probable ranking (read once per summary)."""
+        return self.rankings[first_max(self.ranking_mass)]
 
     def probability(self, ranking: tuple[tuple[int, ...], ...]) -> float:
         """The probability of ``ranking`` (0 when no candidate has it)."""

@@ -6,10 +6,11 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
-from .arrays import FloatArray
+from .arrays import TIE, FloatArray, IntArray, first_max
 from .desires import Desires, DesireSummary
 from .world import WorldModel
 
@@ -57,13 +58,20 @@ class Estimate:
         (empty without the joint: the factored model)."""
         if self.worlds is None:
             return []
-        order = np.argsort(-self.worlds, kind="stable")[:k]
-        return [(int(w), float(self.worlds[w])) for w in order]
+        return [(int(w), float(self.worlds[w])) for w in self._world_order[:k]]
 
-    @property
+    @cached_property
+    def _world_order(self) -> IntArray:
+        """``(W,)`` the worlds from the most probable, (nearly) equal ones in index order
+        (probabilities rounded to 12 places: the order does not hang on rounding). Sorted once
+        per estimate: the ``mind`` message reads the top ones at every tick while it stands."""
+        assert self.worlds is not None
+        return np.argsort(-np.round(self.worlds, 12), kind="stable")
+
+    @cached_property
     def false_beliefs(self) -> tuple[int, ...]:
         """Item indices whose false belief is more probable than not."""
-        return tuple(int(k) for k in np.flatnonzero(self.false_belief > 0.5))
+        return tuple(int(k) for k in np.flatnonzero(self.false_belief > 0.5 + TIE))
 
 
 def estimate(
@@ -85,8 +93,8 @@ def estimate(
     best: tuple[int | None, int | None, float] = (None, None, float(preference[K]))
     for k in range(K):
         joint = np.bincount(model.place[:, k], weights=posterior[:, k], minlength=L)
-        location = int(np.argmax(joint))
-        if joint[location] > best[2]:
+        location = first_max(joint)
+        if joint[location] > best[2] + TIE:  # the first of (nearly) equal ones wins
             best = (k, location, float(joint[location]))
     return Estimate(
         beliefs=beliefs,
@@ -146,7 +154,7 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
     if len(estimates) == 1:
         return estimates[0]
     w = np.asarray(weights, dtype=np.float64)
-    best = estimates[int(np.argmax(w))]
+    best = estimates[first_max(w)]
 
     def average(values: Sequence[FloatArray]) -> FloatArray:
         return np.tensordot(w, np.stack(values), axes=1)

@@ -34,6 +34,7 @@ import numpy.typing as npt
 from ..settings import ModelSettings
 from .arrays import FloatArray
 from .belief import BeliefModel, Percept
+from .mixture import Beliefs, Mixture
 from .planner import Move
 from .world import WorldModel
 
@@ -167,15 +168,24 @@ class InitialBeliefs:
 
 def update_beliefs(beliefs: FloatArray, model: BeliefModel, p: Percept, rule: str = "predict") -> FloatArray:
     """``(G, W)`` every hypothesis's belief after percept ``p`` (rows sum to one)."""
-    if rule not in UPDATES:
-        raise ValueError(f"unknown belief update {rule!r}; known: {', '.join(UPDATES)}")
-    new = model.apply_change(beliefs, p, predict=rule == "predict")  # a new array: updated in place
-    new *= model.percept_likelihood(p)[None, :]
+    new = unnormalised_update(beliefs, model, p, rule)
     total = new.sum(axis=1, keepdims=True)
     new /= np.where(total > 0, total, 1.0)
     impossible = total[:, 0] <= 0  # a percept no world of the hypothesis explains: kept as it was
     if impossible.any():
         new[impossible] = beliefs[impossible]
+    return new
+
+
+def unnormalised_update(
+    beliefs: FloatArray, model: BeliefModel, p: Percept, rule: str = "predict"
+) -> FloatArray:
+    """``(N, W)`` the linear part of :func:`update_beliefs` (the change, then the percept's
+    likelihood; rows not normalised), as a new array: callers may change it in place."""
+    if rule not in UPDATES:
+        raise ValueError(f"unknown belief update {rule!r}; known: {', '.join(UPDATES)}")
+    new = model.apply_change(beliefs, p, predict=rule == "predict")  # a new array: updated in place
+    new *= model.percept_likelihood(p)[None, :]
     return new
 
 
@@ -197,9 +207,7 @@ def drift(beliefs: FloatArray, n_items: int, n_values: int, mass: float) -> Floa
     return tensor.reshape(len(beliefs), -1)
 
 
-def qmdp_likelihood(
-    beliefs: FloatArray, q: FloatArray, action: int, beta: float, epsilon: float
-) -> FloatArray:
+def qmdp_likelihood(beliefs: Beliefs, q: FloatArray, action: int, beta: float, epsilon: float) -> FloatArray:
     """``(G, U)`` the probability of ``action`` for each hypothesis and candidate desire.
 
     Args:
@@ -208,11 +216,38 @@ def qmdp_likelihood(
             preference and world (``-inf``: impossible in that world).
         action: the action taken.
     """
-    values = expected_q(beliefs, q.transpose(1, 0, 2))  # (G, U, A)
-    return choice_likelihood(values, action, beta, epsilon)
+    values = expected_q_by_action(beliefs, q)  # (A, U, G)
+    return choice_likelihood(values, action, beta, epsilon, axis=0).T
 
 
-def expected_q(beliefs: FloatArray, q: FloatArray) -> FloatArray:
+def expected_q_by_action(beliefs: Beliefs, q: FloatArray) -> FloatArray:
+    """``(A, U, N)`` :func:`expected_q` of ``(N, W)`` beliefs over ``(U, W, A)`` Q-values, laid
+    out actions first (the same numbers to rounding): a choice over the actions then reduces
+    whole ``(U, N)`` slabs, where numpy's reductions over a short last axis are ten times
+    slower. One ``(A U, W) @ (W, N)`` product, and one per distinct feasibility row."""
+    U, W, A = q.shape
+    rows = np.ascontiguousarray(q.transpose(2, 0, 1)).reshape(A * U, W)  # (A U, W)
+    feasible = np.isfinite(rows)
+    stay = rows[Move.STAY * U : (Move.STAY + 1) * U]  # (U, W)
+    fallback = np.tile(np.where(np.isfinite(stay), stay, 0.0), (A, 1))
+    expected = times_transpose(np.where(feasible, rows, fallback), beliefs)  # (A U, N)
+    packed = np.packbits(feasible, axis=1)  # (A U, ceil(W / 8)): a row's bits
+    keys = packed.view(np.dtype((np.void, packed.shape[1]))).ravel()
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    mass = times_transpose(feasible[first].astype(np.float64), beliefs)  # (distinct rows, N)
+    possible = (mass > 1e-12)[inverse.reshape(-1)]
+    return np.where(possible, expected, -np.inf).reshape(A, U, len(beliefs))
+
+
+def times_transpose(matrix: FloatArray, beliefs: Beliefs) -> FloatArray:
+    """``(X, N)`` a ``(X, W)`` matrix times the transpose of ``(N, W)`` beliefs (or of their
+    mixture)."""
+    if isinstance(beliefs, Mixture):
+        return (matrix @ beliefs.vectors.T) @ beliefs.weights.T
+    return matrix @ beliefs.T
+
+
+def expected_q(beliefs: Beliefs, q: FloatArray) -> FloatArray:
     """``(N, ..., A)`` QMDP's expected Q-values of ``(N, W)`` beliefs over ``(W, ..., A)``
     Q-values: an action impossible in a world counts what Stay does there, and an action
     impossible in every believed world is ``-inf``. One ``(N, W) @ (W, M)`` matrix product
@@ -227,7 +262,7 @@ def expected_q(beliefs: FloatArray, q: FloatArray) -> FloatArray:
     return np.where(possible, expected, -np.inf)
 
 
-def believed_possible(beliefs: FloatArray, feasible: npt.NDArray[np.bool_]) -> npt.NDArray[np.bool_]:
+def believed_possible(beliefs: Beliefs, feasible: npt.NDArray[np.bool_]) -> npt.NDArray[np.bool_]:
     """``(N, M)`` whether each of ``(N, W)`` beliefs puts mass (above ``1e-12``) on the worlds
     where each of ``M`` things is possible (``(W, M)``). One product per distinct column: an
     action's feasibility depends on the world, not on the desire, and most actions are
@@ -240,23 +275,28 @@ def believed_possible(beliefs: FloatArray, feasible: npt.NDArray[np.bool_]) -> n
 
 
 def choice_likelihood(
-    q: FloatArray, action: int, beta: float | FloatArray, epsilon: float | FloatArray
+    q: FloatArray, action: int, beta: float | FloatArray, epsilon: float | FloatArray, axis: int = -1
 ) -> FloatArray:
-    """``q.shape[:-1]`` the Boltzmann probability of ``action`` over the last axis of ``q``
-    (``-inf``: impossible), with the floor ``epsilon`` spread over every action."""
+    """``q``'s shape less ``axis``: the Boltzmann probability of ``action`` over the actions
+    on ``axis`` of ``q`` (``-inf``: impossible), with the floor ``epsilon`` spread over every
+    action."""
     weights = beta * q
-    top = weights.max(axis=-1, keepdims=True)
+    top = weights.max(axis=axis, keepdims=True)
     top[~np.isfinite(top)] = 0.0  # every action impossible: all weights come out 0
     weights -= top
     possible = np.isfinite(weights)  # exp only there: numpy's exp is slow on -inf, most entries
-    weights[possible] = np.exp(weights[possible])
-    weights[~possible] = 0.0
-    total = weights.sum(axis=-1)
-    soft = np.where(total > 0, weights[..., action] / np.where(total > 0, total, 1.0), 0.0)
-    return (1.0 - epsilon) * soft + epsilon / q.shape[-1]
+    np.exp(weights, out=weights, where=possible)
+    np.copyto(weights, 0.0, where=~possible)
+    total = weights.sum(axis=axis)
+    chosen = np.take(weights, action, axis=axis)
+    soft = np.where(total > 0, chosen / np.where(total > 0, total, 1.0), 0.0)
+    return (1.0 - epsilon) * soft + epsilon / q.shape[axis]
 
 
-def expected_joint(beliefs: FloatArray, posterior: FloatArray) -> FloatArray:
+def expected_joint(beliefs: Beliefs, posterior: FloatArray) -> FloatArray:
     """``(W, D)`` the person's belief and preference as the robot expects them:
-    ``sum_g P(g, u) b_g(w)``, from ``(G, W)`` beliefs and the ``(G, U)`` posterior."""
+    ``sum_g P(g, u) b_g(w)``, from ``(G, W)`` beliefs (or their mixture) and the ``(G, U)``
+    posterior."""
+    if isinstance(beliefs, Mixture):
+        return beliefs.joint(posterior)
     return beliefs.T @ posterior

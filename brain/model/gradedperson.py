@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import overload
 
 import numpy as np
 
@@ -17,9 +18,17 @@ from .arrays import FloatArray
 from .belief import BeliefModel
 from .desires import Desires
 from .estimates import Estimate, estimate, reread
-from .graded import InitialBeliefs, drift, expected_joint, qmdp_likelihood, update_beliefs
+from .graded import (
+    InitialBeliefs,
+    drift,
+    expected_joint,
+    qmdp_likelihood,
+    unnormalised_update,
+    update_beliefs,
+)
 from .inference import hazard_matrix, log_of
 from .lookahead import cached_lookahead
+from .mixture import Beliefs, Mixture, certain, mixture_of, revised
 from .personinterface import StepRecord
 from .planner import Policy, cached_policy
 from .revisions import SharedRevisions
@@ -41,6 +50,10 @@ class GradedModel:
         self.true_world = true_world
         self.hypotheses = InitialBeliefs(self.model, settings)
         self.initial = self.hypotheses.beliefs
+        self.start: Beliefs = mixture_of(self.initial) or self.initial
+        """The hypotheses' initial beliefs as filters hold them: a :class:`Mixture` of the
+        point beliefs of the worlds they give mass to (:mod:`brain.model.mixture`), or the
+        ``(G, W)`` array where those are as many as the hypotheses."""
         self.place_of = (
             self.model.place[:, :, None] == np.arange(self.model.n_locations)[None, None, :]
         ).astype(np.float64)
@@ -75,16 +88,21 @@ class GradedModel:
 
     def new_filter(self) -> GradedFilter:
         if self.shared is not None:
-            return GradedFilter(self, self.shared.initial(self.revision_key, self.initial), self.prior())
-        return GradedFilter(self, self.initial.copy(), self.prior())
+            return GradedFilter(self, self.shared.initial(self.revision_key, self.start), self.prior())
+        return GradedFilter(self, self._fresh_start(), self.prior())
+
+    def _fresh_start(self) -> Beliefs:
+        """The initial beliefs for a filter of its own (a mixture is read-only: shared)."""
+        return self.start if isinstance(self.start, Mixture) else self.initial.copy()
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
         """The point model's ``(W, U)`` likelihood (kept in the record; the graded filter
         computes its own from ``StepRecord.decision``)."""
         return self.policy.action_likelihood(cell, held, action)
 
-    def decision_likelihood(self, beliefs: FloatArray, record: StepRecord) -> FloatArray | None:
-        """``(G, U)`` QMDP likelihood of the record's decision (``None`` for a percept alone)."""
+    def decision_likelihood(self, beliefs: Beliefs, record: StepRecord) -> FloatArray | None:
+        """``(G, U)`` QMDP likelihood of the record's decision (``None`` for a percept alone),
+        from ``(G, W)`` beliefs or their :class:`Mixture`."""
         if record.decision is None:
             return None
         cell, held, action = record.decision
@@ -93,12 +111,21 @@ class GradedModel:
             rest = (beliefs @ self.rest_of).reshape(len(beliefs), self.model.n_items, self.model.n_locations)
             return self.lookahead.likelihood(rest, cell, held, action, beta, epsilon)
         q = self.policy.q[:, self.policy.state_slice(cell, held), :]
-        if _one_world(beliefs):  # truebelief: every hypothesis sits in the one true world
+        if isinstance(beliefs, Mixture) and len(beliefs.vectors) == 1:  # every hypothesis alike
+            one = qmdp_likelihood(beliefs.vectors, q, action, beta, epsilon)
+            return np.repeat(one, len(beliefs), axis=0)
+        if isinstance(beliefs, np.ndarray) and _one_world(beliefs):  # truebelief: the one true world
             one = qmdp_likelihood(beliefs[:1], q, action, beta, epsilon)
             return np.repeat(one, len(beliefs), axis=0)
         return qmdp_likelihood(beliefs, q, action, beta, epsilon)
 
-    def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
+    @overload
+    def revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray: ...
+
+    @overload
+    def revise(self, beliefs: Mixture, record: StepRecord) -> Beliefs: ...
+
+    def revise(self, beliefs: Beliefs, record: StepRecord) -> Beliefs:
         """Every hypothesis's belief after the record's percept (taken from another model
         of the brain that revised the same array alike, when shared)."""
         if self.shared is None:
@@ -112,7 +139,16 @@ class GradedModel:
             lambda before: self._revise(before, record),
         )
 
-    def _revise(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
+    def _revise(self, beliefs: Beliefs, record: StepRecord) -> Beliefs:
+        """Every hypothesis's belief after the record's percept (a mixture stays one, unless a
+        hypothesis's percept is impossible: then the dense array, revised by its rule)."""
+        if isinstance(beliefs, Mixture):
+            mixed = self._revise_mixture(beliefs, record)
+            return mixed if mixed is not None else self._revise_dense(beliefs.dense, record)
+        return self._revise_dense(beliefs, record)
+
+    def _revise_dense(self, beliefs: FloatArray, record: StepRecord) -> FloatArray:
+        """:meth:`_revise` of the ``(G, W)`` array."""
         if self.true_world:  # every belief moves to the one true world (one row of the transition)
             out = np.zeros_like(beliefs)
             out[:, self.beliefs.true_target(record.truth, record.percept)] = beliefs.sum(axis=1)
@@ -123,10 +159,25 @@ class GradedModel:
             beliefs = beliefs / beliefs.sum(axis=1, keepdims=True)
         return update_beliefs(beliefs, self.beliefs, record.percept, self.settings.belief_update)
 
+    def _revise_mixture(self, beliefs: Mixture, record: StepRecord) -> Mixture | None:
+        """:meth:`_revise` of a mixture: its components revised (:func:`brain.model.mixture.revised`:
+        forgetting, the change and the percept are linear; one normalisation after them)."""
+        model = self.model
+        if self.true_world:
+            target = self.beliefs.true_target(record.truth, record.percept)
+            return certain(len(beliefs), model.n_worlds, target)
+
+        def step(rows: FloatArray) -> FloatArray:
+            if record.forget > 0:
+                rows = drift(rows, model.n_items, model.n_values, record.forget) * model.allowed[None, :]
+            return unnormalised_update(rows, self.beliefs, record.percept, self.settings.belief_update)
+
+        return revised(beliefs, step)
+
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
         """Forward-backward over ``(g, d)`` (``g`` never changes; ``d`` may switch), then the
         beliefs replayed to read each step's estimate."""
-        beliefs, alpha = self.initial.copy(), self.prior(records[0].truth if records else None)
+        beliefs, alpha = self._fresh_start(), self.prior(records[0].truth if records else None)
         alphas, steps = [], []
         for record in records:
             likelihood = self.decision_likelihood(beliefs, record)
@@ -144,15 +195,15 @@ class GradedModel:
             joint = alphas[t - 1] * back
             posteriors.append(joint / joint.sum())
         posteriors.reverse()
-        beliefs, out = self.initial.copy(), []
+        beliefs, out = self._fresh_start(), []
         for record, posterior in zip(records, posteriors, strict=True):
             beliefs = self._revise(beliefs, record)
             out.append(self.read(beliefs, posterior, record.truth))
         return out
 
-    def read(self, beliefs: FloatArray, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
-        """The estimate of ``(G, W)`` beliefs under a ``(G, U)`` posterior, with the
-        hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
+    def read(self, beliefs: Beliefs, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
+        """The estimate of ``(G, W)`` beliefs (or their mixture) under a ``(G, U)`` posterior,
+        with the hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
         model = self.model
         marginals = (  # (G, K, L), shared with the other models that hold this very array
             self._marginals(beliefs)
@@ -163,8 +214,8 @@ class GradedModel:
         graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
         return reread(graded, truth, self.settings.false_belief_mass)
 
-    def _marginals(self, beliefs: FloatArray) -> FloatArray:
-        """``(G, K, L)`` each item's location under each of ``(G, W)`` beliefs."""
+    def _marginals(self, beliefs: Beliefs) -> FloatArray:
+        """``(G, K, L)`` each item's location under each of ``(G, W)`` beliefs (or their mixture)."""
         model = self.model
         flat = beliefs @ self.place_of.reshape(model.n_worlds, -1)
         return flat.reshape(len(beliefs), model.n_items, model.n_locations)
@@ -198,23 +249,35 @@ class GradedFilter:
     """The graded forward pass of one person: each hypothesis's belief and the posterior."""
 
     owner: GradedModel
-    beliefs: FloatArray
-    """``(G, W)``."""
+    state: Beliefs
+    """``(G, W)`` every hypothesis's belief, or their :class:`Mixture`."""
     posterior: FloatArray
     """``(G, U)``."""
     log_evidence: float = 0.0
     started: bool = False
     """Whether a step was taken: the first sets the prior by the world then."""
 
+    def __deepcopy__(self, memo: dict[int, object]) -> GradedFilter:
+        """A copy for another row of a lapse mixture (:mod:`brain.model.lapses`): a posterior
+        of its own, the model shared (a deep copy would copy its Q-values) and so is a
+        mixture (read-only: revisions make new ones)."""
+        state = self.state if isinstance(self.state, Mixture) else self.state.copy()
+        return dataclasses.replace(self, state=state, posterior=self.posterior.copy())
+
+    @property
+    def beliefs(self) -> FloatArray:
+        """``(G, W)`` every hypothesis's belief (a mixture's built, read-only)."""
+        return self.state.dense if isinstance(self.state, Mixture) else self.state
+
     def step(self, record: StepRecord) -> None:
         if not self.started:
             self.posterior, self.started = self.owner.prior(record.truth), True
-        likelihood = self.owner.decision_likelihood(self.beliefs, record)
+        likelihood = self.owner.decision_likelihood(self.state, record)
         if likelihood is not None:
             self.log_evidence += log_of(float((self.posterior * likelihood).sum()))
         self.posterior = _filter_step(self.posterior, likelihood, record.switch)
-        self.beliefs = self.owner.revise(self.beliefs, record)
+        self.state = self.owner.revise(self.state, record)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        est = self.owner.read(self.beliefs, self.posterior, truth)
+        est = self.owner.read(self.state, self.posterior, truth)
         return dataclasses.replace(est, log_evidence=self.log_evidence)

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .arrays import TIE, first_max
 from .belief import UNNOTICED, Percept
 from .estimates import Estimate, mix
 from .personinterface import PersonFilter, PersonModel, StepRecord
@@ -138,7 +139,7 @@ class LapseFilter:
                 continue
             if self.last is not None and self.last.seen[k] == value:
                 continue
-            if row.beliefs[k, value // 2] < 0.5:
+            if row.beliefs[k, value // 2] < 0.5 - TIE:  # (an even chance, to rounding, is not less)
                 out.append(k)
         return out
 
@@ -147,7 +148,7 @@ class LapseFilter:
         out = []
         assert row.beliefs is not None
         for k, value, chance in record.rumours:
-            if chance <= 0 or int(np.argmax(row.beliefs[k])) == value // 2:
+            if chance <= 0 or first_max(row.beliefs[k]) == value // 2:
                 continue
             told_row = Row(
                 row.log_weight + float(np.log(chance)),

@@ -28,7 +28,7 @@ import numpy as np
 from protocol import Scene
 
 from ..settings import ModelSettings
-from .arrays import FloatArray, IntArray
+from .arrays import TIE, FloatArray, IntArray
 from .desires import utilities
 from .graded import choice_likelihood, simplex_grid
 from .planner import TAKE, Move, drop_action, n_actions, play_action, use_action
@@ -110,7 +110,7 @@ class LookaheadPolicy:
         """``(G,)`` belief-state indices of ``(G, K, L + 1)`` per-item beliefs (resting
         locations, then unavailable) of a person holding ``held`` (0: nothing)."""
         distance = np.abs(marginals[:, :, None, :] - self.points[None, None, :, :]).sum(axis=3)  # (G, K, B)
-        idx = distance.argmin(axis=2)
+        idx = np.argmax(distance <= distance.min(axis=2, keepdims=True) + TIE, axis=2)  # ties: the first
         if held:
             idx[:, held - 1] = self.held_index
         return idx @ self.strides

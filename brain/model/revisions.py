@@ -25,10 +25,14 @@ import weakref
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from .arrays import FloatArray
 from .belief import Percept
+from .mixture import Beliefs
 
-Revise = Callable[[FloatArray], FloatArray]
+Revise = Callable[[Beliefs], Beliefs]
+Read = Callable[[Beliefs], FloatArray]
 
 
 @dataclass
@@ -43,22 +47,25 @@ class SharedRevisions:
     hits: int = 0
     misses: int = 0
     _tick: int | None = None
-    _done: dict[Hashable, list[tuple[weakref.ref[FloatArray], FloatArray]]] = field(default_factory=dict)
-    _initial: dict[Hashable, FloatArray] = field(default_factory=dict)
-    _read: dict[Hashable, tuple[weakref.ref[FloatArray], FloatArray]] = field(default_factory=dict)
+    _done: dict[Hashable, list[tuple[weakref.ref[Beliefs], Beliefs]]] = field(default_factory=dict)
+    _initial: dict[Hashable, Beliefs] = field(default_factory=dict)
+    _read: dict[Hashable, tuple[weakref.ref[Beliefs], FloatArray]] = field(default_factory=dict)
 
-    def initial(self, key: Hashable, beliefs: FloatArray) -> FloatArray:
-        """The prior ``(G, W)`` beliefs every model of revision settings ``key`` starts from:
-        the first one's, read-only (so revisions of it can be recognised by identity)."""
+    def initial(self, key: Hashable, beliefs: Beliefs) -> Beliefs:
+        """The prior ``(G, W)`` beliefs (or their read-only mixture) every model of revision
+        settings ``key`` starts from: the first one's, read-only (so revisions of it can be
+        recognised by identity)."""
         if key not in self._initial:
-            shared = beliefs.copy()
-            shared.flags.writeable = False
+            shared = beliefs
+            if isinstance(shared, np.ndarray):
+                shared = shared.copy()
+                shared.flags.writeable = False
             self._initial[key] = shared
         return self._initial[key]
 
     def revise(
-        self, key: Hashable, tick: int, percept: Percept, forget: float, beliefs: FloatArray, compute: Revise
-    ) -> FloatArray:
+        self, key: Hashable, tick: int, percept: Percept, forget: float, beliefs: Beliefs, compute: Revise
+    ) -> Beliefs:
         """``compute(beliefs)`` for a model of revision settings ``key`` at ``tick``, or the
         same array another model computed from this very ``beliefs`` array this tick."""
         if tick != self._tick:
@@ -69,12 +76,13 @@ class SharedRevisions:
                 self.hits += 1
                 return after
         after = compute(beliefs)
-        after.flags.writeable = False
+        if isinstance(after, np.ndarray):  # a mixture is read-only already
+            after.flags.writeable = False
         done.append((weakref.ref(beliefs), after))  # the memo keeps no belief alive that its models let go
         self.misses += 1
         return after
 
-    def read(self, key: Hashable, beliefs: FloatArray, compute: Revise) -> FloatArray:
+    def read(self, key: Hashable, beliefs: Beliefs, compute: Read) -> FloatArray:
         """``compute(beliefs)`` for something read off a shared belief array alone (a model's
         marginals, ``key`` naming what and under which settings), or the array another model
         computed from this very array: the last one is kept per ``key`` (weakly, read-only)."""

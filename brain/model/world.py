@@ -121,6 +121,13 @@ class WorldModel:
             ok &= ~np.any(self.worlds == 2 * (self.n_locations - 1) + 1, axis=1)
         return ok
 
+    @cached_property
+    def percepts(self) -> dict[tuple[object, ...], object]:
+        """Percepts already worked out on this model (:func:`brain.model.belief.percept`), by
+        what they were worked out from: the trackers of a brain ask for the same ones tick
+        after tick."""
+        return {}
+
     def sees_carrier(self, viewer: int, carriers: IntArray) -> BoolArray:
         """``carriers.shape``: whether a person on cell index ``viewer`` sees someone carrying
         an item on each of ``carriers`` (cell indices): from their own cell, where the

@@ -7,6 +7,7 @@ import itertools
 from collections.abc import Sequence
 from pathlib import Path
 
+import msgspec
 import numpy as np
 
 from protocol import (
@@ -49,7 +50,10 @@ def mind_message(
             continue
         kept = cache.get(person) if cache is not None else None
         nested = nested_message(tracker, person)
-        if kept is not None and kept[0] is est and kept[1].nested_beliefs == nested:
+        if kept is not None and kept[0] is est:  # the same estimate: at most the nested part is new
+            if kept[1].nested_beliefs != nested:
+                kept = (est, msgspec.structs.replace(kept[1], nested_beliefs=nested))
+                cache[person] = kept  # type: ignore[index]
             agents.append(kept[1])
             continue
         agents.append(agent_mind(tracker, person, est, nested))
