@@ -1,64 +1,56 @@
-"""Drawing a world in meshcat: the map (floors coloured by region, walls with door gaps,
-item spots), people, the robot and the items moving with each state, and the brain's
-estimates as overlays (a bar per item and location for each person's believed probability,
-a mark over the item they most likely want, a red disc while a false belief is flagged, a
-sign over the robot with its task and last utterance)."""
+"""Drawing a world in meshcat, seen from above: the map (:mod:`.floorplan`), people, the
+robot and the items moving with each state, and the brain's estimates: per person a flat
+bar per item at every spot (as long as the believed probability), a dot of their colour by
+the item they most likely want, a red ring at their feet while a false belief is flagged,
+and, beside the map, a panel of what the brain infers of each person (beliefs and desire
+by name, false beliefs in red) and the robot's task, above a legend.
+
+Bodies move at up to :data:`REFRESH_HZ`; the brain's estimates are redrawn at most
+:data:`MIND_HZ` times a second, so that a fast brain never makes the view lag."""
 
 from __future__ import annotations
 
-import io
+import logging
 import threading
-from collections.abc import Sequence
-from typing import Any
+import time
 
-import matplotlib
+import meshcat
+import meshcat.geometry as g
+import meshcat.transformations as tf
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import meshcat  # noqa: E402
-import meshcat.geometry as g  # noqa: E402
-import meshcat.transformations as tf  # noqa: E402
-import numpy as np  # noqa: E402
+from protocol import Mind, Scene, State
 
-from protocol import NEIGHBOURS, AgentKind, ItemShape, Mind, Scene, State  # noqa: E402
+from ..pubsub import Received
+from .colours import HALO_COLOUR, person_colour
+from .floorplan import (
+    BAR_BAND,
+    PANEL_FONT_PX,
+    bar_geometry,
+    bar_slots,
+    draw_bars,
+    draw_bodies,
+    draw_floors,
+    draw_legend,
+    draw_spots,
+    draw_walls,
+    flat,
+    put,
+)
+from .layout import PANEL_Z, Layout, frame
+from .panel import mind_lines, people
+from .text import draw_lines, fit_font, plane
 
-from ..pubsub import Received  # noqa: E402
+log = logging.getLogger("toyroom.view")
 
-REGION_COLOURS = [0xE8D5B7, 0xB7D3E8, 0xC8E8B7, 0xE8B7D9, 0xF2E6A0, 0xD0D0D0, 0xB7E8E0, 0xE0C0A0]
-PERSON_COLOURS = [0x1F77B4, 0x2CA02C, 0x9467BD, 0x8C564B, 0x17BECF]
-BAR_COLOURS = [0x9ECAE1, 0xA1D99B, 0xCBC9E2, 0xD9B99B, 0x9EDAE5]
-"""Belief bars: a light tint of their person's colour."""
-ITEM_COLOURS: dict[str, int] = {
-    ItemShape.BALL: 0xD62728,
-    ItemShape.BOARD: 0xFF7F0E,
-    ItemShape.MARBLE: 0xE377C2,
-    ItemShape.BLOCK: 0xBCBD22,
-}
-ROBOT_COLOUR = 0x444444
-HALO_COLOUR = 0xFF0000
-WALL_HEIGHT = 0.6
 REFRESH_HZ = 30.0
-
-
-def _material(colour: int, opacity: float = 1.0) -> g.MeshLambertMaterial:
-    """A lit material (floors, walls)."""
-    return g.MeshLambertMaterial(color=colour, opacity=opacity, transparent=opacity < 1.0)
-
-
-def _flat(colour: int) -> g.MeshBasicMaterial:
-    """An unlit material: the colour on screen is exactly ``colour`` (people, items, overlays)."""
-    return g.MeshBasicMaterial(color=colour)
-
-
-def _text_texture(lines: Sequence[str]) -> g.ImageTexture:
-    """A PNG of ``lines`` (for the robot's sign)."""
-    fig = plt.figure(figsize=(4, 1), dpi=100)
-    fig.patch.set_facecolor("white")
-    fig.text(0.02, 0.5, "\n".join(lines) or " ", va="center", ha="left", fontsize=11, family="sans-serif")
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", facecolor="white")
-    plt.close(fig)
-    return g.ImageTexture(image=g.PngImage(buffer.getvalue()))
+"""The most frames a second the bodies are moved."""
+MIND_HZ = 5.0
+"""The most times a second the brain's estimates (bars, marks, the panel) are redrawn."""
+RESTING_Z = 0.6
+"""Height (metres) of an item at rest: above people's labels (see :mod:`.floorplan`)."""
+HELD_Z = 0.65
+"""Height (metres) of a carried item: over its carrier and their label."""
 
 
 class SceneView:
@@ -67,78 +59,47 @@ class SceneView:
     def __init__(self, vis: meshcat.Visualizer) -> None:
         self.vis = vis
         self.scene: Scene | None = None
+        self.layout: Layout | None = None
         self.state: State | None = None
         self.mind: Mind | None = None
-        self.sign = ""
         self.dirty = threading.Event()
+        """Set when something new came (a scene, a state, a mind) that is not drawn yet."""
         self.lock = threading.Lock()
+        self._drawn_state: State | None = None
+        self._drawn_mind: Mind | None = None
+        self._mind_drawn_at = -np.inf
+        self._marks: dict[str, tuple[bool, str | None]] = {}
+        """Per person, as drawn: (false belief flagged, the item wearing their dot)."""
+        self._panel = ""
+        self._legend_px = 0.0
 
     # ----- static map ---------------------------------------------------------------------
 
-    def draw_scene(self, scene: Scene) -> None:
-        """(Re)draw the map, the bodies and the bars for a new scene."""
+    def draw_scene(self, scene: Scene, episode: int | None = None) -> Layout:
+        """(Re)draw the map, the bodies, the bars and the legend for a new scene, centred on
+        the origin (see :mod:`.layout`); returns the layout, for the camera. A state and a
+        mind already received are kept when they are of ``episode`` (they may come before
+        the handshake is answered), else dropped."""
+        layout = frame(scene)
         with self.lock:
-            self.scene, self.state, self.mind, self.sign = scene, None, None, ""
+            self.scene, self.layout = scene, layout
+            if self.state is None or self.state.episode != episode:
+                self.state = None
+            if self.mind is None or self.mind.episode != episode:
+                self.mind = None
+            self._drawn_state, self._drawn_mind, self._marks, self._panel = None, None, {}, ""
         self.vis["/meshcat"].delete()
-        width, height = scene.columns * scene.cell_size, scene.rows * scene.cell_size
-        self.vis["/meshcat"].set_transform(
-            tf.translation_matrix([-(scene.origin.x + width / 2), -(scene.origin.y + height / 2), 0])
-        )
+        cx, cy = layout.centre
+        self.vis["/meshcat"].set_transform(tf.translation_matrix([-cx, -cy, 0]))
         vis = self.vis["/meshcat"]
-        size = scene.cell_size
-        walkable = scene.walkable()
-        for ri, region in enumerate(scene.regions):
-            material = _material(REGION_COLOURS[ri % len(REGION_COLOURS)])
-            for cell in region.cells:
-                centre = scene.cell_centre(cell)
-                node = vis["map/floor"][f"{region.id}_{cell.col}_{cell.row}"]
-                node.set_object(g.Box([size, size, 0.02]), material)
-                node.set_transform(tf.translation_matrix([centre.x, centre.y, -0.01]))
-        for door in scene.doors:
-            centre = scene.cell_centre(door.cell)
-            node = vis["map/doors"][door.id]
-            node.set_object(g.Box([size, size, 0.02]), _material(0xFFFFFF))
-            node.set_transform(tf.translation_matrix([centre.x, centre.y, -0.01]))
-        wall = _material(0x555555)
-        count = 0
-        for col, row in walkable:
-            for dc, dr in NEIGHBOURS:
-                if (col + dc, row + dr) in walkable:
-                    continue
-                x = scene.origin.x + (col + 0.5 + dc / 2) * size
-                y = scene.origin.y + (row + 0.5 + dr / 2) * size
-                dims = [0.06, size, WALL_HEIGHT] if dc else [size, 0.06, WALL_HEIGHT]
-                node = vis["map/walls"][str(count)]
-                node.set_object(g.Box(dims), wall)
-                node.set_transform(tf.translation_matrix([x, y, WALL_HEIGHT / 2]))
-                count += 1
-        for loc in scene.locations:
-            centre = scene.cell_centre(loc.cell)
-            node = vis["map/spots"][loc.id]
-            node.set_object(
-                g.Box([size * 0.6, size * 0.6, 0.04]), _material(0x333333 if not loc.play else 0x2E8B57, 0.5)
-            )
-            node.set_transform(tf.translation_matrix([centre.x, centre.y, 0.02]))
-        people = [a for a in scene.agents if a.kind is AgentKind.PERSON]
-        for pi, agent in enumerate(people):
-            vis["agents"][agent.id].set_object(
-                g.Cylinder(1.0, agent.radius), _material(PERSON_COLOURS[pi % 5])
-            )
-        for agent in scene.agents:
-            if agent.kind is AgentKind.ROBOT:
-                vis["agents"][agent.id].set_object(
-                    g.Box([agent.radius * 2, agent.radius * 2, 0.5]), _material(ROBOT_COLOUR)
-                )
-        for item in scene.items:
-            colour = ITEM_COLOURS.get(item.shape, 0xBCBD22)
-            shapes: dict[str, Any] = {  # any other shape, known or not, is a block
-                ItemShape.BALL: g.Sphere(0.16),
-                ItemShape.BOARD: g.Box([0.45, 0.18, 0.06]),
-                ItemShape.MARBLE: g.Sphere(0.09),
-            }
-            shape = shapes.get(item.shape, g.Box([0.22, 0.22, 0.22]))
-            vis["items"][item.id].set_object(shape, _flat(colour))
+        draw_floors(vis, scene, layout)
+        draw_walls(vis, scene)
+        draw_spots(vis, scene, layout)
+        draw_bodies(vis, scene, layout)
+        draw_bars(vis, scene)
+        self._legend_px = draw_legend(vis, scene, layout)
         self.dirty.set()
+        return layout
 
     # ----- dynamic ---------------------------------------------------------------------------
 
@@ -148,83 +109,128 @@ class SceneView:
         self.dirty.set()
 
     def on_mind(self, mind: Mind, _: Received) -> None:
+        log.debug("received the mind of tick %d", mind.tick)
         with self.lock:
             self.mind = mind
         self.dirty.set()
 
+    def mind_due(self) -> bool:
+        """Whether a mind came that is not drawn yet and :data:`MIND_HZ` allows drawing it."""
+        return self.mind is not self._drawn_mind and time.monotonic() - self._mind_drawn_at >= 1.0 / MIND_HZ
+
+    def drawn_ticks(self) -> tuple[int | None, int | None]:
+        """The ticks of the state and of the mind last drawn (``None``: none yet)."""
+        state, mind = self._drawn_state, self._drawn_mind
+        return (state.tick if state else None), (mind.tick if mind else None)
+
+    def reached(self, tick: int) -> bool:
+        """Whether a mind of ``tick`` or later is drawn, over a state (the newest received:
+        states are sent drop-on-congestion, so a busy viewer may never get the one of the
+        mind's tick; minds are not)."""
+        state, mind = self.drawn_ticks()
+        return state is not None and mind is not None and mind >= tick
+
     def render(self) -> None:
-        """Move bodies and redraw overlays to the newest state and mind."""
+        """Move the bodies to the newest state and, when :meth:`mind_due`, redraw the
+        brain's estimates."""
         with self.lock:
             scene, state, mind = self.scene, self.state, self.mind
         if scene is None:
             return
-        vis = self.vis["/meshcat"]
-        people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
-        if state is not None:
-            for agent in state.agents:
-                z = 0.5
-                rotation = tf.rotation_matrix(np.pi / 2, [1, 0, 0]) if agent.id in people else np.eye(4)
-                transform = tf.translation_matrix([agent.pose.x, agent.pose.y, z]) @ rotation
-                vis["agents"][agent.id].set_transform(transform)
-            for item in state.items:
-                z = 1.15 if item.held_by else 0.2
-                vis["items"][item.id].set_transform(tf.translation_matrix([item.pose.x, item.pose.y, z]))
-        if mind is not None and state is not None:
-            self._overlays(scene, state, mind, people)
+        if state is not None and state is not self._drawn_state:
+            self.move_bodies(state)
+        if mind is not None and state is not None and self.mind_due():
+            self.draw_mind(scene, state, mind)
 
-    def _overlays(self, scene: Scene, state: State, mind: Mind, people: list[str]) -> None:
+    def move_bodies(self, state: State) -> None:
+        """Move every agent and item to where ``state`` has it."""
+        vis = self.vis["/meshcat"]
+        for agent in state.agents:
+            put(vis["agents"][agent.id], agent.pose.x, agent.pose.y, 0.0)
+        for item in state.items:
+            put(vis["items"][item.id], item.pose.x, item.pose.y, HELD_Z if item.held_by else RESTING_Z)
+        self._drawn_state = state
+
+    def draw_mind(self, scene: Scene, state: State, mind: Mind) -> None:
+        """Redraw the brain's estimates: bars, rings, dots and the minds panel."""
+        self._mind_drawn_at = time.monotonic()
         vis = self.vis["/meshcat"]
         spots = {loc.id: scene.cell_centre(loc.cell) for loc in scene.locations}
-        items = [i.id for i in scene.items]
-        positions = {a.id: a.pose for a in state.agents}
+        slots = bar_slots(scene)
+        row, _ = bar_geometry(scene)
         size = scene.cell_size
         for agent in mind.agents:
-            if agent.agent not in people:
-                continue
-            pi = people.index(agent.agent)
-            colour = PERSON_COLOURS[pi % 5]
             for belief in agent.beliefs:
-                ki = items.index(belief.item) if belief.item in items else 0
+                slot = slots.get((agent.agent, belief.item))
+                if slot is None:
+                    continue
+                y = BAR_BAND[1] * size - (slot + 0.5) * row
                 for prob in belief.locations:
                     centre = spots.get(prob.id)
                     if centre is None:
                         continue
-                    height = max(prob.p, 1e-3) * 0.9
-                    x = centre.x - size * 0.4 + size * 0.16 * (pi * len(items) + ki) + 0.06
-                    node = vis["minds"][agent.agent]["bars"][belief.item][prob.id]
-                    node.set_object(g.Box([0.12, 0.12, height]), _flat(BAR_COLOURS[pi % 5]))
-                    node.set_transform(tf.translation_matrix([x, centre.y - size * 0.38, height / 2]))
-            pose = positions.get(agent.agent)
-            if pose is None:
+                    length = max(prob.p * 0.9 * size, 1e-4)
+                    at = tf.translation_matrix([centre.x - 0.45 * size + length / 2, centre.y + y, 0.06])
+                    vis["minds/bars"][agent.agent][belief.item][prob.id].set_transform(
+                        at @ np.diag([length, 1.0, 1.0, 1.0])
+                    )
+        self._draw_marks(scene, mind)
+        self._draw_panel(scene, state, mind)
+        self._drawn_mind = mind
+        log.debug(
+            "drew the mind of tick %d in %.0f ms", mind.tick, (time.monotonic() - self._mind_drawn_at) * 1e3
+        )
+
+    def _draw_marks(self, scene: Scene, mind: Mind) -> None:
+        """Per person, the red ring at their feet (while a false belief is flagged) and the dot
+        on the item they most likely want; only what changed is sent."""
+        vis = self.vis["/meshcat"]
+        folks = people(scene)
+        index = {spec.id: i for i, spec in enumerate(folks)}
+        radius = {spec.id: spec.radius for spec in folks}
+        items = {item.id for item in scene.items}
+        for agent in mind.agents:
+            if agent.agent not in index:
                 continue
-            preferred = max(agent.preference, key=lambda p: p.p).id if agent.preference else None
-            mark = vis["minds"][agent.agent]["prefers"]
-            if preferred in items:
-                item_pose = next((i.pose for i in state.items if i.id == preferred), None)
-                if item_pose is not None:
-                    mark.set_object(g.Sphere(0.08), _flat(colour))
-                    mark.set_transform(tf.translation_matrix([item_pose.x, item_pose.y, 1.6]))
-            else:
-                mark.delete()
-            halo = vis["minds"][agent.agent]["false_belief"]
-            if agent.false_beliefs:
-                halo.set_object(g.Cylinder(0.04, 0.5), _flat(HALO_COLOUR))  # a red disc at their feet
-                halo.set_transform(
-                    tf.translation_matrix([pose.x, pose.y, 0.03]) @ tf.rotation_matrix(np.pi / 2, [1, 0, 0])
-                )
-            else:
-                halo.delete()
-        for robot in mind.robots:
-            pose = positions.get(robot.robot)
-            text = [
-                f"{robot.robot}: {robot.task}",
-                robot.detail[:60],
-                f'"{robot.utterance[:60]}"' if robot.utterance else "",
-            ]
-            sign = "\n".join(text)
-            if pose is not None and sign != self.sign:
-                self.sign = sign
-                node = vis["robot_sign"]
-                node.set_object(g.Box([2.0, 0.01, 0.5]), g.MeshBasicMaterial(map=_text_texture(text)))
-            if pose is not None:
-                vis["robot_sign"].set_transform(tf.translation_matrix([pose.x, pose.y, 1.5]))
+            flagged = bool(agent.false_beliefs)
+            best = max(agent.preference, key=lambda p: p.p).id if agent.preference else None
+            wanted = best if best in items else None
+            was_flagged, was_wanted = self._marks.get(agent.agent, (False, None))
+            if flagged != was_flagged:
+                ring = vis["agents"][agent.agent]["false_belief"]
+                if flagged:
+                    ring.set_object(g.Cylinder(0.04, radius[agent.agent] * 1.6), flat(HALO_COLOUR))
+                    ring.set_transform(
+                        tf.translation_matrix([0, 0, 0.03]) @ tf.rotation_matrix(np.pi / 2, [1, 0, 0])
+                    )
+                else:
+                    ring.delete()
+            if wanted != was_wanted:
+                if was_wanted is not None:
+                    vis["items"][was_wanted]["wanted"][agent.agent].delete()
+                if wanted is not None:
+                    dot = vis["items"][wanted]["wanted"][agent.agent]
+                    dot.set_object(g.Sphere(0.08), flat(person_colour(index[agent.agent])))
+                    # beside the item (north of it), never hiding it
+                    put(dot, (index[agent.agent] - (len(folks) - 1) / 2) * 0.2, 0.28, 0.1)
+            self._marks[agent.agent] = (flagged, wanted)
+
+    def _draw_panel(self, scene: Scene, state: State, mind: Mind) -> None:
+        """The minds panel at the top of the panel column (resent only when its text changed)."""
+        layout = self.layout
+        if layout is None:
+            return
+        panel = layout.panel
+        wrap = max(20, int(panel.width / (PANEL_FONT_PX * 0.6)))
+        lines = mind_lines(scene, state, mind, wrap)
+        text = repr(lines)
+        if text == self._panel:
+            return
+        self._panel = text
+        height = panel.height - self._legend_px - 8
+        size = fit_font(lines, panel.width - 12, height - 12, PANEL_FONT_PX)
+        png = draw_lines(lines, panel.width, height, size, border=0xBBBBBB)
+        node = self.vis["/meshcat"]["panels/minds"]
+        node.set_object(*plane(png, layout.metres(panel.width), layout.metres(height)))
+        x, y = layout.point(panel.left + panel.width / 2, panel.top + height / 2)
+        put(node, x, y, PANEL_Z)
