@@ -11,7 +11,7 @@ PIP_VERSION := 26.3
 UV_VERSION := 0.13.9
 LATEST := .venv-latest
 
-.PHONY: run test lock test-latest wheel-check schema clean chromium mono
+.PHONY: run test lock test-latest wheel-check schema clean chromium mono tesseract
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -28,7 +28,7 @@ $(VENV)/.test-installed: pyproject.toml $(LOCK) | $(VENV)/bin/python
 run: $(VENV)/.run-installed
 	$(VENV)/bin/toyroom run --out out
 
-test: $(VENV)/.test-installed chromium mono
+test: $(VENV)/.test-installed chromium mono tesseract
 	$(PY) -m pytest
 
 # Re-resolve every dependency (and the test and ray extras) to its newest release, for any
@@ -39,7 +39,7 @@ lock: | $(VENV)/bin/python
 		--python-version 3.11 --upgrade --quiet --custom-compile-command "make lock" -o $(LOCK)
 
 # The suite against the newest releases of everything (no lock), to find drift on purpose.
-test-latest: chromium mono
+test-latest: chromium mono tesseract
 	rm -rf $(LATEST)
 	$(PYTHON) -m venv $(LATEST)
 	$(LATEST)/bin/python -m pip install --quiet --upgrade pip
@@ -53,6 +53,11 @@ wheel-check: $(VENV)/.run-installed
 # The viewer's tests render in Debian's headless Chromium; install it when missing (as root).
 chromium:
 	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && apt-get install -y -qq chromium >/dev/null; }
+
+# The viewer's tests read its labels back from screenshots with Debian's tesseract OCR;
+# install it when missing (as root).
+tesseract:
+	@command -v tesseract >/dev/null 2>&1 || { apt-get update -qq && apt-get install -y -qq tesseract-ocr >/dev/null; }
 
 # The C# SDK's tests compile it with Mono's mcs against Debian's Newtonsoft.Json and run the
 # sample engine under mono; install both when missing (as root).
