@@ -28,6 +28,7 @@ from protocol import (
 
 from ..model.desires import DesireSummary
 from ..model.estimates import OUT, Estimate
+from ..model.world import WorldModel
 from ..tracking.tracker import MindTracker
 from .groundtruth import load_ground_truth
 from .mindtable import mind_rows, write_csv
@@ -44,12 +45,13 @@ def mind_message(
     """The online estimates of every person (and what the robot does), as a ``mind`` message
     (``cache``: the caller's, kept between ticks)."""
     agents = []
+    nested_of = nested_messages(tracker)
     for person in tracker.people:
         est = tracker.online(person)
         if est is None:
             continue
         kept = cache.get(person) if cache is not None else None
-        nested = nested_message(tracker, person)
+        nested = nested_of.get(person, ())
         if kept is not None and kept[0] is est:  # the same estimate: at most the nested part is new
             if kept[1].nested_beliefs != nested:
                 kept = (est, msgspec.structs.replace(kept[1], nested_beliefs=nested))
@@ -63,33 +65,33 @@ def mind_message(
     return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents), robots=robots)
 
 
-def nested_message(tracker: MindTracker, person: str) -> tuple[NestedBelief, ...]:
-    """Where ``person`` believes each other person believes each item is, at the last tick."""
+def nested_messages(tracker: MindTracker) -> dict[str, tuple[NestedBelief, ...]]:
+    """Per person, where they believe each other person believes each item is, at the last
+    tick (empty before the first)."""
     nested = tracker.nested
     if nested.values is None:
-        return ()
-    model, out = tracker.model, []
-    for (a, b), where in zip(nested.pairs, np.round(nested.all_locations(), 6).tolist(), strict=True):
-        if a == person:
-            beliefs = tuple(
-                ItemBelief(item=item, locations=tuple(map(Prob, model.locations, row)))
-                for item, row in zip(model.items, where, strict=True)
-            )
-            out.append(NestedBelief(agent=b, beliefs=beliefs))
-    return tuple(out)
+        return {}
+    out: dict[str, list[NestedBelief]] = {}
+    for (a, b), rows in zip(nested.pairs, np.round(nested.all_locations(), 6).tolist(), strict=True):
+        out.setdefault(a, []).append(NestedBelief(agent=b, beliefs=item_beliefs(tracker.model, rows)))
+    return {person: tuple(beliefs) for person, beliefs in out.items()}
+
+
+def item_beliefs(model: WorldModel, rows: list[list[float]]) -> tuple[ItemBelief, ...]:
+    """``(K, L)`` rows of probabilities (already rounded) as the protocol's ``ItemBelief`` list."""
+    return tuple(
+        ItemBelief(item=item, locations=tuple(map(Prob, model.locations, row)))
+        for item, row in zip(model.items, rows, strict=True)
+    )
 
 
 def agent_mind(
     tracker: MindTracker, person: str, est: Estimate, nested: tuple[NestedBelief, ...] = ()
 ) -> AgentMind:
-    """One person's part of the ``mind`` message (``nested``: :func:`nested_message`)."""
+    """One person's part of the ``mind`` message (``nested``: its entry of :func:`nested_messages`)."""
     model = tracker.model
     # rounded as arrays, then read as Python floats: a round() per number is most of the cost
-    rows = np.round(np.asarray(est.beliefs, dtype=np.float64), 6).tolist()
-    beliefs = tuple(
-        ItemBelief(item=item, locations=tuple(map(Prob, model.locations, row)))
-        for item, row in zip(model.items, rows, strict=True)
-    )
+    beliefs = item_beliefs(model, np.round(np.asarray(est.beliefs, dtype=np.float64), 6).tolist())
     preference = tuple(map(Prob, (*model.items, OUT), np.round(est.preference, 6).tolist()))
     item_index, location_index, p = est.intention
     intention = Intention(

@@ -115,37 +115,31 @@ class MindTracker:
                     track.chains = [track.chains[int(h)] for h in kept]
             truths = [self.view.truth(h, holders) for h in range(len(self.view.rows))]
         self.branch_truths = truths
-        self.truth = truths[int(np.argmax(self.branch_weights()))]
+        likeliest = int(np.argmax(self.branch_weights()))
+        self.truth = truths[likeliest]
         self.truths[state.tick] = self.truth
         holding = {a.id: a.holding for a in state.agents}
         self.ticks.append(state.tick)
         for event in events:
             if event.kind is EventKind.WAYPOINT and event.label is not None:
                 self.labels[(state.tick, event.actor)] = event.label
+        cells: dict[str, int] = {}
+        percepts: dict[str, Percept] = {}  # each person's, in the likeliest branch
         for person in self.people:
             cell = cell_of.get(person)
             if cell is None:
                 continue
-            self._observe_person(self.tracks[person], state, cell, holding.get(person), truths, events)
-        self._observe_nested(state, cell_of, holding, events)
+            seen = self._observe_person(self.tracks[person], state, cell, holding.get(person), truths, events)
+            cells[person], percepts[person] = cell, seen[likeliest]
+        self._observe_nested(state.tick, state.time, cells, percepts)
 
     def _observe_nested(
-        self,
-        state: State,
-        cell_of: dict[str, int | None],
-        holding: dict[str, str | None],
-        events: Sequence[Event],
+        self, tick: int, time: float, cells: dict[str, int], percepts: dict[str, Percept]
     ) -> None:
         """Feed the nested beliefs one tick: where each person is and what they perceive (in
         the likeliest branch of the unseen world)."""
-        items = self.model.items
-        cells = {p: c for p in self.people if (c := cell_of.get(p)) is not None}
-        held = {p: items.index(h) + 1 if (h := holding.get(p)) in items else 0 for p in cells}
-        percepts = {p: self._percept(p, c, held[p], self.truth, events) for p, c in cells.items()}
-        self.nested.observe(
-            state.time, cells, percepts, lambda p: e.beliefs if (e := self.online(p)) else None
-        )
-        self.nested_ticks[state.tick] = self.nested.all_locations()
+        self.nested.observe(time, cells, percepts, lambda p: e.beliefs if (e := self.online(p)) else None)
+        self.nested_ticks[tick] = self.nested.all_locations()
 
     def branch_weights(self) -> FloatArray:
         """``(H,)`` the posterior of each branch of the unseen world: its prior share times how
@@ -199,7 +193,8 @@ class MindTracker:
         holding: str | None,
         truths: list[tuple[int, ...]],
         events: Sequence[Event],
-    ) -> None:
+    ) -> list[Percept]:
+        """Take in one tick of one person; returns their percept in each branch."""
         model = self.model
         tick = state.tick
         held = 0 if holding is None else model.items.index(holding) + 1
@@ -240,6 +235,7 @@ class MindTracker:
         if track.cell is not None and cell != track.cell:
             track.moved_from = track.cell
         track.cell, track.held = cell, held
+        return seen
 
     def _forgetting_due(self, track: PersonTrack, now: float) -> bool:
         """Whether a person who forgets has gone a decision time without a step (a percept
