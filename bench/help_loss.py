@@ -22,21 +22,12 @@ import sys
 import tempfile
 from pathlib import Path
 
+from bridge.evaluation.generation import generate_all
 from bridge.recording.trace import trace_records
 from protocol import Truth
 
-MAPS = ("paper", "house-a", "house-b")
 FALSE = 0.1
 """A belief giving the item's true place less than this is false (the evaluation's mass)."""
-
-
-def generate(folder: Path, seed: int, episodes: int, tasks: str) -> list[Path]:
-    names = [f"{MAPS[i % 3]}:{1000 * seed + i}" for i in range(episodes)]
-    command = [sys.executable, "-m", "sim2d", "generate", "--episodes", *names, "--minds", "rich"]
-    command += ["--kind", "tasks", "--tasks", tasks, "--max-ticks", "1000", "--out", str(folder)]
-    return [
-        Path(p) for p in subprocess.run(command, check=True, capture_output=True, text=True).stdout.split()
-    ]
 
 
 def story(run: Path) -> dict[str, object] | None:
@@ -81,18 +72,8 @@ def story(run: Path) -> dict[str, object] | None:
 
 
 def run(scenario: Path, out: Path, perception: str) -> Path:
-    command = [
-        "toyroom",
-        "run",
-        "--scenario",
-        str(scenario),
-        "--robot",
-        "act",
-        "--no-live",
-        "--out",
-        str(out),
-    ]
-    command += ["--set", f"perception={perception}"]
+    command = [sys.executable, "-m", "bridge", "run", "--scenario", str(scenario), "--robot", "act"]
+    command += ["--no-live", "--out", str(out), "--set", f"perception={perception}"]
     subprocess.run(command, check=True, capture_output=True)
     return out
 
@@ -107,7 +88,9 @@ def main() -> int:
     folder = args.out or Path(tempfile.mkdtemp(prefix="help-loss-"))
     print("episode               robot        owner item   fb  begin  end  how            goal")
     split: dict[str, list[tuple[int, int, int]]] = {"embodied": [], "omniscient": []}
-    for scenario in generate(folder / "scenarios", args.seed, args.episodes, args.tasks):
+    for scenario in generate_all(
+        folder / "scenarios", args.episodes, args.seed, "rich", "tasks", 1000, args.tasks.split(",")
+    ):
         for perception in split:
             s = story(run(scenario, folder / perception / scenario.stem, perception))
             if s is None:

@@ -28,28 +28,29 @@ import tempfile
 from collections import defaultdict
 from pathlib import Path
 
+from bridge.evaluation.generation import generate_all
 from bridge.evaluation.revealed import stretches
 from bridge.recording.trace import trace_records
 from protocol import EngineInfo, State, Truth
 
-MAPS = ("paper", "house-a", "house-b")
 PREFERRED, OTHER = 30.0, 1.0
 """The favourite desire model's utilities (``ModelSettings``): P(wants k) from its expected utility."""
-
-
-def generate(folder: Path, seed: int, episodes: int, tasks: str) -> list[Path]:
-    """The episodes of an evaluation with ``seed`` (episode i: seed ``1000 * seed + i``)."""
-    names = [f"{MAPS[i % 3]}:{1000 * seed + i}" for i in range(episodes)]
-    command = [sys.executable, "-m", "sim2d", "generate", "--episodes", *names, "--minds", "rich"]
-    command += ["--kind", "tasks", "--tasks", tasks, "--max-ticks", "1000", "--out", str(folder)]
-    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
-    return [Path(line) for line in out.split()]
 
 
 def run(scenario: Path, folder: Path, sets: list[str]) -> Path:
     """``toyroom run`` of one episode, robot observing; its results folder."""
     target = folder / scenario.stem
-    command = ["toyroom", "run", "--scenario", str(scenario), "--robot", "observe", "--no-live"]
+    command = [
+        sys.executable,
+        "-m",
+        "bridge",
+        "run",
+        "--scenario",
+        str(scenario),
+        "--robot",
+        "observe",
+        "--no-live",
+    ]
     command += ["--out", str(target), *[a for s in sets for a in ("--set", s)]]
     subprocess.run(command, check=True, capture_output=True)
     return target
@@ -111,7 +112,9 @@ def main() -> int:
     parser.add_argument("--out", type=Path, default=None, help="keep the runs here")
     args = parser.parse_args()
     folder = args.out or Path(tempfile.mkdtemp(prefix="revealed-"))
-    scenarios = generate(folder / "scenarios", args.seed, args.episodes, args.tasks)
+    scenarios = generate_all(
+        folder / "scenarios", args.episodes, args.seed, "rich", "tasks", 1000, args.tasks.split(",")
+    )
     rows = [row for scenario in scenarios for row in readings(run(scenario, folder / "runs", args.set))]
     print("episode              person item   steps sure_knew P(fb)max P(wants)start P(wants)max")
     for r in rows:
