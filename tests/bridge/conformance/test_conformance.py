@@ -107,6 +107,16 @@ BROKEN = {
 """Each ``--break`` mode of the grid engine: the check that must fail, and what it must say."""
 
 
+def conform(world: str, timeout: int) -> subprocess.CompletedProcess[str]:
+    """``toyroom conform`` against the engine of ``world`` (``timeout``: seconds per check)."""
+    return subprocess.run(
+        [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", str(timeout)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+
+
 def test_every_break_mode_is_listed_and_tested() -> None:
     listed = subprocess.run(
         [sys.executable, str(GRID_ENGINE), "--break", "list"], capture_output=True, text=True, timeout=60
@@ -119,12 +129,7 @@ def test_every_break_mode_is_listed_and_tested() -> None:
 def test_broken_engines_fail_the_named_check(world: str, fault: str) -> None:
     check, says = BROKEN[fault]
     with GridEngineProcess(world, "--scenario", "paper-robot", "--break", fault):
-        result = subprocess.run(
-            [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "5"],
-            capture_output=True,
-            text=True,
-            timeout=300,
-        )
+        result = conform(world, 5)
     assert result.returncode != 0, f"a '{fault}' engine passed:\n{result.stdout}"
     failures = [line for line in result.stdout.splitlines() if line.startswith("FAIL")]
     assert any(line.startswith(f"FAIL  {check}:") and says in line for line in failures), (
@@ -136,12 +141,7 @@ def test_conform_command_passes_and_the_token_goes_with_the_engine(world: str) -
     engine = EngineProcess(world, "--scenario", "paper-robot")
     with Bridge(world) as watcher_side:
         watcher = watcher_side.presence("engine")
-        result = subprocess.run(
-            [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "10"],
-            capture_output=True,
-            text=True,
-            timeout=300,
-        )
+        result = conform(world, 10)
         assert result.returncode == 0, result.stdout + result.stderr
         assert "0 failed" in result.stdout
         assert watcher.wait_alive("sim2d", timeout=5.0)
@@ -153,12 +153,7 @@ def test_a_protocol_1_1_engine_still_passes_conform(world: str) -> None:
     """Minor versions only add optional fields: an engine stamping 1.1 on every message passes
     the kit of this side (1.3), with the difference said once, not failed."""
     with GridEngineProcess(world, "--scenario", "paper-robot", "--speak", "1.1"):
-        result = subprocess.run(
-            [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "10"],
-            capture_output=True,
-            text=True,
-            timeout=300,
-        )
+        result = conform(world, 10)
     assert result.returncode == 0, result.stdout + result.stderr
     assert "0 failed" in result.stdout, result.stdout
     assert "1.1" in result.stdout + result.stderr, "the minor-version difference should be said"
