@@ -37,7 +37,7 @@ class ModelSettings:
         leave_utility_item: reward of reaching the outside for a person who wants an item.
         leave_utility_out: reward of reaching the outside for a person who wants to leave.
         step_cost: cost of every non-terminal action.
-        vi_tolerance: value iteration stops when no value moves more than this.
+        vi_tolerance: value iteration stops when no value moves more than this (not the exact closed form).
         exact_max_worlds: the largest number of worlds ``W = (2 L)**K`` for which the exact
             joint model is used; above it, the factored model (``brain/model/factored.py``).
         top_worlds: how many of the most probable whole worlds of each person's belief the
@@ -90,7 +90,7 @@ class ModelSettings:
             :mod:`brain.model.nested`: their model of the other drifts toward their own
             belief); 0: what they last saw the other see is all they credit.
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
-            from its low to its high value (``desire_levels**(K + 1) - 1`` candidates).
+            from its low to its high value (``desire_levels**(K + 1) - 1``; ``**K - 1`` with no outside).
     """
 
     r: float = 8.0

@@ -30,6 +30,7 @@ from .mind import (
     TaskOutcome,
     WorldBelief,
 )
+from .person import STEP_OF, Direction, PersonAction, PersonCommand
 from .registry import BY_TAG, MESSAGE_TYPES, tag_of
 from .replies import ControlReply, ErrorCode, ErrorReply
 from .robot import (
@@ -73,6 +74,7 @@ __all__ = [
     "NEIGHBOURS",
     "GridCell",
     "PROTOCOL_VERSION",
+    "STEP_OF",
     "Action",
     "Activity",
     "AgentKind",
@@ -91,6 +93,7 @@ __all__ = [
     "CommandState",
     "CommandStatus",
     "ControlReply",
+    "Direction",
     "Door",
     "Encoding",
     "EngineInfo",
@@ -118,6 +121,8 @@ __all__ = [
     "Mind",
     "Navigate",
     "Pause",
+    "PersonAction",
+    "PersonCommand",
     "Pick",
     "Place",
     "Pose",

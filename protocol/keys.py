@@ -86,6 +86,11 @@ class Keys:
         """Brain -> engine: the brain still drives ``robot`` (``*``: any robot)."""
         return f"{self.prefix}/robot/{robot if robot == '*' else check_name(robot, 'robot')}/heartbeat"
 
+    def person_command(self, person: str = "*") -> str:
+        """A participant's page -> engine: commands for ``person`` (``*``: any person;
+        :class:`~protocol.person.PersonCommand`, for engines that offer puppets)."""
+        return f"{self.prefix}/person/{person if person == '*' else check_name(person, 'person')}/command"
+
     def alive(self, role: str = "*", name: str = "*") -> str:
         """A liveliness token key ``toyroom/<world>/@alive/<role>/<name>`` (``*`` to watch)."""
         role = role if role == "*" else check_name(role, "role")

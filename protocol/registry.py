@@ -9,6 +9,7 @@ from .events import Event
 from .handshake import EngineInfo, Hello
 from .message import Message
 from .mind import Mind
+from .person import PersonCommand
 from .replies import ControlReply, ErrorReply
 from .robot import CommandStatus, Heartbeat, RobotCommand
 from .state import State
@@ -30,6 +31,7 @@ MESSAGE_TYPES: tuple[type[Message], ...] = (
     CommandStatus,
     Heartbeat,
     Mind,
+    PersonCommand,
 )
 """All message types, in the order the documentation lists them."""
 

@@ -135,6 +135,13 @@ class ItemSpec(msgspec.Struct, frozen=True):
     ``absent``: the item is not in the scene (no state lists it), though people may want
     it and believe it is somewhere; the brain then counts "absent" as one more place an
     item can be (never seen, never taken).
+
+    ``portable``: whether a person can take and carry it (protocol 1.4; ``True`` when not
+    sent). ``False`` declares the item fixed (a parked food truck, a stall): it only ever
+    rests where it is (or is absent), so no world the brain considers has it carried, no
+    one takes it, and beliefs about it are over resting places only. There is no implicit
+    default from ``use`` locations: the scene does not say where an item rests (the state
+    does), and an item used in place may still be portable.
     """
 
     id: Id
@@ -142,6 +149,7 @@ class ItemSpec(msgspec.Struct, frozen=True):
     """An :class:`ItemShape` member when known, else the string as sent."""
     name: str = ""
     absent: bool = False
+    portable: bool = True
 
     def __post_init__(self) -> None:
         msgspec.structs.force_setattr(self, "shape", known(ItemShape, self.shape))

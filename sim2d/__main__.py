@@ -50,6 +50,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="FILE.npz",
         help='the brain\'s planner table (`python -m brain plan`) for people with planner = "model"',
     )
+    parser.add_argument(
+        "--puppet",
+        action="append",
+        default=[],
+        metavar="PERSON",
+        help="drive this person from person/PERSON/command (toyroom play) instead of its script (repeatable)",
+    )
     add_log_level(parser)
     add_network_args(parser)
     return parser
@@ -219,7 +226,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         engine = Engine(args.scenario, seed=args.seed, robot=args.robot, policy=policy)
         clock = ClockMode.REALTIME if args.realtime is not None else ClockMode.LOCKSTEP
         node = EngineNode(
-            engine, Bridge(args.world, settings_from_args(args)), clock=clock, rate=args.realtime or 1.0
+            engine,
+            Bridge(args.world, settings_from_args(args)),
+            clock=clock,
+            rate=args.realtime or 1.0,
+            puppets=tuple(args.puppet),
         )
     except (Sim2dError, BridgeError) as err:
         print(f"sim2d: {err}", file=sys.stderr)

@@ -10,6 +10,9 @@ In lock-step the world advances only on ``step``; in real time it runs at ``rate
 wall-clock speed, and ``pause`` / ``resume`` stop and restart it. In real time the robot is
 stopped (its commands failed) when neither a command nor a ``heartbeat`` has come from the
 brain for ``heartbeat_timeout`` seconds: a dead brain never leaves a robot driving.
+
+People named in ``puppets`` are driven from ``person/<id>/command`` (a participant of
+``toyroom play``, :mod:`sim2d.people.puppet`) instead of their script, episode after episode.
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from protocol import (
     Heartbeat,
     Message,
     Pause,
+    PersonCommand,
     Reset,
     Resume,
     RobotCommand,
@@ -38,6 +42,7 @@ from protocol import (
 
 from .engine import Engine, TickResult
 from .errors import ScenarioError
+from .people.puppet import PuppetPerson, install_puppets
 from .scenario.scenario import scenario_names
 
 log = logging.getLogger("toyroom.sim2d")
@@ -61,8 +66,12 @@ class EngineNode:
         clock: ClockMode = ClockMode.LOCKSTEP,
         rate: float = 1.0,
         heartbeat_timeout: float = 1.0,
+        puppets: tuple[str, ...] = (),
     ) -> None:
         self.engine = engine
+        self.puppet_ids = puppets
+        self.puppets: dict[str, PuppetPerson] = {}
+        self._install_puppets()
         self.bridge = bridge
         self.clock = clock
         self.rate = rate
@@ -84,6 +93,8 @@ class EngineNode:
         )
         bridge.subscribe(keys.command(), self._on_command, expected=RobotCommand)
         bridge.subscribe(keys.heartbeat(), self._on_heartbeat, expected=Heartbeat)
+        if puppets:
+            bridge.subscribe(keys.person_command(), self._on_person, expected=PersonCommand)
         self.heartbeat_timeout = heartbeat_timeout
         self._last_heard = time.monotonic()
         bridge.token("engine", "sim2d")
@@ -91,6 +102,18 @@ class EngineNode:
         if clock is ClockMode.REALTIME:
             self._ticker = threading.Thread(target=self._run_realtime, name="sim2d clock", daemon=True)
             self._ticker.start()
+
+    def _install_puppets(self) -> None:
+        """Puppets in place of the people named (again after every reset)."""
+        engine = self.engine
+        self.puppets = install_puppets(engine.people, engine.scenario, engine.world, self.puppet_ids)
+
+    def _on_person(self, command: PersonCommand, received: Received) -> None:
+        puppet = self.puppets.get(command.person)
+        if puppet is None or received.key != self.bridge.keys.person_command(command.person):
+            log.warning("person command for '%s' on '%s': no such puppet here", command.person, received.key)
+            return
+        puppet.receive(command)
 
     def info(self) -> EngineInfo:
         with self._lock:
@@ -144,6 +167,7 @@ class EngineNode:
                             f"no scenario named '{request.scenario}'; known: {known}",
                         ) from None
                     raise Refused(ErrorCode.BAD_REQUEST, str(err)) from None
+                self._install_puppets()
                 self._publish(result)
                 return self._reply(result)
             if isinstance(request, Step):

@@ -31,6 +31,7 @@ from protocol import (
 )
 
 from .people.person import Person
+from .people.puppet import PuppetPerson
 from .world.world import World
 
 MANIPULATION_TICKS = 3
@@ -39,6 +40,9 @@ SPEECH_TICKS = 10
 """Ticks saying something or asking (and getting the answer) takes."""
 EARSHOT_CELLS = 2
 """A person hears the robot in the same region or within this many cells (Manhattan)."""
+ANSWER_TICKS = 300
+"""Ticks a ``request`` or ``give`` to a puppet (a participant, :mod:`sim2d.people.puppet`)
+waits for the participant's answer beyond its own duration; then the answer is no."""
 
 
 class RobotBody:
@@ -53,6 +57,10 @@ class RobotBody:
         self.seen: set[str] = set()
         self.ticks_left = 0
         self.pending: list[CommandStatus] = []
+        self.waited = 0
+        """Ticks the running command has waited for a puppet's answer."""
+        self.asking: PuppetPerson | None = None
+        """The puppet the running command asks (a request or a give), if any."""
 
     @property
     def idle(self) -> bool:
@@ -160,6 +168,7 @@ class RobotBody:
                 self.queue.remove(victim)
         else:
             self.running = None
+            self._close_ask()
             world.stop(self.id)
         if victim is None:
             self._status(world, command, CommandState.FAILED, f"no queued or running command '{target}'")
@@ -173,6 +182,7 @@ class RobotBody:
         for command in ([self.running] if self.running is not None else []) + list(self.queue):
             self._status(world, command, CommandState.FAILED, reason)
         self.running = None
+        self._close_ask()
         self.queue.clear()
         world.stop(self.id)
 
@@ -187,12 +197,15 @@ class RobotBody:
             if problem is not None:
                 self._finish(world, CommandState.FAILED, problem)
                 return
+            self._ask(world, self.running.action, people)
         command = self.running
         assert command is not None
         action = command.action
         if isinstance(action, Navigate):
             if world.arrived(self.id):
                 self._finish(world, CommandState.SUCCEEDED)
+            return
+        if self.ticks_left <= 1 and self._deciding():
             return
         self.ticks_left -= 1
         if self.ticks_left > 0:
@@ -203,12 +216,38 @@ class RobotBody:
         else:
             self._finish(world, CommandState.SUCCEEDED, answer=answer)
 
+    def _ask(self, world: World, action: object, people: Mapping[str, Person]) -> None:
+        """A request or a give to a puppet (a participant) opens its question at the start."""
+        person = people.get(getattr(action, "person", ""))
+        if isinstance(person, PuppetPerson) and isinstance(action, (Request, Give)):
+            if isinstance(action, Request):
+                person.ask("request", action.item, action.offer)
+            else:
+                person.ask("give", world.agents[self.id].holding or "")
+            self.asking = person
+
+    def _deciding(self) -> bool:
+        """Whether the puppet asked is still deciding (the command then waits, up to
+        :data:`ANSWER_TICKS`)."""
+        if self.asking is None or not self.asking.deciding:
+            return False
+        self.waited += 1
+        return self.waited <= ANSWER_TICKS
+
     def _finish(
         self, world: World, state: CommandState, reason: str = "", answer: bool | None = None
     ) -> None:
         assert self.running is not None
         self._status(world, self.running, state, reason, answer)
         self.running = None
+        self._close_ask()
+
+    def _close_ask(self) -> None:
+        """The running command is over: the puppet it asked has no open question."""
+        self.waited = 0
+        if self.asking is not None:
+            self.asking.question = self.asking.reply = None
+            self.asking = None
 
     def _reach(self, world: World, person: str) -> str | None:
         me, them = world.agents[self.id].cell, world.agents[person].cell
@@ -292,6 +331,9 @@ class RobotBody:
         if isinstance(action, Place):
             return world.drop(self.id, action.location), None
         if isinstance(action, Give):
+            puppet = people.get(action.person)
+            if isinstance(puppet, PuppetPerson) and not puppet.close_question():
+                return f"{action.person} declined '{world.agents[self.id].holding}'", None
             world.hand_over(self.id, action.person)
             if action.person in people:
                 people[action.person].on_given(world)

@@ -89,7 +89,9 @@ ROOMS = {
         "conformance": {"<core>"},
         "view": {"<core>"},
         "gateway": {"<core>"},
+        "rating": {"<core>", "recording", "view"},
         "evaluation": {"<core>"},
+        "play": {"<core>", "recording"},
         "app": {"<core>", "recording", "conformance", "evaluation", "gateway"},
     },
     "brain": {

@@ -13,7 +13,7 @@ from bridge.recording.trace import TraceError, read_trace
 
 from ..errors import SettingsError
 from ..settings import Settings
-from .correlation import JudgedFit, fit_judgments, judged_search
+from .correlation import JudgedFit, against_first, fit_judgments, judged_search
 from .crossval import folds
 from .fit import ModelFit, fit, write_fit
 from .grid import GRIDS, parse_grid
@@ -69,8 +69,9 @@ def add_fit_args(parser: argparse.ArgumentParser) -> None:
         "--judgments",
         type=Path,
         metavar="FILE.csv",
-        help="ratings of the recordings (episode, tick, person, quantity, target, value): also fit the "
-        "parameters that correlate best with them, and write those as settings.toml",
+        help="ratings of the recordings (episode, tick, person, quantity, target, value[, estimate]; "
+        "quantity belief, desire, utility, rank or false_belief; estimate online or smoothed): also fit "
+        "the parameters that correlate best with them, and write those as settings.toml",
     )
     add_refine_args(parser)
 
@@ -143,7 +144,8 @@ def _judged(
     """Every model fitted to ``--judgments`` (the same folds as the likelihood fit)."""
     found = judged_search(traces, models, grid, settings.model, judgments, args.workers, not args.no_progress)
     parts = folds(len(traces), args.folds, args.seed)
-    return [fit_judgments(m, *found[m], judgments, parts, args.seed) for m in models]
+    fitted = [fit_judgments(m, *found[m], judgments, parts, args.seed) for m in models]
+    return against_first(fitted, judgments, args.seed)
 
 
 def _refined(

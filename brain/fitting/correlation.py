@@ -1,14 +1,18 @@
 """Fitting to judgments (``toyroom fit --judgments``): the grid point whose estimates
 correlate best with people's ratings, cross-validated by episode.
 
-A point's score on some episodes is the mean over quantities of the Pearson r between the
-brain's estimates and the ratings of those episodes. Each fold is fitted on the others and
-its episodes are predicted at that point; the held-out predictions of every fold together
-give each quantity's r, with a bootstrap 95% interval over episodes.
+A point's score on some episodes is the mean over kinds of judgment (a quantity, of the
+online or the smoothed estimate: :attr:`Judgment.kind`) of the correlation between the
+brain's estimates and the ratings of those episodes: Pearson's r on the raw ratings, and
+Spearman's for ``rank`` (a rank is ordinal). Each fold is fitted on the others and its
+episodes are predicted at that point; the held-out predictions of every fold together give
+each kind's r, with a bootstrap 95% interval over episodes, and each model's difference from
+the first model's, paired by episode (the same resampled episodes for both).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -22,7 +26,8 @@ from ..settings import ModelSettings
 from ..tracking.tracker import MindTracker
 from .crossval import FloatArray, IntArray
 from .grid import Point, points
-from .judgments import Judgment, predictions
+from .judged import predictions
+from .judgments import Judgment
 from .motion import MOTION, motion_predictions
 from .search import MODELS, _trace, model_grid, model_settings
 
@@ -37,11 +42,26 @@ def pearson(x: FloatArray, y: FloatArray) -> float:
     return float(np.corrcoef(x[ok], y[ok])[0, 1])
 
 
+def spearman(x: FloatArray, y: FloatArray) -> float:
+    """Spearman's rank correlation of the rows where both are numbers (ties: mean ranks)."""
+    from scipy.stats import rankdata
+
+    ok = np.isfinite(x) & np.isfinite(y)
+    return pearson(rankdata(x[ok]), rankdata(y[ok])) if ok.any() else float("nan")
+
+
+def correlation(kind: str, x: FloatArray, y: FloatArray) -> float:
+    """The correlation a kind of judgment is compared by: Spearman's for a rank, else Pearson's."""
+    return spearman(x, y) if kind.endswith("rank") else pearson(x, y)
+
+
 def score(pred: FloatArray, values: FloatArray, quantities: Sequence[str], rows: IntArray) -> float:
-    """The mean over quantities of r on ``rows`` (quantities without an r left out)."""
+    """The mean over kinds of judgment of their correlation on ``rows`` (kinds without one
+    left out)."""
     q = np.asarray(quantities)
     rs = [
-        pearson(pred[rows][q[rows] == name], values[rows][q[rows] == name]) for name in sorted(set(q[rows]))
+        correlation(name, pred[rows][q[rows] == name], values[rows][q[rows] == name])
+        for name in sorted(set(q[rows]))
     ]
     finite = [r for r in rs if np.isfinite(r)]
     return float(np.mean(finite)) if finite else float("-inf")
@@ -49,14 +69,17 @@ def score(pred: FloatArray, values: FloatArray, quantities: Sequence[str], rows:
 
 @dataclass(frozen=True)
 class JudgedFit:
-    """One model fitted to the judgments: the points, every fold's choice, the held-out
-    predictions and each quantity's held-out r with its interval."""
+    """One model fitted to the judgments: the points, every fold's choice, each kind's
+    held-out r with its interval, and the held-out predictions ``held (N,)``."""
 
     model: str
     points: list[Point]
     fold_points: list[int]
     fitted: Point
     r: dict[str, dict[str, float]]
+    held: FloatArray | None = None
+    minus_first: dict[str, dict[str, float]] | None = None
+    """Each kind's ``r - r(first model)``, paired by episode (:func:`against_first`)."""
 
 
 def fit_judgments(
@@ -69,7 +92,7 @@ def fit_judgments(
 ) -> JudgedFit:
     """Cross-validate ``pred (P, N)`` (each point's estimate of each judgment) by episode."""
     values = np.array([j.value for j in judgments])
-    quantities = [j.quantity for j in judgments]
+    quantities = [j.kind for j in judgments]
     episode = np.array([j.episode for j in judgments])
     everything = np.arange(len(judgments))
     held = np.full(len(judgments), np.nan)
@@ -81,31 +104,65 @@ def fit_judgments(
         held[inside] = pred[best, inside]
         chosen.append(best)
     best_all = int(np.argmax([score(p, values, quantities, everything) for p in pred]))
-    return JudgedFit(
-        model, grid_points, chosen, grid_points[best_all], _intervals(held, values, quantities, episode, seed)
-    )
+    r = _intervals(held, values, quantities, episode, seed)
+    return JudgedFit(model, grid_points, chosen, grid_points[best_all], r, held)
 
 
 def _intervals(
     held: FloatArray, values: FloatArray, quantities: Sequence[str], episode: IntArray, seed: int
 ) -> dict[str, dict[str, float]]:
-    """Each quantity's r with a bootstrap 95% interval over episodes."""
+    """Each kind's r with a bootstrap 95% interval over episodes."""
+    return paired_difference(held, None, values, quantities, episode, seed)
+
+
+def paired_difference(
+    held: FloatArray,
+    other: FloatArray | None,
+    values: FloatArray,
+    kinds: Sequence[str],
+    episode: IntArray,
+    seed: int,
+) -> dict[str, dict[str, float]]:
+    """Each kind's ``r(held) - r(other)`` (``r(held)`` when ``other`` is ``None``), with a
+    bootstrap 95% interval over episodes, both predictions on the same resampled episodes."""
     rng = np.random.default_rng(seed)
-    q = np.asarray(quantities)
+    q = np.asarray(kinds)
     episodes = np.unique(episode)
     rows_of = {e: np.flatnonzero(episode == e) for e in episodes}
+
+    def r(rows: IntArray, name: str) -> float:
+        base = correlation(name, held[rows], values[rows])
+        return base if other is None else base - correlation(name, other[rows], values[rows])
+
     out = {}
-    for name in sorted(set(quantities)):
+    for name in sorted(set(kinds)):
         mine = q == name
         draws = []
         for _ in range(BOOTSTRAP):
             rows = np.concatenate([rows_of[e] for e in rng.choice(episodes, size=len(episodes))])
-            rows = rows[mine[rows]]
-            draws.append(pearson(held[rows], values[rows]))
+            draws.append(r(rows[mine[rows]], name))
         finite = [d for d in draws if np.isfinite(d)]
         lo, hi = np.percentile(finite, [2.5, 97.5]) if finite else (float("nan"), float("nan"))
-        out[name] = {"mean": pearson(held[mine], values[mine]), "lo": float(lo), "hi": float(hi)}
+        out[name] = {"mean": r(np.flatnonzero(mine), name), "lo": float(lo), "hi": float(hi)}
     return out
+
+
+def against_first(fits: Sequence[JudgedFit], judgments: Sequence[Judgment], seed: int = 0) -> list[JudgedFit]:
+    """``fits`` with every model after the first given its ``minus_first``: each kind's
+    held-out r less the first model's, with a bootstrap 95% interval over episodes paired
+    by episode."""
+    if not fits or fits[0].held is None:
+        return list(fits)
+    values = np.array([j.value for j in judgments])
+    kinds = [j.kind for j in judgments]
+    episode = np.array([j.episode for j in judgments])
+    first = fits[0].held
+    return [fits[0]] + [
+        dataclasses.replace(f, minus_first=paired_difference(f.held, first, values, kinds, episode, seed))
+        if f.held is not None
+        else f
+        for f in fits[1:]
+    ]
 
 
 JudgedJob = tuple[str, str, ModelSettings, tuple[Judgment, ...]]

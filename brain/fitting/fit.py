@@ -157,7 +157,12 @@ def write_fit(
         summary["refinement"] = refined.as_json()
     if judged:
         summary["judgments"] = {
-            j.model: {"fitted": j.fitted, "r": j.r, "fold_points": [j.points[p] for p in j.fold_points]}
+            j.model: {
+                "fitted": j.fitted,
+                "r": j.r,
+                "minus_first": j.minus_first,
+                "fold_points": [j.points[p] for p in j.fold_points],
+            }
             for j in judged
         }
     (out / "fit.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
@@ -232,15 +237,22 @@ def _judgments_table(judged: Mapping[str, Any]) -> list[str]:
     lines = [
         "## Fit to judgments",
         "",
-        "Pearson r between each model's online estimates and the ratings, each episode predicted at",
-        "the point fitted (best mean r over quantities) without its fold; bootstrap 95% intervals",
-        "over episodes. The motion heuristic's beliefs are the truth and it has no false beliefs.",
+        "Correlation between each model's estimates (online, or smoothed where the rating says so)",
+        "and the ratings (Pearson's r; Spearman's for ranks), each episode predicted at the point",
+        "fitted (best mean r over kinds of judgment) without its fold; bootstrap 95% intervals over",
+        "episodes; after each, minus the first model's r, paired by episode. The motion heuristic's",
+        "beliefs are the truth, it has no false beliefs and answers smoothed questions online.",
         "",
         "| model | " + " | ".join(f"r {q}" for q in quantities) + " | fitted on all |",
         "|---|" + "---|" * len(quantities) + "---|",
     ]
+    first = next(iter(judged), "")
     for name, m in judged.items():
-        cells = [_interval(m["r"].get(q, {})) for q in quantities]
+        minus = m.get("minus_first") or {}
+        cells = [
+            _interval(m["r"].get(q, {})) + (f"; minus {first} {_interval(minus[q])}" if q in minus else "")
+            for q in quantities
+        ]
         point = ", ".join(f"{k}={v:g}" for k, v in m["fitted"].items()) or "(no parameters)"
         lines.append(f"| {name} | " + " | ".join(cells) + f" | {point} |")
     return [*lines, ""]

@@ -1,21 +1,32 @@
 """Ratings people gave about recorded episodes (``toyroom fit --judgments FILE.csv``), read
-and checked against the recordings, and the brain's estimate of each.
+and checked against the recordings.
 
-The file has a header and the columns ``episode, tick, person, quantity, target, value``:
+The file has a header and the columns ``episode, tick, person, quantity, target, value``,
+and optionally ``estimate`` (other columns, such as a rating page's ``participant`` and
+``question``, are read past):
 
 - ``episode``: a recording, by its file name without the extension or by its scenario name;
-- ``tick``: the engine tick the rating is about (the brain's online estimate after it);
+- ``tick``: the engine tick the rating is about (the brain's estimate after it);
 - ``person``: a person of that recording's scene;
 - ``quantity`` and ``target``: ``belief`` with ``ITEM@LOCATION`` (how likely the person
   thinks the item is there), ``desire`` with a goal (an item, or ``out``: how likely it is
-  what they want most), ``false_belief`` with an item (how likely their belief about it is
-  false);
-- ``value``: the rating, any number (only its correlation with the brain's estimates counts).
+  what they want most), ``utility`` with a goal (how much they want it), ``rank`` with a
+  goal (its place among the goals, 1 the most wanted), ``false_belief`` with an item (how
+  likely their belief about it is false);
+- ``value``: the rating, any number (only its correlation with the brain's estimates counts);
+- ``estimate``: ``online`` (the default, also when empty: the estimate from what was seen up
+  to ``tick``) or ``smoothed`` (retrospective: the estimate at ``tick`` given the whole
+  episode, as a question answered after watching all of it).
+
+Several ratings of one question (the same episode, tick, person, quantity, target and
+estimate: several raters) are averaged into one judgment. How each quantity is read off the
+brain's estimates: :mod:`brain.fitting.judged`.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,12 +37,12 @@ from bridge.recording.trace import Trace
 from protocol import AgentKind
 
 from ..errors import SettingsError
-from ..model.arrays import FloatArray
-from ..model.estimates import Estimate
-from ..tracking.tracker import MindTracker
 
 COLUMNS = ("episode", "tick", "person", "quantity", "target", "value")
-QUANTITIES = ("belief", "desire", "false_belief")
+QUANTITIES = ("belief", "desire", "utility", "rank", "false_belief")
+GOAL_QUANTITIES = ("desire", "utility", "rank")
+"""The quantities whose target is a goal (an item, or ``out``)."""
+ESTIMATES = ("online", "smoothed")
 OUT = "out"
 
 
@@ -41,9 +52,10 @@ class JudgmentsError(SettingsError):
 
 @dataclass(frozen=True)
 class Judgment:
-    """One rating, resolved: the recording's index, the person, and the estimate's entry
-    (``index``: ``(item, location)`` for a belief, ``(goal,)`` for a desire, ``(item,)`` for
-    a false belief)."""
+    """One rating (or the mean of several raters' of one question), resolved: the
+    recording's index, the person, and the estimate's entry (``index``: ``(item, location)``
+    for a belief, ``(goal,)`` for a desire, utility or rank, ``(item,)`` for a false belief),
+    of the ``online`` or ``smoothed`` estimate."""
 
     line: int
     episode: int
@@ -52,6 +64,13 @@ class Judgment:
     quantity: str
     index: tuple[int, ...]
     value: float
+    estimate: str = "online"
+
+    @property
+    def kind(self) -> str:
+        """What the rating is compared as: the quantity, ``smoothed `` before it for a
+        retrospective one (each kind has its own correlation)."""
+        return self.quantity if self.estimate == "online" else f"smoothed {self.quantity}"
 
 
 def load_judgments(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> list[Judgment]:
@@ -71,7 +90,19 @@ def load_judgments(path: Path, traces: Sequence[Trace], names: Sequence[str]) ->
             f"{path}: expected a header with {', '.join(COLUMNS)} and rows; missing {missing}"
         )
     episodes = _episode_names(traces, names)
-    return [_judgment(path, n, row, traces, episodes) for n, row in enumerate(rows, start=2)]
+    return merge_raters([_judgment(path, n, row, traces, episodes) for n, row in enumerate(rows, start=2)])
+
+
+def merge_raters(judgments: Sequence[Judgment]) -> list[Judgment]:
+    """One judgment per question (episode, tick, person, quantity, entry, estimate): the mean
+    of its ratings, at the first one's line, in the order questions first appear."""
+    groups: dict[tuple[object, ...], list[Judgment]] = {}
+    for j in judgments:
+        groups.setdefault((j.episode, j.tick, j.person, j.quantity, j.index, j.estimate), []).append(j)
+    return [
+        dataclasses.replace(js[0], value=float(np.mean([j.value for j in js]))) if len(js) > 1 else js[0]
+        for js in groups.values()
+    ]
 
 
 def _episode_names(traces: Sequence[Trace], names: Sequence[str]) -> dict[str, int]:
@@ -110,8 +141,11 @@ def _judgment(
         raise bad(f"tick {tick} is outside episode {name} (ticks 0 to {last})")
     if quantity not in QUANTITIES:
         raise bad(f"quantity {quantity!r} is unknown (known: {', '.join(QUANTITIES)})")
+    estimate = (row.get("estimate") or "").strip() or "online"
+    if estimate not in ESTIMATES:
+        raise bad(f"estimate {estimate!r} is unknown (known: {', '.join(ESTIMATES)})")
     item, _, location = target.partition("@")
-    if quantity == "desire":
+    if quantity in GOAL_QUANTITIES:
         if target not in (*items, OUT):
             raise bad(f"goal {target!r} is unknown (goals: {', '.join([*items, OUT])})")
         index: tuple[int, ...] = ((items + [OUT]).index(target),)
@@ -126,28 +160,4 @@ def _judgment(
         index = (items.index(item), locations.index(location))
     else:
         index = (items.index(item),)
-    return Judgment(line, e, tick, person, quantity, index, value)
-
-
-def estimate_at(tracker: MindTracker, person: str, tick: int) -> Estimate | None:
-    """The person's online estimate after ``tick`` (``None`` before they were first seen)."""
-    track = tracker.tracks[person]
-    ticks = np.array([step.tick for step in track.steps])
-    n = int(np.searchsorted(ticks, tick, side="right"))
-    return track.estimates[n - 1] if n else None
-
-
-def predictions(tracker: MindTracker, judgments: Sequence[Judgment]) -> FloatArray:
-    """``(N,)`` the brain's estimate of each judged quantity (``nan`` before first sight)."""
-    out = np.full(len(judgments), np.nan)
-    for n, j in enumerate(judgments):
-        est = estimate_at(tracker, j.person, j.tick)
-        if est is None:
-            continue
-        if j.quantity == "belief":
-            out[n] = est.beliefs[j.index]
-        elif j.quantity == "desire":
-            out[n] = est.preference[j.index]
-        else:
-            out[n] = est.false_belief[j.index]
-    return out
+    return Judgment(line, e, tick, person, quantity, index, value, estimate)

@@ -12,7 +12,9 @@ action but an impossible move for factored scenes).
 
 As a model of judgments it is the evaluation's motion observer
 (:class:`bridge.evaluation.heuristic.MotionHeuristic`), which has no parameters: the desire is
-the item at the heading (or ``out``), beliefs are the truth, no false belief.
+the item at the heading (or ``out``), beliefs are the truth, no false belief; its utility
+of a goal is its P(most wanted) (as one favourite's is) and a goal's rank is by that; it has
+no smoothed estimate, so it answers a smoothed question with its online one.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ from ..model.world import WorldModel
 from ..settings import ModelSettings
 from ..tracking.tracker import MindTracker
 from .evidence import Evidence
+from .judged import rank_of
 from .judgments import Judgment
 from .replay import Recorder
 
@@ -168,8 +171,11 @@ def _estimate(mind: Mind, j: Judgment, goals: Sequence[str], locations: Sequence
     agent = next((a for a in mind.agents if a.agent == j.person), None)
     if agent is None:
         return float("nan")
-    if j.quantity == "desire":
+    if j.quantity in ("desire", "utility"):  # one favourite's utility is P(most wanted)
         return next((p.p for p in agent.preference if p.id == goals[j.index[0]]), 0.0)
+    if j.quantity == "rank":
+        p = {q.id: q.p for q in agent.preference}
+        return float(rank_of(np.array([p.get(g, 0.0) for g in goals]))[j.index[0]])
     if j.quantity == "belief":
         item = goals[j.index[0]]
         belief = next((b for b in agent.beliefs if b.item == item), None)

@@ -5,7 +5,8 @@ over each recording (:mod:`brain.fitting.replay`).
 
 A *model* is an observer and settings overrides (:data:`MODELS`): the graded default, the
 paper's point beliefs, belief-space planning, ``truebelief``, a no-cost model (every step
-free, so the path is no evidence of the goal), the motion heuristic
+free, so the path is no evidence of the goal), ``graded-desires`` and ``one-favourite`` (the
+default with ``desire_model`` pinned to ``graded`` or ``favourite``), the motion heuristic
 (:mod:`brain.fitting.motion`) and ``perceptonly`` (judgments only: it has no model of
 actions). Each is fitted on the same grid (less a parameter the model pins or lacks) and
 compared by held-out log-likelihood per action.
@@ -61,6 +62,8 @@ MODELS: dict[str, ModelSpec] = {
     "belief-planning": ModelSpec(Observer.BTOM.value, {"person_planner": "belief"}),
     Observer.TRUEBELIEF.value: ModelSpec(Observer.TRUEBELIEF.value),
     "nocost": ModelSpec(Observer.BTOM.value, {"step_cost": 0.0}),
+    "graded-desires": ModelSpec(Observer.BTOM.value, {"desire_model": "graded"}),
+    "one-favourite": ModelSpec(Observer.BTOM.value, {"desire_model": "favourite"}),
     MOTION: ModelSpec(MOTION, params=("beta", "epsilon"), judged_params=False),
     Observer.PERCEPTONLY.value: ModelSpec(Observer.PERCEPTONLY.value, actions=False, judged_params=False),
 }

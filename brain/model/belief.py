@@ -213,11 +213,14 @@ class BeliefModel:
         return g
 
     def transition(self, p: Percept) -> FloatArray:
-        """``(W, W)`` matrix ``T[i, j] = P(b_t = i | b_{t-1} = j, o_t)``; columns sum to 1."""
+        """``(W, W)`` matrix ``T[i, j] = P(b_t = i | b_{t-1} = j, o_t)``; columns sum to 1, but
+        for a world ``j`` the model rules out with no allowed world in reach (a fixed item
+        held where the person cannot see it): all zero (no belief is ever there)."""
         likelihood = self.percept_likelihood(p)
         t = self.in_pw(p) * (self.r * likelihood)[:, None]
         np.fill_diagonal(t, likelihood)
-        t /= t.sum(axis=0, keepdims=True)
+        total = t.sum(axis=0, keepdims=True)
+        t /= np.where(total > 0, total, 1.0)
         return t
 
     def true_target(self, truth: tuple[int, ...], p: Percept) -> int:

@@ -11,7 +11,8 @@ goals. A desire is a utility vector ``u`` over them; the planner solves one MDP 
 - ``graded``: the grid of every vector whose goals each take one of ``desire_levels``
   utilities evenly spaced from the goal's low value (``other_utility`` for an item,
   ``leave_utility_item`` for ``out``) to its high one (``preferred_utility``,
-  ``leave_utility_out``), all-low excluded: ``U = desire_levels**D - 1``. So "likes the
+  ``leave_utility_out``), all-low excluded: ``U = desire_levels**D - 1`` (in a scene with
+  no outside, ``out`` is not graded: ``desire_levels**K - 1``). So "likes the
   ball, then the skate, does not care to leave" is one of them.
 
 From weights over the ``U`` vectors: P(each goal is the most wanted) (ties split evenly),
@@ -44,19 +45,26 @@ def favourite_utilities(settings: ModelSettings, n_items: int) -> FloatArray:
     return u
 
 
-def graded_utilities(settings: ModelSettings, n_items: int) -> FloatArray:
-    """``(U, D)`` every vector of the grid (``desire_levels`` values per goal, all-low excluded)."""
+def graded_utilities(settings: ModelSettings, n_items: int, leaves: bool = True) -> FloatArray:
+    """``(U, D)`` every vector of the grid (``desire_levels`` values per goal, all-low excluded).
+
+    ``leaves``: whether the scene has an outside to leave to. Without one, ``out`` cannot be
+    reached, so vectors that differ in it alone plan alike: ``out`` stays at its low value
+    (``leave_utility_item``) and only the items are graded, ``desire_levels**K - 1`` vectors."""
     D, n = n_items + 1, settings.desire_levels
     low = np.array([settings.other_utility] * n_items + [settings.leave_utility_item])
     high = np.array([settings.preferred_utility] * n_items + [settings.leave_utility_out])
-    steps = np.array(list(itertools.product(range(n), repeat=D)), dtype=np.float64)[1:]  # (U, D)
+    graded = D if leaves else n_items
+    steps = np.zeros((n**graded - 1, D))
+    steps[:, :graded] = np.array(list(itertools.product(range(n), repeat=graded)), dtype=np.float64)[1:]
     return low + (high - low) * steps / (n - 1)
 
 
-def utilities(settings: ModelSettings, n_items: int) -> FloatArray:
-    """``(U, D)`` the candidate desires of ``settings.desire_model``."""
+def utilities(settings: ModelSettings, n_items: int, leaves: bool = True) -> FloatArray:
+    """``(U, D)`` the candidate desires of ``settings.desire_model`` (``leaves``: whether the
+    scene has an outside; see :func:`graded_utilities`; one favourite keeps ``out``)."""
     if settings.desire_model == "graded":
-        return graded_utilities(settings, n_items)
+        return graded_utilities(settings, n_items, leaves)
     return favourite_utilities(settings, n_items)
 
 

@@ -36,6 +36,7 @@ from .belief import UNNOTICED, Percept
 from .estimates import Estimate, point_false_belief
 from .inference import hazard_matrix
 from .planner import (
+    HAVE,
     INFEASIBLE,
     TAKE,
     TERMINAL,
@@ -81,9 +82,12 @@ def focus_transitions(model: WorldModel, focus: int | None) -> Transitions:
     kind[model.outside[c], Move.STAY] = 1
     spot = model.spot_at[c]
     on_spot = spot >= 0
-    if focus is not None:
+    if focus is not None and model.portable[focus]:  # a fixed item is never taken
         ok = (h == NOTHING) & on_spot & (v == 2 * spot)
         nxt[ok, TAKE + focus] = index(c[ok], np.full(ok.sum(), WANTED), 2 * spot[ok] + 1)
+        if model.have_goals:  # taking it is the goal: "have it"
+            nxt[ok, TAKE + focus] = TERMINAL
+            kind[ok, TAKE + focus] = HAVE
     drop = (h != NOTHING) & on_spot
     dropped = np.where(h == WANTED, 2 * spot, v) if focus is not None else v
     nxt[drop, drop_action(K)] = index(c[drop], np.zeros(drop.sum(), dtype=np.int64), dropped[drop])
@@ -106,6 +110,7 @@ def focus_rewards(trans: Transitions, settings: ModelSettings, wants_item: bool)
     )
     play = trans.terminal_kind == 2
     reward[play] = np.broadcast_to(utility[trans.held][:, None], reward.shape)[play]
+    reward[trans.terminal_kind == HAVE] = settings.preferred_utility  # only the wanted item's Take
     return reward
 
 
@@ -172,17 +177,19 @@ class FactoredBeliefs:
         self.same = values[:, None] == values[None, :]
 
     def transition(self, p: Percept) -> FloatArray:
-        """``(K, V, V)``: ``T[k, i, j] = P(item k believed at value i | j, o)``; columns sum to 1."""
+        """``(K, V, V)``: ``T[k, i, j] = P(item k believed at value i | j, o)``; columns sum to 1
+        (all zero for a value :attr:`WorldModel.value_ok` rules out with no allowed one in reach)."""
         seen = np.array(p.seen, dtype=np.int64)  # (K,)
         visible = self.model.sees[p.cell][self.place]  # (V,)
         values = np.arange(self.model.n_values)
         blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
         match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)  # (K, V)
-        likelihood = np.where(match, 1.0 - self.delta, self.delta)
+        likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok  # (K, V)
         affected = (seen[:, None] >= 0) | (visible[None, :] & (seen[:, None] != UNNOTICED))  # (K, V_j)
         g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
         t = likelihood[:, :, None] * g
-        return t / t.sum(axis=1, keepdims=True)
+        total = t.sum(axis=1, keepdims=True)  # 0 for a value ruled out with none in reach
+        return t / np.where(total > 0, total, 1.0)
 
     def revise(self, beliefs: FloatArray, p: Percept, *, predict: bool) -> FloatArray:
         """``(K, N, V)`` each item's graded beliefs after percept ``p``, by Bayes on the item
@@ -194,7 +201,7 @@ class FactoredBeliefs:
         values = np.arange(self.model.n_values)
         blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
         match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)
-        likelihood = np.where(match, 1.0 - self.delta, self.delta)  # (K, V)
+        likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok  # (K, V)
         affected = (seen[:, None] >= 0) | (visible[None, :] & (seen[:, None] != UNNOTICED))
         g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
         if predict:
@@ -228,9 +235,12 @@ class FactoredPosterior:
 
 
 def factored_prior(model: WorldModel) -> FactoredPosterior:
-    """Uniform over preferences and over every item's values (the exact model's prior)."""
-    D, K, V = model.n_items + 1, model.n_items, model.n_values
-    return FactoredPosterior(alpha=np.full(D, 1.0 / D), beliefs=np.full((D, K, V), 1.0 / V))
+    """Uniform over preferences and over every item's allowed values (:attr:`WorldModel.value_ok`:
+    a fixed item is never held), the exact model's prior without capacities."""
+    D = model.n_items + 1
+    ok = model.value_ok.astype(np.float64)  # (K, V)
+    per_item = ok / ok.sum(axis=1, keepdims=True)
+    return FactoredPosterior(alpha=np.full(D, 1.0 / D), beliefs=np.repeat(per_item[None], D, axis=0))
 
 
 def factored_step(

@@ -194,7 +194,7 @@ def solve(model: WorldModel, settings: ModelSettings, max_sweeps: int = 10_000) 
     look = look_transitions(points, model.sees)
     n, held_index = len(points) + 1, len(points)
     J = n**K
-    u = utilities(settings, K)
+    u = utilities(settings, K, leaves=bool(model.outside.any()))
     eye = np.eye(L + 1)
     certain = np.array([int(np.flatnonzero(np.all(np.isclose(points, eye[i]), axis=1))[0]) for i in range(L)])
     strides = np.array([n ** (K - 1 - k) for k in range(K)], dtype=np.int64)
@@ -217,7 +217,7 @@ def solve(model: WorldModel, settings: ModelSettings, max_sweeps: int = 10_000) 
         for c in spots:
             there = int(certain[model.spot_at[c]])
             for k in range(K):
-                ok = digits[:, k] == there
+                ok = (digits[:, k] == there) & bool(model.portable[k])  # a fixed item is never taken
                 after = np.arange(J) + (held_index - digits[:, k]) * strides[k]
                 take = step + gamma * value[:, c, k + 1][:, after]
                 best[:, c, 0] = np.where(ok[None, :], np.maximum(best[:, c, 0], take), best[:, c, 0])

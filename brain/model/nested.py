@@ -70,6 +70,8 @@ class NestedBeliefs:
         """``(P, K, V)``; ``None`` until the first tick."""
         self.time: float | None = None
         self._transitions: dict[Percept, FloatArray] = {}
+        self._seen: dict[tuple[int, int], bool] = {}
+        """(viewer cell, other cell) -> :meth:`sees` (the map's sight never changes)."""
 
     def observe(
         self,
@@ -116,7 +118,10 @@ class NestedBeliefs:
         """Whether a person on cell index ``viewer`` sees one on ``other``."""
         if viewer is None or other is None:
             return False
-        return bool(self.model.sees_carrier(viewer, np.array(other)))
+        found = self._seen.get((viewer, other))
+        if found is None:
+            found = self._seen[(viewer, other)] = bool(self.model.sees_carrier(viewer, np.array(other)))
+        return found
 
     def locations(self, a: str, b: str) -> FloatArray:
         """``(K, L)`` where A believes B believes each item is (carried counts near its place)."""

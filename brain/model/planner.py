@@ -3,7 +3,8 @@ iteration, and the Boltzmann action likelihood the inference uses.
 
 States ``s = (c * (K + 1) + h) * W + w`` for cell ``c``, held item ``h`` (0: nothing, else
 item ``h - 1``) and world ``w``; ``S = C (K + 1) W``. Actions ``Up, Down, Left, Right, Stay,
-Take(0..K-1), Drop, Play, Use(0..K-1)``; ``A = 2 K + 7``. Use(k) ends the episode with
+Take(0..K-1), Drop, Play, Use(0..K-1)``; ``A = 2 K + 7``; ``Take(k)`` of a fixed item
+(``ItemSpec.portable`` false) is infeasible everywhere. Use(k) ends the episode with
 ``k``'s utility on a ``use`` location where ``k`` rests; a Drop into a world that a
 location's ``capacity`` rules out is impossible. Preferences ``d`` are the items, then ``out``;
 ``D = K + 1``. Everything is vectorised over states: one value-iteration sweep is a gather
@@ -29,12 +30,15 @@ from protocol import Scene
 from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
 from .desires import utilities
+from .goalvalues import solve_goals
 from .world import WorldModel, build_world_model
 
 log = logging.getLogger(__name__)
 
 INFEASIBLE = -1
 TERMINAL = -2
+HAVE = 4
+"""``Transitions.terminal_kind`` of a Take that is the goal itself (``WorldModel.have_goals``)."""
 
 
 class Move(enum.IntEnum):
@@ -73,7 +77,8 @@ class Transitions:
 
     Attributes:
         next_state: ``(S, A)`` successor, or ``INFEASIBLE`` / ``TERMINAL``.
-        terminal_kind: ``(S, A)`` 1 for reaching the outside, 2 for Play, 3 for Use, else 0.
+        terminal_kind: ``(S, A)`` 1 for reaching the outside, 2 for Play, 3 for Use, 4
+            (:data:`HAVE`) for a Take that is the goal ("have it"), else 0.
         held: ``(S,)`` held item code ``h`` of each state.
     """
 
@@ -128,8 +133,12 @@ def transitions(model: WorldModel) -> Transitions:
     kind[model.outside[c], Move.STAY] = 1
     spot = model.spot_at[c]
     on_spot = spot >= 0
-    for k in range(K):
+    for k in [int(i) for i in np.flatnonzero(model.portable)]:  # a fixed item is never taken
         ok = (h == 0) & on_spot & (model.worlds[w, k] == 2 * spot)
+        if model.have_goals:  # taking it is the goal: "have it"
+            nxt[ok, TAKE + k] = TERMINAL
+            kind[ok, TAKE + k] = HAVE
+            continue
         nxt[ok, TAKE + k] = index(
             c[ok], np.full(ok.sum(), k + 1), model.with_value(w[ok], k, 2 * spot[ok] + 1)
         )
@@ -166,6 +175,8 @@ def rewards(
     for k in range(K):
         column = reward[:, use_action(K, k)]
         column[trans.terminal_kind[:, use_action(K, k)] == 3] = utility[k]
+        column = reward[:, TAKE + k]
+        column[trans.terminal_kind[:, TAKE + k] == HAVE] = utility[k]
     return reward
 
 
@@ -250,9 +261,24 @@ class Policy:
 
 
 def solve(model: WorldModel, settings: ModelSettings) -> tuple[FloatArray, FloatArray]:
-    """``(U, D)`` the candidate desires and ``(U, S, A)`` their Q-values (no cache)."""
+    """``(U, D)`` the candidate desires and ``(U, S, A)`` their Q-values (no cache): from one
+    pass over the goals (:mod:`brain.model.goalvalues`), or by value iteration per candidate
+    when some goal is worth less than standing forever (the closed form assumes none is)."""
     trans = transitions(model)
-    u = utilities(settings, model.n_items)
+    u = utilities(settings, model.n_items, leaves=bool(model.outside.any()))
+    if u.min() >= -settings.step_cost / (1.0 - settings.discount):
+        qs = solve_goals(
+            trans.next_state,
+            trans.terminal_kind,
+            trans.held,
+            use_action(model.n_items, 0),
+            TAKE,
+            u,
+            settings.step_cost,
+            settings.discount,
+        )
+        return u, qs
+    log.info("planning %d candidate desires by value iteration (a goal is worth less than standing)", len(u))
     qs = np.stack(
         [
             value_iteration(

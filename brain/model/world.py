@@ -49,6 +49,8 @@ class WorldModel:
             cell, or -1 (:class:`protocol.carry.CarrierSight`).
         open_areas: ``(C, R)`` the regions without locations that each cell is in or is a
             door of: a carrier there is seen from cells sharing one.
+        portable: ``(K,)`` whether each item can be carried (``ItemSpec.portable``): a fixed
+            item is never held in any world the model allows (:attr:`value_ok`).
     """
 
     cells: IntArray
@@ -66,6 +68,7 @@ class WorldModel:
     capacity: IntArray
     carrier_spot: IntArray
     open_areas: BoolArray
+    portable: BoolArray
 
     @property
     def n_cells(self) -> int:
@@ -82,6 +85,13 @@ class WorldModel:
     @property
     def n_values(self) -> int:
         return 2 * len(self.locations)
+
+    @property
+    def have_goals(self) -> bool:
+        """Whether taking an item is itself a goal ("have it"): in a scene with no play and no
+        ``use`` location, where nothing else can be done with an item, ``Take(k)`` ends the
+        planner's episode with ``k``'s utility (docs/model.md, "Desires")."""
+        return not (bool(self.play_at.any()) or bool(self.use_at.any()))
 
     @property
     def n_worlds(self) -> int:
@@ -110,15 +120,26 @@ class WorldModel:
         )
 
     @cached_property
+    def value_ok(self) -> BoolArray:
+        """``(K, V)`` the values each item may take on its own: every value, less "held" for a
+        fixed item (``portable`` false) and "held at :data:`ABSENT`" for every item."""
+        values = np.arange(self.n_values)
+        held = values % 2 == 1
+        ok = np.broadcast_to(~held, (self.n_items, self.n_values)) | self.portable[:, None]
+        if self.locations and self.locations[-1] == ABSENT:
+            ok = ok & (values != 2 * (self.n_locations - 1) + 1)[None, :]
+        return np.ascontiguousarray(ok)
+
+    @cached_property
     def allowed(self) -> BoolArray:
-        """``(W,)`` the worlds no location's ``capacity`` rules out (and no item held "at"
-        :data:`ABSENT`)."""
+        """``(W,)`` the worlds no location's ``capacity`` rules out, with every item at a value
+        :attr:`value_ok` allows (no fixed item held, no item held "at" :data:`ABSENT`)."""
         resting = self.worlds % 2 == 0
         ok = np.ones(len(self.worlds), dtype=bool)
         for loc in np.flatnonzero(self.capacity > 0):
             ok &= ((self.place == loc) & resting).sum(axis=1) <= self.capacity[loc]
-        if self.locations and self.locations[-1] == ABSENT:
-            ok &= ~np.any(self.worlds == 2 * (self.n_locations - 1) + 1, axis=1)
+        for k in range(self.n_items):  # K passes over (W,)
+            ok &= self.value_ok[k, self.worlds[:, k]]
         return ok
 
     @cached_property
@@ -206,4 +227,5 @@ def build_world_model(scene: Scene) -> WorldModel:
             [locations.index(sight.spot[c]) if c in sight.spot else -1 for c in walkable], dtype=np.int64
         ),
         open_areas=np.array([[r in sight.open[c] for r in open_ids] for c in walkable], bool).reshape(n, -1),
+        portable=np.array([item.portable for item in scene.items], dtype=bool),
     )

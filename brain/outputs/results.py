@@ -4,6 +4,7 @@ message the brain publishes every tick."""
 from __future__ import annotations
 
 import itertools
+import weakref
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from protocol import (
 
 from ..model.desires import DesireSummary
 from ..model.estimates import OUT, Estimate
+from ..model.nested import NestedBeliefs
 from ..model.world import WorldModel
 from ..tracking.tracker import MindTracker
 from .groundtruth import load_ground_truth
@@ -65,16 +67,30 @@ def mind_message(
     return Mind(episode=state.episode, tick=state.tick, agents=tuple(agents), robots=robots)
 
 
+_nested_kept: weakref.WeakKeyDictionary[NestedBeliefs, tuple[bytes, dict[str, tuple[NestedBelief, ...]]]] = (
+    weakref.WeakKeyDictionary()
+)
+"""Per nested-belief filter, its last rounded ``(P, K, L)`` array (as bytes) and the messages
+built of it: most ticks the rounded numbers are the tick before's, and so are the messages."""
+
+
 def nested_messages(tracker: MindTracker) -> dict[str, tuple[NestedBelief, ...]]:
     """Per person, where they believe each other person believes each item is, at the last
-    tick (empty before the first)."""
+    tick (empty before the first). The result is shared between ticks: do not change it."""
     nested = tracker.nested
     if nested.values is None:
         return {}
+    rounded = np.round(nested.all_locations(), 6)
+    key = rounded.tobytes()
+    kept = _nested_kept.get(nested)
+    if kept is not None and kept[0] == key:
+        return kept[1]
     out: dict[str, list[NestedBelief]] = {}
-    for (a, b), rows in zip(nested.pairs, np.round(nested.all_locations(), 6).tolist(), strict=True):
+    for (a, b), rows in zip(nested.pairs, rounded.tolist(), strict=True):
         out.setdefault(a, []).append(NestedBelief(agent=b, beliefs=item_beliefs(tracker.model, rows)))
-    return {person: tuple(beliefs) for person, beliefs in out.items()}
+    messages = {person: tuple(beliefs) for person, beliefs in out.items()}
+    _nested_kept[nested] = (key, messages)
+    return messages
 
 
 def item_beliefs(model: WorldModel, rows: list[list[float]]) -> tuple[ItemBelief, ...]:

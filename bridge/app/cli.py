@@ -32,11 +32,15 @@ NODE_HELP = {
     "view": "the meshcat live view of a world (prints its URL; --screenshot FILE.png)",
     "gateway": "carry a world over a WebSocket for engines without Zenoh (Unity, C#): "
     "--world W [--listen ws://127.0.0.1:7448] [--token FILE]",
+    "play": "serve a page where participants play one person of a scenario in their browser, each in a "
+    "world of their own, recorded to MCAP: --scenario S --as A1 [--participants N] [--out DIR]",
     "generate": "write a random episode (and its map): --map M --seed S --out DIR, or --rooms R --items K",
     "export-scenario": "write a scenario as one JSON document for engines without TOML (the C# engine): "
     "--scenario NAME [--out FILE]",
     "fit": "fit the model's parameters to recorded runs (RECORDINGS... --params beta,hazard --out DIR), "
     "cross-validated by episode, and compare models by held-out log-likelihood",
+    "rate": "serve a judgments page: participants watch recordings and rate beliefs and desires "
+    "(RECORDINGS... --questions FILE.toml [--out FILE.csv] [--participants N])",
 }
 
 

@@ -178,9 +178,11 @@ NODES = {
     "brain": ("brain", ()),
     "view": ("bridge.view", ()),
     "gateway": ("bridge.gateway", ()),
+    "play": ("bridge.play", ()),
     "generate": ("sim2d", ("generate",)),
     "export-scenario": ("sim2d", ("export",)),
     "fit": ("brain", ("fit",)),
+    "rate": ("bridge.rating", ()),
 }
 """Commands that run a node package as its own process (``toyroom sim`` -> ``python -m
 sim2d``, ``toyroom generate`` -> ``python -m sim2d generate``), with their options."""

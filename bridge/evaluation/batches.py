@@ -33,6 +33,7 @@ from ..processes import engine_command, report_failure, start_node, stop_node, w
 from ..pubsub import Received
 from ..session import SessionSettings
 from .runs import RunRecord, RunResult, RunSpec, brain_command, read_log, score_run, settle
+from .truths import subscribe_truths
 
 log = logging.getLogger("toyroom.eval")
 
@@ -92,7 +93,7 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
             if wait_for_engine(bridge, engine) is None:
                 report_failure("engine", engine.returncode, engine_log)
                 return BatchResult.nothing(len(episodes), len(episodes[0]))
-            bridge.subscribe(bridge.keys.truth, truths.on_truth, expected=Truth)
+            subscribe_truths(bridge, truths.on_truth)
             for kind in range(len(episodes[0])):
                 if engine.poll() is not None:  # gone: no later run can finish
                     report_failure("engine", engine.returncode, engine_log)

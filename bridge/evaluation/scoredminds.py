@@ -5,7 +5,10 @@ A run log holds every ``mind`` the brain published (:mod:`brain.outputs.runlog`)
 worlds, intentions). Reading only each person's beliefs, preference and flagged false
 beliefs is about four times faster than decoding the whole message, and the same numbers:
 the decoder skips the other fields. The log is the brain's own output of this very run, so
-it is read as is, without the protocol checks a message from the wire gets.
+it is read as is, without the protocol checks a message from the wire gets. Its structs
+hold no cycles, so the garbage collector does not track them (``gc=False``): an evaluation
+keeps many thousands of them, and the collector's passes over them cost more than reading
+them did.
 """
 
 from __future__ import annotations
@@ -15,28 +18,28 @@ from pathlib import Path
 import msgspec
 
 
-class Chance(msgspec.Struct, frozen=True):
+class Chance(msgspec.Struct, frozen=True, gc=False):
     """One entry of a distribution: ``p`` of ``id`` (a location, an item, or ``out``)."""
 
     id: str
     p: float
 
 
-class ScoredBelief(msgspec.Struct, frozen=True):
+class ScoredBelief(msgspec.Struct, frozen=True, gc=False):
     """A person's believed location of ``item``."""
 
     item: str
     locations: tuple[Chance, ...]
 
 
-class ScoredNested(msgspec.Struct, frozen=True):
+class ScoredNested(msgspec.Struct, frozen=True, gc=False):
     """Where the person believes ``agent`` believes each item is."""
 
     agent: str
     beliefs: tuple[ScoredBelief, ...]
 
 
-class ScoredAgent(msgspec.Struct, frozen=True):
+class ScoredAgent(msgspec.Struct, frozen=True, gc=False):
     """What the evaluation scores of the brain's estimate of one person."""
 
     agent: str
@@ -48,7 +51,7 @@ class ScoredAgent(msgspec.Struct, frozen=True):
     nested_beliefs: tuple[ScoredNested, ...] = ()
 
 
-class ScoredMind(msgspec.Struct, frozen=True):
+class ScoredMind(msgspec.Struct, frozen=True, gc=False):
     """What the evaluation scores of one tick's ``mind`` message."""
 
     tick: int

@@ -11,9 +11,11 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+import pytest
 from support import toyroom_fit as fit
 
-from brain.fitting.judgments import estimate_at
+from brain.fitting.judged import estimate_at, predictions
+from brain.fitting.judgments import Judgment, load_judgments
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from bridge.recording.trace import read_trace
@@ -86,11 +88,13 @@ def test_judgments_naming_what_is_not_there_are_errors(recordings: list[Path], t
         "quantity 'mood' is unknown": ["paper-1", "30", "A1", "mood", "ball", "0.5"],
         "tick 99999 is outside episode paper-1": ["paper-1", "99999", "A1", "desire", "ball", "0.5"],
         "value a number": ["paper-1", "30", "A1", "desire", "ball", "high"],
+        "goal 'kite' is unknown": ["paper-1", "30", "A1", "rank", "kite", "2"],
+        "estimate 'later' is unknown": ["paper-1", "30", "A1", "utility", "ball", "0.5", "later"],
     }
     for expected, row in cases.items():
         path = tmp_path / "bad.csv"
         with path.open("w", newline="") as handle:
-            csv.writer(handle).writerows([HEADER, good, row])
+            csv.writer(handle).writerows([[*HEADER, "estimate"], [*good, ""], row + [""] * (7 - len(row))])
         result = fit(
             *recordings, "--params", "beta", "--folds", "2", "--judgments", path, "--out", tmp_path / "o"
         )
@@ -104,3 +108,122 @@ def test_judgments_naming_what_is_not_there_are_errors(recordings: list[Path], t
         *recordings, "--params", "beta", "--folds", "2", "--judgments", headless, "--out", tmp_path / "o"
     )
     assert result.returncode == 2 and "expected a header" in result.stderr, result.stderr
+
+
+def _tracked(recording: Path, desire_model: str) -> MindTracker:
+    trace = read_trace(recording)
+    tracker = MindTracker(trace.info.scene, dataclasses.replace(ModelSettings(), desire_model=desire_model))
+    for state, events in trace:
+        tracker.observe(state, events)
+    return tracker
+
+
+def _goal_rows(tracker: MindTracker, person: str, tick: int, estimate: str) -> list[Judgment]:
+    goals = len(tracker.scene.items) + 1
+    return [
+        Judgment(0, 0, tick, person, quantity, (g,), 0.0, estimate)
+        for quantity in ("desire", "utility", "rank")
+        for g in range(goals)
+    ]
+
+
+@pytest.mark.parametrize("desire_model", ["favourite", "graded"])
+def test_smoothed_utility_and_rank_are_read_off_the_estimates(
+    recordings: list[Path], desire_model: str
+) -> None:
+    tracker = _tracked(recordings[1], desire_model)
+    person = tracker.people[0]
+    steps = tracker.tracks[person].steps
+    first, last = steps[0].tick, steps[-1].tick
+    D = len(tracker.scene.items) + 1
+    read = {
+        (tick, estimate): predictions(tracker, _goal_rows(tracker, person, tick, estimate)).reshape(3, D)
+        for tick in (first, last)
+        for estimate in ("online", "smoothed")
+    }
+    for (tick, estimate), (desire, wanted, rank) in read.items():
+        where = f"{desire_model} at tick {tick}, {estimate}"
+        assert np.isclose(rank.sum(), D * (D + 1) / 2), (
+            f"{where}: expected ranks summing to {D * (D + 1) / 2}, got {rank}"
+        )
+        assert ((wanted >= 0) & (wanted <= 1)).all(), f"{where}: utilities on the goals' scale, got {wanted}"
+        assert np.argmin(rank) == np.argmax(wanted), (
+            f"{where}: the most wanted goal ranks first: {wanted}, {rank}"
+        )
+        if desire_model == "favourite":
+            assert np.allclose(wanted, desire), (
+                f"{where}: one favourite's utility is P(most wanted): {wanted} vs {desire}"
+            )
+    assert np.allclose(read[(last, "smoothed")], read[(last, "online")]), (
+        "at the last step smoothing is filtering"
+    )
+    assert not np.allclose(read[(first, "smoothed")], read[(first, "online")]), (
+        f"at the first step the smoothed desire should know the rest of the path: {read[(first, 'smoothed')]}"
+    )
+
+
+def test_raters_are_averaged_and_extra_columns_read_past(recordings: list[Path], tmp_path: Path) -> None:
+    path = tmp_path / "page.csv"
+    with path.open("w", newline="") as handle:
+        rows = [[*HEADER, "estimate", "participant", "question"]]
+        rows += [
+            ["paper-1", "30", "A1", "utility", "ball", v, "smoothed", f"p{n}", "q1"]
+            for n, v in enumerate("153")
+        ]
+        rows += [["paper-1", "30", "A1", "utility", "ball", "7", "", "p0", "q2"]]
+        rows += [["paper-1", "30", "A1", "rank", "out", "2", "online", "p0", "q3"]]
+        csv.writer(handle).writerows(rows)
+    traces = [read_trace(r) for r in recordings]
+    judged = load_judgments(path, traces, [r.parent.name for r in recordings])
+    got = [(j.kind, j.value, j.line) for j in judged]
+    assert got == [("smoothed utility", 3.0, 2), ("utility", 7.0, 5), ("rank", 2.0, 6)], (
+        f"expected three questions, the first the mean of its three ratings: {got}"
+    )
+
+
+def test_fit_to_smoothed_goal_ratings_compares_models_paired(recordings: list[Path], tmp_path: Path) -> None:
+    path = tmp_path / "judgments.csv"
+    with path.open("w", newline="") as handle:
+        out = csv.writer(handle)
+        out.writerow([*HEADER, "estimate"])
+        for recording in recordings:
+            tracker = _tracked(recording, "graded")
+            episode = read_trace(recording).info.scenario
+            for person in tracker.people:
+                for tick in (tracker.ticks[len(tracker.ticks) // 3], tracker.ticks[-1]):
+                    rows = _goal_rows(tracker, person, tick, "smoothed")
+                    goals = [*(i.id for i in tracker.scene.items), "out"]
+                    for j, value in zip(rows, predictions(tracker, rows), strict=True):
+                        if j.quantity != "desire" and np.isfinite(value):
+                            target = goals[j.index[0]]
+                            out.writerow([episode, tick, person, j.quantity, target, value, "smoothed"])
+    result = fit(
+        *recordings,
+        "--params",
+        "beta",
+        "--grid",
+        "beta=2,3",
+        "--models",
+        "graded-desires,one-favourite",
+        "--folds",
+        "3",
+        "--judgments",
+        path,
+        "--out",
+        tmp_path / "fit",
+    )
+    assert result.returncode == 0, result.stderr
+    judged = json.loads((tmp_path / "fit" / "fit.json").read_text())["judgments"]
+    assert set(judged["graded-desires"]["r"]) == {"smoothed utility", "smoothed rank"}, judged[
+        "graded-desires"
+    ]["r"]
+    assert judged["graded-desires"]["minus_first"] is None
+    minus = judged["one-favourite"]["minus_first"]
+    for kind in ("smoothed utility", "smoothed rank"):
+        r = judged["graded-desires"]["r"][kind]
+        assert r["mean"] > 0.95, (
+            f"ratings that are graded desires' estimates at beta 2 should correlate: {kind} {r}"
+        )
+        d = minus[kind]
+        assert d["lo"] <= d["mean"] <= d["hi"], f"{kind}: {d}"
+        assert np.isclose(d["mean"], judged["one-favourite"]["r"][kind]["mean"] - r["mean"]), (kind, d)

@@ -151,7 +151,7 @@ def test_conform_command_passes_and_the_token_goes_with_the_engine(world: str) -
 
 def test_a_protocol_1_1_engine_still_passes_conform(world: str) -> None:
     """Minor versions only add optional fields: an engine stamping 1.1 on every message passes
-    the kit of this side (1.3), with the difference said once, not failed."""
+    the kit of this side (the current version), with the difference said once, not failed."""
     with GridEngineProcess(world, "--scenario", "paper-robot", "--speak", "1.1"):
         result = conform(world, 10)
     assert result.returncode == 0, result.stdout + result.stderr

@@ -7,7 +7,9 @@ import msgspec
 import pytest
 from support import golden_examples
 
-from bridge.evaluation.runs import check_complete, missing_ticks
+from bridge.evaluation.metrics import Counts, Outcome, score_tick
+from bridge.evaluation.nestedscore import score_nested
+from bridge.evaluation.runs import TruthView, _score, check_complete, missing_ticks
 from protocol import Mind, Truth
 
 
@@ -33,3 +35,28 @@ def test_a_run_missing_minds_fails_with_what_is_missing() -> None:
     expected = ("perceptonly", "7 of 100 ticks", "(ticks 0, 1, 2, 3, 4, ...)")
     assert all(part in message for part in expected), f"expected {expected} in: {message}"
     check_complete("ep-btom-observe", "btom", _ticks(range(100), Mind), truths)  # complete: no error
+
+
+def test_scores_reused_from_the_tick_before_equal_scoring_every_tick() -> None:
+    truth, mind = golden_examples()["truth"], golden_examples()["mind"]
+    others = (
+        msgspec.structs.replace(truth, agents=truth.agents[:1]),
+        msgspec.structs.replace(mind, agents=mind.agents[::-1]),
+    )
+    pattern = [0, 0, 0, 1, 1, 0, 2, 2, 2, 0]  # runs of equal ticks, and changes of each kind
+    truths = {
+        t: msgspec.structs.replace(others[0] if k == 1 else truth, tick=t) for t, k in enumerate(pattern)
+    }
+    minds = {t: msgspec.structs.replace(others[1] if k == 2 else mind, tick=t) for t, k in enumerate(pattern)}
+    took = {4: {truth.agents[0].agent}}
+    view = TruthView(truths, took, [])
+    expected, seen = Counts(), set()
+    for tick in sorted(truths):
+        seen |= took.get(tick, set())
+        where = {place.item: place.location for place in truths[tick].items}
+        counts = score_tick(minds[tick], truths[tick], where, seen, view.causes[tick], view.known[tick])
+        score_nested(minds[tick], truths[tick], counts)
+        expected.add(counts)
+    got = _score(minds, view, Outcome()).counts
+    assert got == expected, f"expected {expected}, got {got}"
+    assert got.tv_n > 0, "expected some beliefs scored"

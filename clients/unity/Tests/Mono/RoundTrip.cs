@@ -22,6 +22,7 @@ namespace Toyroom.Tests
                 { "state", typeof(State) }, { "event", typeof(Event) }, { "truth", typeof(Truth) },
                 { "robot_command", typeof(RobotCommand) }, { "command_status", typeof(CommandStatus) },
                 { "heartbeat", typeof(Heartbeat) }, { "mind", typeof(Mind) },
+                { "person_command", typeof(PersonCommand) },
             };
             Directory.CreateDirectory(args[1]);
             foreach (var path in Directory.GetFiles(args[0], "*.json"))

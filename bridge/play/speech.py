@@ -1,0 +1,89 @@
+"""The robot's words as one person hears them (pure: no I/O).
+
+The robot's ``say``, ``request`` and ``give`` commands are on the wire (``robot/<id>/command``)
+and so is the moment each starts (its ``running`` status): that is when the person hears it,
+if it is said to them or in a room they are in. A ``request`` or a ``give`` to the person is
+an open question until the command ends (the engine waits for the person's answer).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from protocol import CommandState, CommandStatus, Give, Request, RobotCommand, Say, SayTopic
+
+
+@dataclass
+class Heard:
+    """What the person has heard so far, and the question open to them."""
+
+    lines: list[dict[str, Any]] = field(default_factory=list)
+    """``{"tick", "text", "to_you"}``, oldest first."""
+    question: dict[str, Any] | None = None
+    """``{"command", "kind", "text"}`` while the robot waits for the person's answer."""
+
+
+class Speech:
+    """Turns the robot's commands into sentences for ``person``.
+
+    Args:
+        person: the participant's person id.
+        names: display names of agents and items, by id.
+        region_name: display names of the location ids said (their region's name).
+    """
+
+    def __init__(self, person: str, names: dict[str, str], region_name: dict[str, str]) -> None:
+        self.person = person
+        self.names = names
+        self.region_name = region_name
+        self.commands: dict[str, RobotCommand] = {}
+        self.heard = Heard()
+
+    def on_command(self, command: RobotCommand) -> None:
+        """The brain sent ``command`` (kept until it runs)."""
+        self.commands[command.id] = command
+
+    def _name(self, ident: str | None) -> str:
+        return self.names.get(ident or "", ident or "something")
+
+    def sentence(self, command: RobotCommand, robot_holds: str | None) -> str | None:
+        """What the robot says doing ``command`` (``None``: it says nothing)."""
+        action = command.action
+        if isinstance(action, Say):
+            to = self._name(action.person)
+            if action.topic is SayTopic.LOCATION:
+                place = self.region_name.get(action.location or "", action.location)
+                return f"{to}, the {self._name(action.item)} is in {place} ({action.location})."
+            return f"{to}, {self._name(action.holder)} has the {self._name(action.item)}."
+        if isinstance(action, Request):
+            offer = f" I will give you the {self._name(action.offer)}." if action.offer else ""
+            return f"{self._name(action.person)}, may I have the {self._name(action.item)}?{offer}"
+        if isinstance(action, Give):
+            return f"{self._name(action.person)}, here is the {self._name(robot_holds)}."
+        return None
+
+    def on_status(self, status: CommandStatus, tick: int, hears: bool, robot_holds: str | None) -> bool:
+        """A status of a robot command; ``hears``: the person is in earshot of the robot.
+        Whether what the person hears or is asked changed."""
+        command = self.commands.get(status.command)
+        if command is None:
+            return False
+        question = self.heard.question
+        if status.state.final:
+            self.commands.pop(status.command, None)
+            if question is not None and question["command"] == status.command:
+                self.heard.question = None
+                return True
+            return False
+        if status.state is not CommandState.RUNNING:
+            return False
+        text = self.sentence(command, robot_holds)
+        to_you = getattr(command.action, "person", None) == self.person
+        if text is None or not (to_you or hears):
+            return False
+        self.heard.lines.append({"tick": tick, "text": text, "to_you": to_you})
+        if to_you and isinstance(command.action, (Request, Give)):
+            kind = "request" if isinstance(command.action, Request) else "give"
+            self.heard.question = {"command": command.id, "kind": kind, "text": text}
+        return True
