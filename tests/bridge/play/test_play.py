@@ -36,6 +36,7 @@ from bridge import Bridge
 from bridge.play import held_rate, play_metadata
 from protocol import Event
 from tests.bridge.play.cdp import Browser, Tab, wait_until
+from tests.bridge.view.test_framing import ocr
 
 pytestmark = pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium is not installed")
 
@@ -92,20 +93,6 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
         except subprocess.TimeoutExpired:
             process.kill()
             process.wait(timeout=10)
-
-
-def ocr(image: np.ndarray, folder: Path) -> str:
-    """What tesseract reads of the page's black text (the labels, the panel): pixels darker
-    than the walls (whose grey would read as ink) black on white, magnified twice."""
-    path = folder / "ocr.png"
-    ink = np.where(image.max(axis=2) < 0.15, 0, 255).astype(np.uint8)
-    picture = Image.fromarray(ink)
-    picture.resize((picture.width * 2, picture.height * 2), Image.Resampling.LANCZOS).save(path)
-    result = subprocess.run(
-        ["tesseract", str(path), "stdout", "--psm", "11"], capture_output=True, text=True, timeout=120
-    )
-    assert result.returncode == 0, result.stderr
-    return re.sub(r"\s+", " ", result.stdout)
 
 
 def _view(tab: Tab) -> dict[str, Any]:
@@ -280,7 +267,7 @@ def test_two_participants_have_worlds_of_their_own_and_a_reload_resumes(played: 
 @pytest.mark.skipif(shutil.which("tesseract") is None, reason="tesseract is not installed")
 def test_ocr_reads_the_rooms_and_the_person(played: Served, tmp_path: Path) -> None:
     picture = np.asarray(Image.open(played.notes["shot"]).convert("RGB"), dtype=float) / 255
-    text = ocr(picture, tmp_path)
+    text = ocr(picture, tmp_path, ink_below=0.15)  # darker than the walls, whose grey reads as ink
     rooms = [name for name in ROOMS if name in text]
     assert len(rooms) >= len(ROOMS) - 1, f"OCR read only {rooms} of {ROOMS}; it read: {text!r}"
     assert re.search(r"\b[Aa][1lI|]\s*\(you\)", text), f"OCR did not read 'A1 (you)'; it read: {text!r}"

@@ -86,11 +86,12 @@ def test_the_panel_shows_the_false_beliefs_in_red(picture: np.ndarray) -> None:
     assert ink > 1500, f"the panel has {ink} dark pixels: hardly any text"
 
 
-def ocr(image: np.ndarray, folder: Path) -> str:
-    """What tesseract reads in ``image``: its dark ink (the labels' text) black on white,
-    magnified twice, as sparse text (tinted floors and coloured marks read as noise)."""
+def ocr(image: np.ndarray, folder: Path, ink_below: float = 0.35) -> str:
+    """What tesseract reads in ``image``: its dark ink (pixels whose brightest channel is
+    below ``ink_below``: the labels' text) black on white, magnified twice, as sparse text
+    (tinted floors and coloured marks read as noise)."""
     path = folder / f"ocr-{uuid.uuid4().hex[:6]}.png"
-    ink = np.where(image.max(axis=2) < 0.35, 0, 255).astype(np.uint8)
+    ink = np.where(image.max(axis=2) < ink_below, 0, 255).astype(np.uint8)
     picture = Image.fromarray(ink)
     picture.resize((picture.width * 2, picture.height * 2), Image.Resampling.LANCZOS).save(path)
     result = subprocess.run(
