@@ -28,9 +28,12 @@ class ModelSettings:
         hazard: probability that the preference switches between two decisions.
         decision_seconds: the typical time of one decision (a move to the next cell): a
             longer gap between two decisions (a wait) compounds the hazard over it.
-        wait_decisions: a person who stands still this many ``decision_seconds`` while a
-            decision is due (not after playing, not outside) has decided to wait: one Stay
-            action per pause, with its likelihood (a long wait is evidence); 0 ignores waits.
+        wait_decisions: a person who stands on their cell this many ``decision_seconds``
+            since their last decision, while a decision is due (not after playing, not
+            outside), has decided to wait: one Stay, with its likelihood, and one more for
+            each further decision time (waiting is evidence in proportion to its length;
+            ``brain/tracking/waits.py``). More than 1, since a move itself takes one decision
+            time (1.5 tolerates a continuous engine's jitter); 0 ignores waits.
         discount: the planner's discount per action.
         preferred_utility: reward of playing with the preferred item.
         other_utility: reward of playing with any other item.
@@ -99,7 +102,7 @@ class ModelSettings:
     epsilon: float = 1e-3
     hazard: float = 0.05
     decision_seconds: float = 0.7
-    wait_decisions: float = 3.0
+    wait_decisions: float = 1.5
     discount: float = 0.95
     preferred_utility: float = 30.0
     other_utility: float = 1.0
@@ -132,7 +135,7 @@ class ModelSettings:
             "epsilon": 0.0 <= self.epsilon < 1.0,
             "hazard": 0.0 <= self.hazard < 1.0,
             "decision_seconds": self.decision_seconds > 0,
-            "wait_decisions": self.wait_decisions >= 0,
+            "wait_decisions": self.wait_decisions == 0 or self.wait_decisions > 1,
             "discount": 0.0 < self.discount < 1.0,
             "belief_model": self.belief_model in ("point", "graded"),
             "prior_resolution": self.prior_resolution >= 1,
@@ -162,7 +165,7 @@ ALLOWED = {
     "epsilon": "0 <= epsilon < 1",
     "hazard": "0 <= hazard < 1",
     "decision_seconds": "decision_seconds > 0",
-    "wait_decisions": "wait_decisions >= 0",
+    "wait_decisions": "0, or wait_decisions > 1",
     "discount": "0 < discount < 1",
     "belief_model": "one of point, graded",
     "prior_resolution": "an int >= 1",

@@ -36,8 +36,9 @@ from ..model.planner import plan
 from ..model.world import MOVE_STEPS, build_world_model
 from ..settings import ModelSettings
 
-TABLE_VERSION = 1
-"""Bumped when the file's layout changes."""
+TABLE_VERSION = 2
+"""Bumped when the file's layout or the meaning of a value changes (2: ``wait_decisions`` is
+when the first of a pause's Stays is read, one more each further decision time)."""
 
 
 def action_names(items: tuple[str, ...]) -> list[str]:

@@ -35,10 +35,11 @@ class PersonTrack:
     last_decision: float | None = None
     last_step: float | None = None
     """The engine time of the person's last step (for forgetting since)."""
-    waited: bool = False
-    """Whether the current pause was already counted as a decision to wait."""
+    stays: int = 0
+    """How many Stay decisions were read in the current pause (since ``last_decision``)."""
     settled: bool = False
-    """Whether the person played or left: no decision is due until they act again."""
+    """Whether the person played or left, or has not acted since first seen: no decision is
+    due (no wait is read) until they act."""
     chains: list[Chain] = field(default_factory=lambda: [Chain()])
     steps: list[StepRecord] = field(default_factory=list)
     """The steps of the likeliest branch (every branch steps at the same ticks)."""

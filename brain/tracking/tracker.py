@@ -1,12 +1,13 @@
 """Following people through the engine's state and events, tick by tick.
 
 Each tick, every person's decisions are read off the stream: a move when their cell
-changes to a neighbouring one, a take, drop or play when an event says so, and a wait
-(the planner's Stay) when they stand still for ``ModelSettings.wait_decisions`` decision
-times while a decision is due (not after playing, not outside; once per pause). A decision is
-one HMM step (its action likelihood, then the percept at the new position); a change of
-percept without a decision (an item moved in view, the robot's speech, an item handed
-over) is a step with the percept alone. Between steps the estimate is carried forward.
+changes to a neighbouring one, a take, drop or play when an event says so, and waits (the
+planner's Stay) in proportion to how long they stand on their cell while a decision is due:
+one for each decision time beyond what a move takes (:mod:`brain.tracking.waits`; not after
+playing, not outside, not before their first decision). A decision is one HMM step (its
+action likelihood, then the percept at the new position); a change of percept without a
+decision (an item moved in view, the robot's speech, an item handed over) is a step with
+the percept alone. Between steps the estimate is carried forward.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from ..settings import ModelSettings
 from .decisions import decided_action
 from .statecheck import check_items
 from .track import Chain, PersonTrack
+from .waits import stays_due
 from .worldview import WorldView
 
 
@@ -201,26 +203,27 @@ class MindTracker:
         seen = [self._percept(track.agent, cell, held, truth, events) for truth in truths]
         if track.cell is None:  # first sight of this person: the percept alone
             self._push(track, tick, seen, None, truths, switch=0.0, now=state.time)
-            track.last_decision = state.time
+            # no wait is read before their first decision: since when they could act is unknown
+            track.last_decision, track.settled = state.time, True
         else:
             action = decided_action(self.model, track.agent, track.cell, cell, events)
+            self._wait(track, state, cell, action, truths)  # before this tick's play settles them
             if any(a.id == track.agent and a.activity is Activity.PLAYING for a in state.agents):
                 track.settled = True
-            if action is None and self._waiting(track, cell, state.time):
-                action, track.waited = Move.STAY.value, True
-            elif action is not None:
-                track.waited = False
-                track.settled = action >= play_action(model.n_items) or bool(model.outside[cell])
             if action is not None:
+                track.settled = action >= play_action(model.n_items) or bool(model.outside[cell])
                 likelihood = self.person_model.likelihood(track.cell, track.held, action)
+                # the time since the last decision, less the Stays read in it (one decision time each)
                 elapsed = (state.time - (track.last_decision or 0.0)) / self.settings.decision_seconds
+                elapsed -= track.stays
+                seconds = elapsed * self.settings.decision_seconds
                 switch = switch_probability(self.settings.hazard, elapsed)
                 decision = (track.cell, track.held, action)
-                rumours = self._rumours(track.agent, state, state.time - (track.last_decision or 0.0))
+                rumours = self._rumours(track.agent, state, seconds)
                 self._push(
                     track, tick, seen, likelihood, truths, switch, decision, rumours, state.time, elapsed
                 )
-                track.last_decision = state.time
+                track.last_decision, track.stays = state.time, 0
             elif (
                 any(s != c.percept for s, c in zip(seen, track.chains, strict=True))
                 or (
@@ -267,13 +270,27 @@ class MindTracker:
         chance = (1.0 - np.exp(-rate * max(seconds, 0.0))) / (2 * max(len(heard), 1))
         return tuple((k, value, float(chance)) for k, value in heard)
 
-    def _waiting(self, track: PersonTrack, cell: int, now: float) -> bool:
-        """Whether the person has just stood still long enough, while a decision was due, to
-        count as deciding to wait (once per pause; ``ModelSettings.wait_decisions``)."""
-        wait = self.settings.wait_decisions * self.settings.decision_seconds
-        if wait <= 0 or track.waited or track.settled or cell != track.cell or self.model.outside[cell]:
-            return False
-        return now - (track.last_decision or 0.0) >= wait
+    def _wait(
+        self, track: PersonTrack, state: State, cell: int, action: int | None, truths: list[tuple[int, ...]]
+    ) -> None:
+        """Read the Stays the person has made by standing on their cell since their last
+        decision (:func:`~brain.tracking.waits.stays_due`), before this tick's decision if it
+        has one: each one step of its own, of one decision time, on the percept they stood
+        with. None while no decision is due (after playing, outside) or after a jump."""
+        standing = action is not None or cell == track.cell
+        if not standing or track.settled or track.cell is None or self.model.outside[track.cell]:
+            return
+        due = stays_due(state.time - (track.last_decision or 0.0), self.settings) - track.stays
+        if due <= 0:
+            return
+        likelihood = self.person_model.likelihood(track.cell, track.held, Move.STAY.value)
+        switch = switch_probability(self.settings.hazard, 1.0)
+        decision = (track.cell, track.held, Move.STAY.value)
+        rumours = self._rumours(track.agent, state, self.settings.decision_seconds)
+        seen = [p for c in track.chains if (p := c.percept) is not None]  # what they stood seeing
+        for _ in range(due):  # (this tick's percept comes after, with its decision or alone)
+            self._push(track, state.tick, seen, likelihood, truths, switch, decision, rumours, state.time, 1)
+        track.stays += due
 
     def _push(
         self,

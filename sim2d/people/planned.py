@@ -11,11 +11,15 @@ someone else's hands, and at each decision:
 2. draws one planner action from :meth:`~sim2d.people.policytable.PolicyTable.choice` for their
    cell, held item and belief;
 3. carries it out so the brain's tracker reads that action: a move walks to the neighbouring
-   cell (the next decision comes the tick after arriving); Stay stands still for
-   ``wait_decisions`` decision times and a tick; Take, Drop and Use happen at once (the next
-   decision the tick after); Play plays for ``Autonomy.play_ticks``. An action the world
-   does not allow (a wall, an item that is not there: only the ``epsilon`` floor picks these)
-   is carried out as a Stay.
+   cell (the next decision comes the tick after arriving); Take, Drop and Use happen at once
+   (the next decision the tick after); Play plays for ``Autonomy.play_ticks``. The ``k``-th
+   Stay in a row stands still until ``wait_decisions - 1 + k`` decision times after the
+   person's last decision the tracker sees (their last change of cell, take, drop, use or
+   play): exactly when the tracker reads its ``k``-th Stay (``brain/tracking/waits.py``), so
+   whatever comes next shows before it could read another (before the first such decision,
+   which the tracker reads no wait before, one decision time). An action the world does not
+   allow (a wall, an item that is not there: only the ``epsilon`` floor picks these) is
+   carried out as a Stay.
 
 Reaching the outside or playing ends the planner's episode: the person then waits
 ``Autonomy.wait_ticks`` (outside) or plays on, and decides again. ``Autonomy.switch``,
@@ -64,6 +68,12 @@ class PlannedPerson(AutonomousPerson):
         self.ready_at = 0
         """The first tick of the next decision."""
         self.last_decision: float | None = None
+        self.seen_decision: float | None = None
+        """The engine time of the last decision the brain's tracker sees: a change of cell, or
+        a take, drop, use or play (the tracker counts Stays from it; none before the first)."""
+        self.stays = 0
+        """Stays since then."""
+        self.cell: tuple[int, int] | None = None
         self.held_by_others: set[str] = set()
         """Items last seen in someone else's hands (value ``2 l + 1`` in the planner's worlds)."""
         self.decisions: list[tuple[int, str, float]] = []
@@ -78,6 +88,11 @@ class PlannedPerson(AutonomousPerson):
                 self.held_by_others.discard(item)
 
     def update(self, world: World) -> None:
+        cell = world.agents[self.id].cell
+        if cell != self.cell:  # it changed in the last tick's physics: that tick's state shows it
+            if self.cell is not None:
+                self._seen(world, world.tick - 1)
+            self.cell = cell
         self.belief.forget(self.autonomy.forget)
         self.perceive(world)
         if self.doing is not None and not self._continue(world):
@@ -157,20 +172,32 @@ class PlannedPerson(AutonomousPerson):
         elif action == "play":
             ok = self._play(world)
             if ok:
+                self._seen(world, world.tick)
                 return
         elif action.startswith("use:"):
             ok = world.use(self.id, action[4:]) is None
         if ok:
+            self._seen(world, world.tick)
             self.ready_at = world.tick + 1
             return
         self._stand(world)
 
+    def _seen(self, world: World, tick: int) -> None:
+        """The tracker sees a decision of this person at ``tick``."""
+        self.seen_decision, self.stays = tick * world.scenario.tick_seconds, 0
+
     def _stand(self, world: World) -> None:
-        """A Stay: stand still long enough for the tracker to read a decision to wait (or, outside,
-        for ``Autonomy.wait_ticks``)."""
-        tick = world.scenario.tick_seconds
-        ticks = math.ceil(self.table.wait_decisions * self.table.decision_seconds / tick) + 1
-        if self._outside(world):
+        """A Stay: stand still until the tracker reads it (module docstring), or, on a cell of
+        the outside (where the tracker reads no waits), for at least ``Autonomy.wait_ticks``."""
+        tick, d = world.scenario.tick_seconds, self.table.decision_seconds
+        self.stays += 1
+        if self.table.wait_decisions > 0 and self.seen_decision is not None:
+            until = self.seen_decision + (self.table.wait_decisions - 1 + self.stays) * d
+            ticks = max(1, math.ceil((until - world.tick * tick) / tick - 1e-6))
+        else:  # the tracker reads no wait (it ignores them, or has seen no decision yet): one decision time
+            ticks = math.ceil(d / tick - 1e-6)
+        if world.region_of.get(world.agents[self.id].cell) in world.map.outside_regions:
+            # an outside cell (not a door into it, which the tracker reads as inside)
             ticks = max(ticks, self._ticks(self.autonomy.wait_ticks))
         self.doing = Doing("stand", ticks)
 

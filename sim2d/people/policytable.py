@@ -21,7 +21,7 @@ from ..errors import Sim2dError
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 
-TABLE_VERSION = 1
+TABLE_VERSION = 2
 STAY = 4
 KEYS = ("q", "cells", "worlds", "nearest", "moves", "items", "locations", "goals", "actions")
 SCALARS = ("beta", "epsilon", "hazard", "decision_seconds", "wait_decisions", "table_version")
@@ -47,7 +47,8 @@ class PolicyTable:
         moves: ``(4, 2)`` (d col, d row) of the four move actions.
         items, locations, goals, actions: the names along ``K``, ``L``, ``D``, ``A``.
         beta, epsilon, hazard: the choice rule and the preference switch per decision.
-        decision_seconds, wait_decisions: a decision's time, and how long a Stay stands.
+        decision_seconds, wait_decisions: a decision's time, and the brain's reading of waits
+            (:mod:`sim2d.people.planned`: how long a Stay stands).
     """
 
     path: Path
