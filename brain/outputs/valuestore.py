@@ -23,17 +23,23 @@ import numpy as np
 
 from protocol import Scene
 
-from ..model import desires, planner, world
+from ..model import arrays, desires, goalvalues, planner, world
 from ..model.arrays import FloatArray
 
 log = logging.getLogger(__name__)
 
 
+SOURCES = (planner, goalvalues, desires, world, arrays)
+"""The modules whose source defines the MDP and its solution (:func:`brain.model.planner.solve`
+solves every candidate desire with :func:`brain.model.goalvalues.solve_goals`): a change to
+any of them names every stored file anew."""
+
+
 @cache
 def _sources() -> bytes:
-    """A digest of the code that defines the MDP and its solution."""
+    """A digest of the code that defines the MDP and its solution (:data:`SOURCES`)."""
     digest = hashlib.sha256()
-    for module in (planner, desires, world):
+    for module in SOURCES:
         digest.update(Path(module.__file__ or "").read_bytes())
     return digest.digest()
 
