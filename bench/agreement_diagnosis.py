@@ -4,15 +4,14 @@ the planner, graded desires by default), ratings made from the people's TRUE bel
 utilities, and several observer configurations read on the same episodes, paired.
 
 Each configuration (``--configs``, comma-separated) is
-``PLANNER-DESIRES[-LEVELS][-unique][-hazardfirst]``:
+``PLANNER-DESIRES[-LEVELS][-unique]``:
 ``person_planner`` (``qmdp``, the default, or ``belief``), ``desire_model`` (``graded`` or
 ``favourite``), graded desires' ``desire_levels`` (3 unless given) and ``unique`` (the grid
 without the candidates whose top goal is tied: the support the simulated people are drawn
-from, an oracle prior; the candidates are patched in this process only) and ``hazardfirst``
-(the exact graded model, patched in this process only, applies the preference switch of the
-pause before each decision before that decision's likelihood, not after it:
-:func:`hazard_first`). All at the study's beta and hazard. The first configuration is the
-reference.
+from, an oracle prior; the candidates are patched in this process only). All at the
+study's beta and hazard. The first configuration is the reference. (A ``hazardfirst``
+option once patched the exact graded model to apply the preference switch of the pause
+before a decision before that decision's likelihood; every model now does, so it is gone.)
 
 Questions (``K`` items, ``L`` locations, ``D = K + 1`` goals) of each person, each answered by
 ``--raters`` raters as ``synthetic_ratings`` does (``clip(round(1 + 6 (x**g + N(0, noise))),
@@ -91,28 +90,23 @@ class Config:
     desires: str
     levels: int = 3
     unique: bool = False
-    hazard_first: bool = False
 
     @classmethod
     def parse(cls, name: str) -> Config:
         parts = name.split("-")
         if len(parts) < 2 or parts[0] not in ("qmdp", "belief") or parts[1] not in ("graded", "favourite"):
-            raise ValueError(
-                f"a configuration is PLANNER-DESIRES[-LEVELS][-unique][-hazardfirst], not {name!r}"
-            )
-        levels, unique, first = 3, False, False
+            raise ValueError(f"a configuration is PLANNER-DESIRES[-LEVELS][-unique], not {name!r}")
+        levels, unique = 3, False
         for part in parts[2:]:
             if part == "unique":
                 unique = True
-            elif part == "hazardfirst":
-                first = True
             elif part.isdigit() and int(part) >= 2:
                 levels = int(part)
             else:
                 raise ValueError(f"unknown part {part!r} of configuration {name!r}")
         if parts[1] == "favourite" and (unique or levels != 3):
             raise ValueError(f"levels and unique are for graded desires: {name!r}")
-        return cls(name, parts[0], parts[1], levels, unique, first)
+        return cls(name, parts[0], parts[1], levels, unique)
 
     def settings(self, base: ModelSettings) -> ModelSettings:
         return dataclasses.replace(
@@ -147,69 +141,6 @@ def unique_top(active: bool) -> Iterator[None]:
     finally:
         planner.utilities, lookahead.utilities = real, real
         clear()
-
-
-@contextlib.contextmanager
-def hazard_first(active: bool) -> Iterator[None]:
-    """Within: the exact graded model (``brain/model/gradedperson.py``, patched in this process
-    only) applies each decision's preference switch (the hazard over the pause since the
-    person's previous decision) BEFORE the decision's likelihood, not after it, and an
-    estimate at a step is the desire that made that step's decision."""
-    if not active:
-        yield
-        return
-    from brain.model import gradedperson
-    from brain.model.inference import hazard_matrix, log_of
-
-    def switched(alpha: FloatArray, switch: float) -> FloatArray:
-        return alpha @ hazard_matrix(alpha.shape[1], switch) if switch > 0 else alpha
-
-    def step(self: gradedperson.GradedFilter, record: gradedperson.StepRecord) -> None:
-        if not self.started:
-            self.posterior, self.started = self.owner.prior(record.truth), True
-        likelihood = self.owner.decision_likelihood(self.state, record)
-        prior = switched(self.posterior, record.switch)
-        if likelihood is not None:
-            self.log_evidence += log_of(float((prior * likelihood).sum()))
-            prior = prior * likelihood
-        self.posterior = prior / prior.sum()
-        self.state = self.owner.revise(self.state, record)
-
-    def smoothed(
-        self: gradedperson.GradedModel, records: Sequence[gradedperson.StepRecord], online: Sequence[Estimate]
-    ) -> list[Estimate]:
-        beliefs, alpha = self._fresh_start(), self.prior(records[0].truth if records else None)
-        alphas, steps = [], []
-        for record in records:
-            likelihood = self.decision_likelihood(beliefs, record)
-            alpha = switched(alpha, record.switch)
-            alpha = alpha * likelihood if likelihood is not None else alpha
-            alpha = alpha / alpha.sum()
-            beliefs = self._revise(beliefs, record)
-            alphas.append(alpha)
-            steps.append((likelihood, record.switch))
-        back = np.ones_like(alpha)
-        posteriors = [alphas[-1]] if alphas else []
-        for t in range(len(records) - 1, 0, -1):
-            likelihood, switch = steps[t]
-            weighted = back * likelihood if likelihood is not None else back
-            back = weighted @ hazard_matrix(back.shape[1], switch).T if switch > 0 else weighted
-            back = back / back.sum()
-            joint = alphas[t - 1] * back
-            posteriors.append(joint / joint.sum())
-        posteriors.reverse()
-        beliefs, out = self._fresh_start(), []
-        for record, posterior in zip(records, posteriors, strict=True):
-            beliefs = self._revise(beliefs, record)
-            out.append(self.read(beliefs, posterior, record.truth))
-        return out
-
-    real = gradedperson.GradedFilter.step, gradedperson.GradedModel.smoothed
-    gradedperson.GradedFilter.step, gradedperson.GradedModel.smoothed = step, smoothed  # type: ignore[method-assign]
-    try:
-        yield
-    finally:
-        gradedperson.GradedFilter.step, gradedperson.GradedModel.smoothed = real  # type: ignore[method-assign]
 
 
 @dataclasses.dataclass
@@ -446,7 +377,7 @@ def diagnose(study: object, configs: Sequence[Config], raters: int, noise: float
     seconds = {"generate": round(generated, 1)}
     for config in configs:
         began = time.perf_counter()
-        with unique_top(config.unique), hazard_first(config.hazard_first):
+        with unique_top(config.unique):
             preds[config.name], rows = answers(eps, qs, config.settings(base))
         calib[config.name] = calibration(qs, rows, true_rows)
         seconds[config.name] = round(time.perf_counter() - began, 1)

@@ -148,9 +148,10 @@ def _graded(
             cell, held, action = record.decision
             q = model.policy.q[:, model.policy.state_slice(cell, held), :]
             likelihood = _choice(expected_q(beliefs, q.transpose(1, 0, 2)), action, points)
-            ll += _log((alpha * likelihood).sum(axis=(1, 2)))
-            alpha = _switched(alpha * likelihood, _switch(points["hazard"], record))
-            alpha /= alpha.sum(axis=(1, 2), keepdims=True)
+            alpha = _switched(alpha, _switch(points["hazard"], record)) * likelihood  # switch first
+            total = alpha.sum(axis=(1, 2), keepdims=True)
+            ll += _log(total.reshape(-1))
+            alpha = alpha / total
             n += 1
         beliefs = model.revise(beliefs, record)
     return ll, n
@@ -170,19 +171,18 @@ def _exact(
     ll, n = np.zeros(len(alpha)), 0
     for record in records:
         weighted = alpha
-        if record.decision is not None:
+        if record.decision is not None:  # the switch of the pause before it, then its likelihood
+            alpha = _switched(alpha, _switch(points["hazard"], record))
             cell, held, action = record.decision
             q = model.policy.q[:, model.policy.state_slice(cell, held), :]  # (U, W, A)
             likelihood = _choice(q.transpose(1, 0, 2), action, points)  # (P, W, U)
-            ll += _log((alpha * likelihood).sum(axis=(1, 2)))
             weighted = alpha * likelihood
+            ll += _log(weighted.sum(axis=(1, 2)))
             n += 1
         transition = model.hmm_step(record).transition
         predicted = _transform(transition, weighted)
-        if record.decision is not None:
-            predicted = _switched(predicted, _switch(points["hazard"], record))
         total = predicted.sum(axis=(1, 2), keepdims=True)
-        if not (total > 0).all():  # every hypothesis ruled out: the percept alone
+        if not (total > 0).all():  # every hypothesis ruled out: the percept (after the switch)
             predicted = np.where(total > 0, predicted, _transform(transition, alpha))
         alpha = predicted / predicted.sum(axis=(1, 2), keepdims=True)
     return ll, n

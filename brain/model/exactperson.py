@@ -17,7 +17,7 @@ from .arrays import FloatArray
 from .belief import BeliefModel
 from .desires import Desires
 from .estimates import Estimate, estimate
-from .inference import HmmStep, forward_step, log_of, smooth
+from .inference import HmmStep, filter_step, log_of, smooth
 from .personinterface import StepRecord
 from .planner import Policy, cached_policy
 
@@ -70,9 +70,9 @@ class ExactFilter:
     log_evidence: float = 0.0
 
     def step(self, record: StepRecord) -> None:
-        if record.likelihood is not None:
-            self.log_evidence += log_of(float((self.posterior * record.likelihood).sum()))
-        self.posterior = forward_step(self.posterior, self.owner.hmm_step(record))
+        self.posterior, evidence = filter_step(self.posterior, self.owner.hmm_step(record))
+        if record.likelihood is not None:  # the decision's evidence, after the pause's switch
+            self.log_evidence += log_of(evidence)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
         est = estimate(self.owner.model, self.posterior, truth, self.owner.desires)

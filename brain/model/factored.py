@@ -246,35 +246,44 @@ def factored_prior(model: WorldModel) -> FactoredPosterior:
 def factored_step(
     previous: FactoredPosterior, transition: FloatArray, likelihood: FloatArray | None, switch: float
 ) -> FactoredPosterior:
-    """The filtered posterior after one step, in the exact model's order: the action's
-    likelihood at the previous state, the belief transition of the new percept, the
-    preference switch.
+    """The filtered posterior after one step (:func:`factored_filter_step`)."""
+    return factored_filter_step(previous, transition, likelihood, switch)[0]
+
+
+def factored_filter_step(
+    previous: FactoredPosterior, transition: FloatArray, likelihood: FloatArray | None, switch: float
+) -> tuple[FactoredPosterior, float]:
+    """The filtered posterior after one step and the step's evidence (1 for a percept
+    alone), in the exact model's order: the preference switch of the pause before the step,
+    the action's likelihood at the previous state, the belief transition of the new percept.
 
     Args:
         previous: the posterior before the step.
         transition: ``(K, V, V)`` per-item belief transitions.
         likelihood: ``(D, V)`` action likelihood per preference and value of its wanted
             item (``out``'s row is constant), or ``None`` for a percept alone.
-        switch: probability that the preference changes at this step.
+        switch: probability that the preference changed in the pause before this step.
     """
     alpha, b = previous.alpha, previous.beliefs
     D, K, _ = b.shape
+    if switch > 0 and D > 1:
+        h = hazard_matrix(D, switch)
+        mixed_alpha = alpha @ h
+        b = np.einsum("e,ed,ekv->dkv", alpha, h, b) / mixed_alpha[:, None, None]
+        alpha = mixed_alpha / mixed_alpha.sum()
+    total = 1.0
     if likelihood is not None:
         items = np.arange(K)
         wanted = b[items, items, :] * likelihood[:K]  # (K, V): each item preference's own item
         evidence = np.append(wanted.sum(axis=1), likelihood[K].mean())
         weighted = alpha * evidence
-        if weighted.sum() > 0:  # else every hypothesis is ruled out: the percept alone
+        total = float(weighted.sum())
+        if total > 0:  # else every hypothesis is ruled out: the percept alone
             b = b.copy()
             b[items, items, :] = wanted / np.where(evidence[:K, None] > 0, evidence[:K, None], 1.0)
-            alpha = weighted / weighted.sum()
+            alpha = weighted / total
     b = np.einsum("kij,dkj->dki", transition, b)
-    if switch > 0 and D > 1:
-        h = hazard_matrix(D, switch)
-        mixed_alpha = alpha @ h
-        b = np.einsum("e,ed,ekv->dkv", alpha, h, b) / mixed_alpha[:, None, None]
-        alpha = mixed_alpha
-    return FactoredPosterior(alpha=alpha / alpha.sum(), beliefs=b)
+    return FactoredPosterior(alpha=alpha / alpha.sum(), beliefs=b), total
 
 
 def factored_intention(alpha: FloatArray, per_item: FloatArray) -> tuple[int | None, int | None, float]:

@@ -7,8 +7,6 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numpy as np
-
 from protocol import Scene
 
 from ..settings import ModelSettings
@@ -21,6 +19,7 @@ from .factored import (
     FactoredPosterior,
     cached_factored_policy,
     factored_estimate,
+    factored_filter_step,
     factored_prior,
     factored_step,
 )
@@ -92,15 +91,11 @@ class FactoredFilter:
     log_evidence: float = 0.0
 
     def step(self, record: StepRecord) -> None:
-        if record.likelihood is not None:
-            K = self.owner.model.n_items
-            items = np.arange(K)
-            wanted = (self.posterior.beliefs[items, items, :] * record.likelihood[:K]).sum(axis=1)
-            evidence = np.append(wanted, record.likelihood[K].mean())
-            self.log_evidence += log_of(float(self.posterior.alpha @ evidence))
-        self.posterior = factored_step(
+        self.posterior, evidence = factored_filter_step(
             self.posterior, self.owner.transition(record), record.likelihood, record.switch
         )
+        if record.likelihood is not None:  # the decision's evidence, after the pause's switch
+            self.log_evidence += log_of(evidence)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
         return dataclasses.replace(self.owner.read(self.posterior, truth), log_evidence=self.log_evidence)

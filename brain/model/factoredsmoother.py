@@ -7,13 +7,14 @@ graded one, ``N = P``). The backward message is kept in the same form,
 
     beta_t(d, x)  ~  c[d] * prod_k u[d, k, x_k],
 
-and one step back from ``t`` to ``t - 1`` is the filter's step in reverse: the preference
-switch of step ``t`` mixes the per-preference messages (projected back onto per-item factors,
-as the forward filter's assumed-density step does), each item's states go back through the
-step's belief transition (point model only; a graded hypothesis never changes), and the
-action likelihood multiplies the wanted item's factor (``out``'s is a constant). Without a
-switch the message is exact: given the preference, an action is evidence about the wanted
-item alone. The smoothed posterior is the product of the forward posterior and the message.
+and one step back from ``t`` to ``t - 1`` is the filter's step (switch, likelihood,
+transition) in reverse: each item's states go back through the step's belief transition
+(point model only; a graded hypothesis never changes), the action likelihood multiplies the
+wanted item's factor (``out``'s is a constant), and the preference switch of the pause
+before step ``t`` mixes the per-preference messages (projected back onto per-item factors,
+as the forward filter's assumed-density step does). Without a switch the message is exact:
+given the preference, an action is evidence about the wanted item alone. The smoothed
+posterior is the product of the forward posterior and the message.
 
 Shapes: ``alpha`` and ``c`` ``(D,)``; ``w`` and ``u`` ``(D, K, N)``; a step's likelihood
 ``(D, N)``; a step's transition ``(K, N, N)`` with ``T[k, i, j] = P(i | j)``.
@@ -59,10 +60,6 @@ def _message_step(
         sums = factors.sum(axis=2)
         factors = factors / sums[..., None]
         scale = scale * sums.prod(axis=1)
-    if step.switch > 0 and D > 1:
-        mixing = hazard_matrix(D, step.switch) * scale[None, :]  # (d before, d after)
-        scale = mixing.sum(axis=1)
-        factors = np.einsum("de,ekn->dkn", mixing, factors) / scale[:, None, None]
     if step.likelihood is not None:
         items = np.arange(K)
         factors = factors.copy()
@@ -70,6 +67,10 @@ def _message_step(
         sums = wanted.sum(axis=1)
         factors[items, items, :] = wanted / np.where(sums > 0, sums, 1.0)[:, None]
         scale = scale * np.append(sums, step.likelihood[K].mean())
+    if step.switch > 0 and D > 1:  # the switch of the pause before the step: undone last
+        mixing = hazard_matrix(D, step.switch) * scale[None, :]  # (d before, d after)
+        scale = mixing.sum(axis=1)
+        factors = np.einsum("de,ekn->dkn", mixing, factors) / scale[:, None, None]
     total = scale.sum()
     return (scale / total if total > 0 else np.full(D, 1.0 / D)), factors
 

@@ -161,6 +161,14 @@ class GradedFactoredFilter:
         if not self.started:
             self.weights = np.broadcast_to(self.owner.prior(record.truth), self.weights.shape).copy()
             self.started = True
+        switch = record.switch  # the pause before the step: before its decision's likelihood
+        D = len(self.alpha)
+        if switch > 0 and D > 1:
+            h = hazard_matrix(D, switch)
+            mixed = self.alpha @ h
+            joint = h.T @ (self.alpha[:, None] * self.weights.reshape(D, -1))  # (D, K P)
+            self.weights = joint.reshape(self.weights.shape) / mixed[:, None, None]
+            self.alpha = mixed / mixed.sum()
         likelihood = None
         if record.decision is not None:
             likelihood = self.owner.decision_likelihood(self.beliefs, *record.decision)  # (D, P)
@@ -177,14 +185,6 @@ class GradedFactoredFilter:
                 )
                 self.alpha = weighted / weighted.sum()
         self.beliefs = self.owner.revise(self.beliefs, record.truth, record.percept)
-        switch = record.switch
-        D = len(self.alpha)
-        if switch > 0 and D > 1:
-            h = hazard_matrix(D, switch)
-            mixed = self.alpha @ h
-            joint = h.T @ (self.alpha[:, None] * self.weights.reshape(D, -1))  # (D, K P)
-            self.weights = joint.reshape(self.weights.shape) / mixed[:, None, None]
-            self.alpha = mixed / mixed.sum()
         return likelihood
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:

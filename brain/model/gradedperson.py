@@ -26,7 +26,7 @@ from .graded import (
     unnormalised_update,
     update_beliefs,
 )
-from .inference import hazard_matrix, log_of
+from .inference import hazard_matrix, log_of, switched
 from .lookahead import cached_lookahead
 from .mixture import Beliefs, Mixture, certain, mixture_of, revised
 from .personinterface import StepRecord
@@ -181,17 +181,17 @@ class GradedModel:
         alphas, steps = [], []
         for record in records:
             likelihood = self.decision_likelihood(beliefs, record)
-            alpha = _filter_step(alpha, likelihood, record.switch)
+            alpha, _ = _filter_step(alpha, likelihood, record.switch)
             beliefs = self._revise(beliefs, record)
             alphas.append(alpha)
             steps.append((likelihood, record.switch))
         back = np.ones_like(alpha)
         posteriors = [alphas[-1]] if alphas else []
-        for t in range(len(records) - 1, 0, -1):
+        for t in range(len(records) - 1, 0, -1):  # the adjoint of _filter_step: L_t, then H_t^T
             likelihood, switch = steps[t]
-            mixed = back @ hazard_matrix(back.shape[1], switch).T if switch > 0 else back
-            back = mixed * likelihood if likelihood is not None else mixed
-            back /= back.sum()
+            weighted = back * likelihood if likelihood is not None else back
+            back = weighted @ hazard_matrix(back.shape[1], switch).T if switch > 0 else weighted
+            back = back / back.sum()
             joint = alphas[t - 1] * back
             posteriors.append(joint / joint.sum())
         posteriors.reverse()
@@ -235,13 +235,15 @@ def _one_world(beliefs: FloatArray) -> bool:
     )
 
 
-def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> FloatArray:
-    """``(G, U)`` posterior after a step: the decision's likelihood, then the preference switch."""
+def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> tuple[FloatArray, float]:
+    """``(G, U)`` posterior after a step and the step's evidence: the preference switch of
+    the pause before the step, then the decision's likelihood (so the decision is judged
+    under the preference held after the pause)."""
+    alpha = switched(alpha, switch)
     if likelihood is not None:
         alpha = alpha * likelihood
-    if switch > 0:
-        alpha = alpha @ hazard_matrix(alpha.shape[1], switch)
-    return alpha / alpha.sum()
+    total = float(alpha.sum())
+    return alpha / total, total
 
 
 @dataclass
@@ -273,9 +275,9 @@ class GradedFilter:
         if not self.started:
             self.posterior, self.started = self.owner.prior(record.truth), True
         likelihood = self.owner.decision_likelihood(self.state, record)
+        self.posterior, evidence = _filter_step(self.posterior, likelihood, record.switch)
         if likelihood is not None:
-            self.log_evidence += log_of(float((self.posterior * likelihood).sum()))
-        self.posterior = _filter_step(self.posterior, likelihood, record.switch)
+            self.log_evidence += log_of(evidence)
         self.state = self.owner.revise(self.state, record)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:

@@ -3,14 +3,16 @@
 A step of a person is a decision (an action ``a`` taken from state ``(x, h)``, then the
 percept at the new position) or a percept alone (something changed in view, speech):
 
-    alpha_t  ∝  H^T-mixed( T_t @ (L_t ⊙ alpha_{t-1}) )
+    alpha_t  ∝  T_t @ (L_t ⊙ (alpha_{t-1} @ H_t))
 
-with ``L_t[w, d] = P(a_t | x, h, w, d)`` (all ones for a percept alone), ``T_t`` the belief
-transition of the new percept, and ``H_t`` the preference switch of the step: a switch
-probability ``s_t`` spread evenly over the other preferences (``s_t = 0`` for a percept
-alone; for a decision, the hazard compounded over the time since the last decision).
-Forward filtering gives the online estimate; forward-backward gives the smoothed one.
-Shapes: ``alpha`` is ``(W, D)``.
+with ``H_t`` the preference switch of the step: a switch probability ``s_t`` spread evenly
+over the other preferences (``s_t = 0`` for a percept alone; for a decision, the hazard
+compounded over the pause since the person's previous decision), applied first, so that a
+decision is judged under the preference the person holds after the pause that precedes it;
+``L_t[w, d] = P(a_t | x, h, w, d)`` (all ones for a percept alone) and ``T_t`` the belief
+transition of the new percept. ``alpha_t`` is over the belief after the step's percept and
+the preference that made the step's decision. Forward filtering gives the online estimate;
+forward-backward gives the smoothed one. Shapes: ``alpha`` is ``(W, D)``.
 """
 
 from __future__ import annotations
@@ -31,7 +33,8 @@ class HmmStep:
         tick: the engine tick it happened at.
         transition: ``(W, W)`` belief transition ``T[i, j] = P(i | j)``.
         likelihood: ``(W, D)`` action likelihood at the previous state, ``None`` for a percept alone.
-        switch: probability that the preference changes at this step.
+        switch: probability that the preference changes in the pause before this step
+            (applied before the likelihood).
     """
 
     tick: int
@@ -60,17 +63,29 @@ def switch_probability(hazard: float, elapsed_decisions: float) -> float:
     return 1.0 - (1.0 - hazard) ** max(1.0, elapsed_decisions)
 
 
+def switched(alpha: FloatArray, switch: float) -> FloatArray:
+    """``alpha`` (``(..., D)``) after a preference switch of probability ``switch``."""
+    return alpha @ hazard_matrix(alpha.shape[-1], switch) if switch > 0 else alpha
+
+
+def filter_step(alpha: FloatArray, step: HmmStep) -> tuple[FloatArray, float]:
+    """The filtered ``(W, D)`` posterior after ``step`` and the step's evidence
+    ``sum((alpha @ H_t) * L_t)`` (1 for a percept alone): the switch of the pause before
+    the step, the decision's likelihood, the belief transition."""
+    prior = switched(alpha, step.switch)
+    weighted = prior if step.likelihood is None else prior * step.likelihood
+    evidence = 1.0 if step.likelihood is None else float(weighted.sum())
+    predicted = step.transition @ weighted
+    total = predicted.sum()
+    if not total > 0:  # every hypothesis ruled out: fall back to the percept (after the switch)
+        predicted = step.transition @ prior
+        total = predicted.sum()
+    return predicted / total, evidence
+
+
 def forward_step(alpha: FloatArray, step: HmmStep) -> FloatArray:
     """The filtered ``(W, D)`` posterior after ``step``."""
-    weighted = alpha if step.likelihood is None else alpha * step.likelihood
-    predicted = step.transition @ weighted
-    if step.switch > 0:
-        predicted = predicted @ hazard_matrix(alpha.shape[1], step.switch)
-    total = predicted.sum()
-    if not total > 0:  # every hypothesis ruled out: fall back to the percept alone
-        predicted = step.transition @ alpha
-        total = predicted.sum()
-    return predicted / total
+    return filter_step(alpha, step)[0]
 
 
 def forward(prior: FloatArray, steps: Sequence[HmmStep]) -> list[FloatArray]:
@@ -91,10 +106,11 @@ def smooth(prior: FloatArray, steps: Sequence[HmmStep]) -> list[FloatArray]:
     for t in range(len(steps) - 1, -1, -1):
         posterior = alphas[t] * beta
         out[t] = posterior / posterior.sum()
-        step = steps[t]
-        mixed = beta @ hazard_matrix(beta.shape[1], step.switch).T if step.switch > 0 else beta
-        back = step.transition.T @ mixed
+        step = steps[t]  # the adjoint of filter_step: T_t^T, then L_t, then H_t^T
+        back = step.transition.T @ beta
         if step.likelihood is not None:
             back = back * step.likelihood
+        if step.switch > 0:
+            back = back @ hazard_matrix(back.shape[1], step.switch).T
         beta = back / back.sum()
     return out

@@ -29,13 +29,13 @@ def bench() -> object:
 @pytest.mark.timeout(120)
 def test_configurations_read_on_the_same_episodes() -> None:
     module = bench()
-    configs = "qmdp-graded,belief-graded,qmdp-graded-hazardfirst"
+    configs = "qmdp-graded,belief-graded,qmdp-favourite"
     numbers = module.main(["--episodes", "2", "--ticks", "300", "--raters", "3", "--configs", configs])  # type: ignore[attr-defined]
     ratings = numbers["ratings"]
     assert set(ratings) == {*configs.split(","), "differences"}, list(ratings)
     assert set(ratings["differences"]) == {
         "belief-graded - qmdp-graded",
-        "qmdp-graded-hazardfirst - qmdp-graded",
+        "qmdp-favourite - qmdp-graded",
     }, list(ratings["differences"])
     for name in configs.split(","):
         belief = ratings[name]["smoothed belief start"]
@@ -43,8 +43,6 @@ def test_configurations_read_on_the_same_episodes() -> None:
         assert {"smoothed utility E[u]", "smoothed utility P(top)", "online utility -rank"} <= set(
             ratings[name]
         )
-    same = ratings["differences"]["qmdp-graded-hazardfirst - qmdp-graded"]["smoothed belief start"]
-    assert abs(same["mean"]) < 1e-3, f"the hazard's order hardly moves the beliefs at the start: {same}"
     for times in numbers["calibration"].values():
         assert all(math.isfinite(row["brier"]) for row in times.values()), times
 
@@ -54,6 +52,12 @@ def test_a_configuration_names_a_planner_and_desires() -> None:
     assert config.parse("belief-graded-5-unique") == config(
         "belief-graded-5-unique", "belief", "graded", 5, True
     )
-    for bad in ("graded", "qmdp-favourite-unique", "qmdp-graded-1", "pomdp-graded"):
+    for bad in (
+        "graded",
+        "qmdp-favourite-unique",
+        "qmdp-graded-1",
+        "pomdp-graded",
+        "qmdp-graded-hazardfirst",
+    ):
         with pytest.raises(ValueError):
             config.parse(bad)

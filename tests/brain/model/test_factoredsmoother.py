@@ -46,7 +46,10 @@ def test_with_one_item_the_factored_smoother_is_the_exact_one(belief_model: str)
         beliefs, preferences = _tv(exact.smoothed(person), factored.smoothed(person))
         online = _tv(exact.smoothed(person), factored.tracks[person].chains[0].estimates)[1]
         assert beliefs < 1e-3 and preferences < 1e-3, f"{person}: expected equal, tv {beliefs}, {preferences}"
-        assert online > 0.1, f"{person}: smoothing should matter here (online is {online} away)"
+        assert online > 0.05, (
+            f"{person}: smoothing should matter here: expected the online preferences more than "
+            f"0.05 away, got {online}"
+        )
 
 
 @pytest.mark.parametrize("belief_model", ["point", "graded"])

@@ -1,10 +1,13 @@
 """Forward filtering and forward-backward smoothing against brute-force enumeration of every
-hidden path (to 1e-9)."""
+hidden path (to 1e-9), in the generative story of a step: the preference switches over the
+pause before the step (``H_t``), then the decision is drawn under the new preference
+(``L_t``), then the belief takes in the new percept (``T_t``)."""
 
 from __future__ import annotations
 
 import itertools
 
+import msgspec
 import numpy as np
 import pytest
 from scenes import tiny_scene, tiny_state
@@ -29,8 +32,8 @@ def enumerate_marginals(prior: np.ndarray, steps: list[HmmStep]) -> tuple[list[n
         weights = []
         for t, step in enumerate(steps):
             (w0, d0), (w1, d1) = z[t], z[t + 1]
-            lik = 1.0 if step.likelihood is None else step.likelihood[w0, d0]
-            p *= lik * step.transition[w1, w0] * hazard_matrix(D, step.switch)[d0, d1]
+            lik = 1.0 if step.likelihood is None else step.likelihood[w0, d1]  # under the new d
+            p *= hazard_matrix(D, step.switch)[d0, d1] * lik * step.transition[w1, w0]
             weights.append(p)
         for t in range(T):
             smoothed[t][z[t + 1]] += p
@@ -56,10 +59,10 @@ def test_random_chain(seed: int) -> None:
     prior = rng.random((W, D))
     prior /= prior.sum()
     want_filtered, want_smoothed = enumerate_marginals(prior, steps)
-    for got, want in zip(forward(prior, steps), want_filtered, strict=True):
-        assert np.allclose(got, want, atol=1e-9, rtol=0)
-    for got, want in zip(smooth(prior, steps), want_smoothed, strict=True):
-        assert np.allclose(got, want, atol=1e-9, rtol=0)
+    for t, (got, want) in enumerate(zip(forward(prior, steps), want_filtered, strict=True)):
+        assert np.allclose(got, want, atol=1e-9, rtol=0), f"step {t}: filtered {got}, enumeration {want}"
+    for t, (got, want) in enumerate(zip(smooth(prior, steps), want_smoothed, strict=True)):
+        assert np.allclose(got, want, atol=1e-9, rtol=0), f"step {t}: smoothed {got}, enumeration {want}"
 
 
 def tiny_trace(settings: ModelSettings) -> MindTracker:
@@ -102,8 +105,8 @@ def test_real_trace_of_the_tiny_scene() -> None:
     steps = [exact.hmm_step(r) for r in records]
     prior = exact.prior()
     _, want_smoothed = enumerate_marginals(prior, steps[:4])
-    for got, want in zip(smooth(prior, steps[:4]), want_smoothed, strict=True):
-        assert np.allclose(got, want, atol=1e-9, rtol=0)
+    for t, (got, want) in enumerate(zip(smooth(prior, steps[:4]), want_smoothed, strict=True)):
+        assert np.allclose(got, want, atol=1e-9, rtol=0), f"step {t}: smoothed {got}, enumeration {want}"
     final = tracker.online("p")
     assert final is not None and final.preference[0] > 0.9, (
         "walking in, taking the ball and carrying it to play"
@@ -119,7 +122,7 @@ def test_graded_smoothing_equals_enumeration() -> None:
     assert isinstance(graded, GradedModel), "the default is the graded model"
     records = tracker.tracks["p"].steps
     beliefs, likelihoods = graded.initial.copy(), []
-    for record in records:  # L_t(g, d) of the preference before step t's switch
+    for record in records:  # L_t(g, d) of the preference after step t's switch
         likelihood = graded.decision_likelihood(beliefs, record)
         likelihoods.append(np.ones_like(graded.prior()) if likelihood is None else likelihood)
         beliefs = graded.revise(beliefs, record)
@@ -127,11 +130,13 @@ def test_graded_smoothing_equals_enumeration() -> None:
     T = len(records)
     want = np.zeros((T, G, D))
     for start in range(D):
-        for path in itertools.product(range(D), repeat=T):  # d_t after step t's switch
+        for path in itertools.product(range(D), repeat=T):  # d_t: step t's, after its switch
             weight = graded.prior()[:, start].copy()  # P(g, d_0 = start)
             before = start
             for t, record in enumerate(records):
-                weight = weight * likelihoods[t][:, before] * hazard_matrix(D, record.switch)[before, path[t]]
+                weight = (
+                    weight * hazard_matrix(D, record.switch)[before, path[t]] * likelihoods[t][:, path[t]]
+                )
                 before = path[t]
             for t in range(T):
                 want[t, :, path[t]] += weight
@@ -156,20 +161,99 @@ def test_log_evidence_is_the_unnormalised_forward_pass(belief_model: str) -> Non
     if isinstance(person, ExactModel):
         for record in records:
             step = person.hmm_step(record)
+            if step.switch > 0:  # the pause before the step, then its decision
+                alpha = alpha @ hazard_matrix(alpha.shape[1], step.switch)
             weighted = alpha if step.likelihood is None else alpha * step.likelihood
             alpha = step.transition @ weighted
-            if step.switch > 0:
-                alpha = alpha @ hazard_matrix(alpha.shape[1], step.switch)
     else:
         assert isinstance(person, GradedModel)
         beliefs = person.initial.copy()
         for record in records:
             likelihood = person.decision_likelihood(beliefs, record)
-            alpha = alpha if likelihood is None else alpha * likelihood
-            if record.switch > 0:
+            if record.switch > 0:  # the pause before the step, then its decision
                 alpha = alpha @ hazard_matrix(alpha.shape[1], record.switch)
+            alpha = alpha if likelihood is None else alpha * likelihood
             beliefs = person.revise(beliefs, record)
     want = float(np.log(alpha.sum()))
     got = tracker.log_evidence("p")
     assert got == pytest.approx(want, abs=1e-9), f"log evidence {got}, unnormalised forward pass {want}"
     assert got < 0.0
+
+
+def old_order(prior: np.ndarray, steps: list[HmmStep]) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Filtered and smoothed posteriors with the switch applied AFTER the decision's
+    likelihood (``alpha_t = T_t @ (L_t * alpha_{t-1}) @ H_t``): the order before the fix, as a
+    reference the test shows the fix departs from."""
+    alphas, alpha = [], prior
+    for step in steps:
+        alpha = step.transition @ (alpha if step.likelihood is None else alpha * step.likelihood)
+        alpha = alpha @ hazard_matrix(alpha.shape[1], step.switch) if step.switch > 0 else alpha
+        alphas.append(alpha / alpha.sum())
+    beta, out = np.ones_like(prior), [np.empty(0)] * len(steps)
+    for t in range(len(steps) - 1, -1, -1):
+        out[t] = alphas[t] * beta / (alphas[t] * beta).sum()
+        step = steps[t]
+        mixed = beta @ hazard_matrix(beta.shape[1], step.switch).T if step.switch > 0 else beta
+        back = step.transition.T @ mixed
+        beta = back * step.likelihood if step.likelihood is not None else back
+        beta = beta / beta.sum()
+    return alphas, out
+
+
+@pytest.mark.parametrize("belief_model", ["point", "graded"])
+def test_the_decision_ending_a_long_pause_is_judged_under_the_switched_desire(belief_model: str) -> None:
+    """Seen at (1,0), the person walks out (ticks 1-3: ``out``, sure), stands outside 35 s (no
+    wait is read outside; 50 decision times, a switch of 1 - 0.99**50 = 0.39 at hazard 0.01),
+    then walks back in towards the ball at A (ticks 5-8). The pause's switch comes before the
+    decision that ends it: the online estimate right after walking in already favours the
+    ball (it was 0.52 with the switch after the likelihood), and the smoothed estimate on
+    arriving outside (tick 3, before the pause) keeps ``out`` (it gave the ball 0.69)."""
+    settings = ModelSettings(belief_model=belief_model, hazard=0.01)
+    tracker = MindTracker(tiny_scene(), settings)
+    pause = 35.0
+    path = [(1, 0), (2, 0), (3, 0), (4, 0), (4, 0), (3, 0), (2, 0), (1, 0), (0, 0)]
+    times = [0.7 * i for i in range(4)] + [2.1 + pause / 2] + [2.1 + pause + 0.7 * i for i in range(4)]
+    for tick, (cell, time) in enumerate(zip(path, times, strict=True)):
+        state = tiny_state(tick, cell, "A")
+        tracker.observe(msgspec.structs.replace(state, time=round(time, 9)), ())
+    records = tracker.tracks["p"].steps
+    ticks = [r.tick for r in records]
+    assert ticks == [0, 1, 2, 3, 5, 6, 7, 8], f"expected steps at ticks 0-3 and 5-8, got {ticks}"
+    entering, before = ticks.index(5), ticks.index(3)
+    switch = records[entering].switch
+    assert switch == pytest.approx(1 - 0.99**50, abs=0.01), (
+        f"expected the pause's switch 1 - 0.99**50 = {1 - 0.99**50:.3f} on walking in, got {switch:.3f}"
+    )
+    online = [e.preference for e in tracker.tracks["p"].estimates]  # [ball, out]
+    smoothed = [e.preference for e in tracker.smoothed("p")]
+    person = tracker.person_model
+    if isinstance(person, GradedModel):  # a hypothesis's belief is fixed by g: no transition
+        beliefs, steps = person.initial.copy(), []
+        for record in records:
+            likelihood = person.decision_likelihood(beliefs, record)
+            steps.append(HmmStep(record.tick, np.eye(len(beliefs)), likelihood, record.switch))
+            beliefs = person.revise(beliefs, record)
+    else:
+        assert isinstance(person, ExactModel)
+        steps = [person.hmm_step(r) for r in records]
+    old_online, old_smoothed = ([p.sum(axis=0) for p in ps] for ps in old_order(person.prior(), steps))
+    assert online[before][1] > 0.95, f"expected out sure before the pause, got P(out) {online[before][1]:.3f}"
+    assert online[entering][0] > 0.9, (
+        f"expected walking in after the pause to favour the ball online (P > 0.9), got "
+        f"{online[entering][0]:.3f} (switch after the likelihood: {old_online[entering][0]:.3f})"
+    )
+    assert online[entering][0] > old_online[entering][0] + 0.3, (
+        f"expected the online P(ball) on walking in well above the old order's "
+        f"{old_online[entering][0]:.3f}, got {online[entering][0]:.3f}"
+    )
+    assert smoothed[before][1] > 0.95, (
+        f"expected the smoothed estimate before the pause to keep out (P > 0.95), got "
+        f"{smoothed[before][1]:.3f} (switch after the likelihood: {old_smoothed[before][1]:.3f})"
+    )
+    assert old_smoothed[before][1] < 0.5, (
+        f"the old order should have given the tick before the pause the new desire, got P(out) "
+        f"{old_smoothed[before][1]:.3f}"
+    )
+    assert smoothed[entering][0] > 0.99, (
+        f"expected the ball after walking in, got {smoothed[entering][0]:.3f}"
+    )
