@@ -11,6 +11,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import SettingsError
+from .robotsettings import (
+    ROBOT_ALLOWED,
+    RobotSettings,
+    allowed_text,
+)
 
 
 @dataclass(frozen=True)
@@ -155,10 +160,11 @@ class ModelSettings:
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:
-            raise ValueError(f"invalid model settings: {_allowed(self, bad)}")
+            raise ValueError(f"invalid model settings: {allowed_text(self, bad, ALLOWED)}")
 
 
 ALLOWED = {
+    **ROBOT_ALLOWED,
     "r": "r > 0",
     "delta": "0 <= delta < 0.5",
     "beta": "beta >= 0",
@@ -182,105 +188,9 @@ ALLOWED = {
     "hearsay": "hearsay >= 0",
     "forget": "forget >= 0",
     "nested_peek": "nested_peek >= 0",
-    "confirm_seconds": "confirm_seconds >= 0",
-    "attempts": "an int >= 1",
-    "navigate_timeout": "navigate_timeout > 0",
-    "action_timeout": "action_timeout > 0",
-    "deception_threshold": "0 <= deception_threshold <= 1",
 }
 """What the settings allow of each value they check, as their errors say it (``toyroom run``
 checks them with ``python -m brain check-settings`` before any process starts)."""
-
-
-def _allowed(values: object, names: list[str]) -> str:
-    """``name=value (allowed: ...)`` for each of ``names``, for an error message."""
-    return "; ".join(
-        f"{n}={getattr(values, n)!r} (allowed: {ALLOWED.get(n) or f'0 <= {n} <= 1'})" for n in names
-    )
-
-
-@dataclass(frozen=True)
-class RobotSettings:
-    """When the robot acts, and how long it waits.
-
-    Attributes:
-        preference_threshold: a person's preference must be at least this probable for
-            the robot to act on it.
-        intention_threshold: the same for the intention (item and believed location).
-        belief_threshold: a false belief (``Estimate.false_belief``: the person's belief gives
-            the item's true location less than ``false_belief_mass`` times its likeliest
-            location's) must be at least this probable for the robot to act on it.
-        put_back_preference: an item nobody left where it is is put back for someone who
-            does not know it was moved only when they want it at least this probably (0:
-            for anyone with a false belief about it: the robot walks, nobody is interrupted).
-        put_back_harm: no put-back when someone else who may want the item believes it where
-            it is now (their belief there times their preference at least this).
-        inform_mass: a person heading for a wrong place is told where the item they want
-            is when they probably hold a false belief about it, or when their belief gives
-            its true place less than this (they do not know where it is: searching).
-        swap_accept: a swap is asked for only when the holder probably accepts (their
-            preference for the offered item at least this) or the person does not know who
-            holds the item.
-        confirm_seconds: engine seconds a task must be seen, tick after tick, before the
-            robot starts it (a passing blip of the online estimates starts nothing).
-        attempts: how often the robot tries one task before giving up on it.
-        navigate_timeout: engine seconds a navigation may take.
-        action_timeout: engine seconds a pick, place, give, say or request may take.
-        policy: ``tom`` (the paper's tree, on the people's inferred minds), or a baseline
-            without theory of mind: ``tidy`` (put every moved item back where it was) or
-            ``announce`` (tell everyone about every move).
-        deception_threshold: a move reads as a likely deception (:mod:`brain.robot.deception`)
-            when its mover believes, at least this probably, that someone who most probably
-            wants the item still believes it where it was (did not see the move).
-        on_deception: ``tell`` the deceived person where the item is (and no put-back behind
-            the mover's back), or ``put_back`` as for any move.
-    """
-
-    preference_threshold: float = 0.6
-    intention_threshold: float = 0.5
-    belief_threshold: float = 0.6
-    put_back_preference: float = 0.0
-    put_back_harm: float = 0.3
-    inform_mass: float = 0.5
-    swap_accept: float = 0.5
-    confirm_seconds: float = 0.5
-    attempts: int = 2
-    navigate_timeout: float = 60.0
-    action_timeout: float = 10.0
-    policy: str = "tom"
-    deception_threshold: float = 0.5
-    on_deception: str = "tell"
-
-    def __post_init__(self) -> None:
-        if self.policy not in ROBOT_POLICIES:
-            raise ValueError(
-                f"invalid robot settings: policy={self.policy!r} (one of {', '.join(ROBOT_POLICIES)})"
-            )
-        if self.on_deception not in ("tell", "put_back"):
-            raise ValueError(
-                f"invalid robot settings: on_deception={self.on_deception!r} (one of tell, put_back)"
-            )
-        checks = {name: 0.0 <= getattr(self, name) <= 1.0 for name in ROBOT_SHARES}
-        checks |= {"confirm_seconds": self.confirm_seconds >= 0, "attempts": self.attempts >= 1}
-        checks |= {"navigate_timeout": self.navigate_timeout > 0, "action_timeout": self.action_timeout > 0}
-        bad = [name for name, ok in checks.items() if not ok]
-        if bad:
-            raise ValueError(f"invalid robot settings: {_allowed(self, bad)}")
-
-
-ROBOT_POLICIES = ("tom", "tidy", "announce")
-""":attr:`RobotSettings.policy`'s values (:data:`brain.robot.branches.POLICIES`)."""
-ROBOT_SHARES = (
-    "preference_threshold",
-    "intention_threshold",
-    "belief_threshold",
-    "put_back_preference",
-    "put_back_harm",
-    "inform_mass",
-    "swap_accept",
-    "deception_threshold",
-)
-""":class:`RobotSettings` that are probabilities (or shares of one): each in [0, 1]."""
 
 
 @dataclass(frozen=True)

@@ -109,7 +109,7 @@ tools; the brain's model is pure (settings and errors are its base), the node it
 
 ENTRY_POINTS = {"bridge/__main__.py"}
 """Modules that only start a tool (``python -m bridge`` runs the CLI)."""
-BRAIN_BASE = {"settings", "errors"}
+BRAIN_BASE = {"settings", "robotsettings", "errors"}
 
 
 def _room(package: str, path: Path) -> str:

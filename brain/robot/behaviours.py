@@ -12,7 +12,7 @@ from protocol import Cell, Navigate, Request, TaskEnd, TaskOutcome
 
 from ..settings import RobotSettings
 from .context import RobotContext, Skip, Step
-from .situation import Finder, Inform, Occupied, Task, why_unneeded
+from .situation import Finder, Inform, Look, Occupied, Task, why_unneeded
 
 
 def _client(behaviour: py_trees.behaviour.Behaviour, namespace: str) -> py_trees.blackboard.Client:
@@ -186,6 +186,8 @@ def describe(task: Task) -> str:
     """A one-line description of a task."""
     if isinstance(task, Inform):
         return f"tell {task.person} the {task.item} is at {task.location}"
+    if isinstance(task, Look):
+        return f"look whether the {task.item} is at {task.location}, to tell {task.person}"
     if isinstance(task, Occupied):
         offer = f" for the {task.offer}" if task.offer else ""
         return f"{task.person} wants the {task.item} {task.holder} has: ask for a swap{offer}"

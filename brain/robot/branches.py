@@ -5,17 +5,21 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
 import py_trees
 
-from protocol import Give, GridCell, Pick, Place, Request, Say, SayTopic
+from protocol import Cell, Give, GridCell, Navigate, Pick, Place, Request, Say, SayTopic
 
-from ..settings import ROBOT_POLICIES, RobotSettings
+from ..robotsettings import ROBOT_POLICIES, RobotSettings
 from .behaviours import Act, FindTask, GoHome, TaskBranch
+from .benefit import cell_distances
+from .choice import look_chosen
 from .context import RobotContext, Skip, Step
-from .deception import inform_or_deceived, put_back_unless_deceived
+from .deception import benefit_inform, benefit_put_back, inform_or_deceived, put_back_unless_deceived
 from .situation import (
     Finder,
     Inform,
+    Look,
     Occupied,
     PutBack,
     announce_tasks,
@@ -84,11 +88,13 @@ def inform_branch(ns: str, finder: Finder = inform_or_deceived) -> TaskBranch:
         ns,
         says=lambda c: f"{_inform(c).person}, the {_inform(c).item} is at {_inform(c).location}.",
     )
+    questions: dict[object, str] = {announce_tasks: "moved?", benefit_inform: "worth telling?"}
+    question = questions.get(finder, "false belief?")
     return TaskBranch(
         "inform",
         ns,
         [
-            FindTask("moved?" if finder is announce_tasks else "false belief?", "inform", finder, ns),
+            FindTask(question, "inform", finder, ns),
             go_to("go to the person", lambda c: c.cell_of(_inform(c).person), ns, guarded=True),
             say,
         ],
@@ -203,8 +209,47 @@ def put_back_branch(ns: str, finder: Finder = put_back_unless_deceived) -> TaskB
     )
 
 
+def _look(ctx: RobotContext) -> Look:
+    assert isinstance(ctx.task, Look)
+    return ctx.task
+
+
+def seeing_cell(ctx: RobotContext) -> Step:
+    """A walk to the nearest cell that sees the look's location (``SKIP``: the robot sees it)."""
+    snap = ctx.snapshot
+    me = ctx.cell_of(ctx.robot)
+    if snap is None or me is None:
+        return None
+    model = snap.model
+    here = model.cell_index.get(me)
+    where = model.locations.index(_look(ctx).location)
+    if here is not None and model.sees[here, where]:
+        return Skip.SKIP
+    seeing = np.flatnonzero(model.sees[:, where])
+    if here is None or len(seeing) == 0:
+        return None
+    best = int(seeing[np.argmin(cell_distances(model)[here, seeing])])
+    col, row = (int(v) for v in model.cells[best])
+    return Navigate(cell=Cell(col, row))
+
+
+def look_branch(ns: str) -> TaskBranch:
+    """The robot cannot rule out other places for an item someone may need to be told of:
+    go where it sees the likeliest one (what it sees there settles where the item is)."""
+    return TaskBranch(
+        "look",
+        ns,
+        [
+            FindTask("worth looking?", "look", look_chosen, ns),
+            Act("go and look", seeing_cell, ns, timeout=navigate_timeout, guarded=True),
+        ],
+    )
+
+
 POLICIES = ROBOT_POLICIES
 """The robot's policies: ``tom`` (the paper's tree, acting on the people's inferred minds),
+``benefit`` (the same minds, each task chosen by its expected benefit, and looking where that
+is worth it),
 and two without theory of mind to measure it against: ``tidy`` (put every moved item back
 where it was) and ``announce`` (tell everyone about every move)."""
 
@@ -215,6 +260,13 @@ def build_tree(namespace: str, policy: str = "tom") -> py_trees.behaviour.Behavi
         branches = [put_back_branch(namespace, tidy_tasks)]
     elif policy == "announce":
         branches = [inform_branch(namespace, announce_tasks)]
+    elif policy == "benefit":
+        branches = [
+            inform_branch(namespace, benefit_inform),
+            swap_branch(namespace),
+            put_back_branch(namespace, benefit_put_back),
+            look_branch(namespace),
+        ]
     else:
         branches = [inform_branch(namespace), swap_branch(namespace), put_back_branch(namespace)]
     return py_trees.composites.Selector("robot", memory=False, children=[*branches, GoHome(namespace)])

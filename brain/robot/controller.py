@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+import numpy as np
+
 from protocol import (
     AgentKind,
     CommandStatus,
@@ -20,6 +22,7 @@ from protocol import (
     State,
 )
 
+from ..model.arrays import FloatArray
 from ..settings import RobotSettings
 from ..tracking.tracker import MindTracker
 from .deception import deceptions
@@ -77,9 +80,27 @@ class RobotBrain:
             moved_from={p: t.moved_from for p, t in self.tracker.tracks.items()},
             moves=self.moves,
             nested=self.tracker.nested,
+            robot=self.robot,
+            where=self.where(),
         )
         self.tree.tick(snapshot)
         return self.tree.context.book.drain()
+
+    def where(self) -> FloatArray | None:
+        """``(K, L)`` the robot's P(each item rests at each location), over the branches of the
+        world it cannot see, weighted by their posterior (``None``: it sees everything). An item
+        carried in a branch adds nothing there; rows are normalised where they have mass."""
+        view = self.tracker.view
+        if view is None:
+            return None
+        model = self.tracker.model
+        weights = self.tracker.branch_weights()
+        where = np.zeros((model.n_items, model.n_locations))
+        for k in range(model.n_items):
+            resting = view.rows[:, k] >= 0
+            np.add.at(where[k], view.rows[resting, k], weights[resting])
+        total = where.sum(axis=1, keepdims=True)
+        return np.divide(where, total, out=np.zeros_like(where), where=total > 0)
 
     def record(self, status: CommandStatus) -> None:
         """A status from the engine."""

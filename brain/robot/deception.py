@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..settings import RobotSettings
+from .choice import inform_chosen, put_back_chosen
 from .situation import Inform, PutBack, Snapshot, inform_tasks, put_back_tasks
 
 
@@ -63,14 +64,32 @@ def deceived_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
 
 
 def inform_or_deceived(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
-    """The ``inform`` branch's tasks: :func:`~brain.robot.situation.inform_tasks`, then
-    :func:`deceived_tasks`."""
+    """The ``tom`` inform branch's tasks (the paper's thresholds):
+    :func:`~brain.robot.situation.inform_tasks`, then :func:`deceived_tasks`."""
     yield from inform_tasks(snap, settings)
     yield from deceived_tasks(snap, settings)
 
 
 def put_back_unless_deceived(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
-    """The ``put back`` branch's tasks: :func:`~brain.robot.situation.put_back_tasks`, less the
-    items of likely deceptions when the robot tells the deceived instead."""
+    """The ``tom`` put-back branch's tasks: :func:`~brain.robot.situation.put_back_tasks`, less
+    the items of likely deceptions when the robot tells the deceived instead."""
+    yield from _unless_deceived(put_back_tasks(snap, settings), snap, settings)
+
+
+def benefit_inform(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+    """The ``benefit`` policy's informs: those worth doing
+    (:func:`~brain.robot.choice.inform_chosen`), then :func:`deceived_tasks`."""
+    yield from inform_chosen(snap, settings)
+    yield from deceived_tasks(snap, settings)
+
+
+def benefit_put_back(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+    """The ``benefit`` policy's put-backs: those worth doing
+    (:func:`~brain.robot.choice.put_back_chosen`), less the items of likely deceptions when
+    the robot tells the deceived instead."""
+    yield from _unless_deceived(put_back_chosen(snap, settings), snap, settings)
+
+
+def _unless_deceived(tasks: Iterator[PutBack], snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
     deceived = {d.item for d in deceptions(snap, settings)} if settings.on_deception == "tell" else set()
-    yield from (task for task in put_back_tasks(snap, settings) if task.item not in deceived)
+    yield from (task for task in tasks if task.item not in deceived)

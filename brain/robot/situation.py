@@ -20,6 +20,7 @@ import numpy as np
 
 from protocol import AgentKind, Scene, State
 
+from ..model.arrays import FloatArray
 from ..model.estimates import Estimate
 from ..model.nested import NestedBeliefs
 from ..model.world import WorldModel
@@ -56,7 +57,17 @@ class PutBack:
     why: str = ""
 
 
-Task = Inform | Occupied | PutBack
+@dataclass(frozen=True)
+class Look:
+    """Go and see whether ``item`` rests at ``location``, so as to tell ``person`` where it is
+    (the robot cannot rule out other places: :mod:`brain.robot.benefit`)."""
+
+    item: str
+    location: str
+    person: str
+
+
+Task = Inform | Occupied | PutBack | Look
 
 
 @dataclass(frozen=True)
@@ -75,6 +86,11 @@ class Snapshot:
     """Item id -> ``(from, to, mover)``: the last time a person moved it from spot to spot."""
     nested: NestedBeliefs | None = None
     """What each person believes the others believe (:mod:`brain.model.nested`)."""
+    robot: str | None = None
+    """The robot's id (``None``: no robot decides on this snapshot)."""
+    where: FloatArray | None = None
+    """``(K, L)`` the robot's own P(item ``k`` rests at location ``l``) over the branches of the
+    world it cannot see (``None``: it sees everything, and ``state`` says where items are)."""
 
     @property
     def people(self) -> list[str]:
@@ -277,6 +293,8 @@ def why_unneeded(task: Task, snap: Snapshot, settings: RobotSettings) -> str:
     the checks its finder makes that the world as it is now fails."""
     item = task.item
     location, holder = snap.item(item)
+    if isinstance(task, Look):
+        return f"looking at {task.location} is no longer worth more than telling {task.person} now"
     person = task.owner if isinstance(task, PutBack) else task.person
     est = snap.estimates.get(person)
     k = snap.model.items.index(item)

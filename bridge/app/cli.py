@@ -224,7 +224,8 @@ def _eval_command(command: Command) -> None:
         "--policies",
         default="tom",
         help="the acting robot's policies, one run each, comma-separated: tom (on inferred minds), "
-        "tidy (put every moved item back), announce (tell everyone of every move); "
+        "benefit (the same, each task by its expected benefit), tidy (put every moved item back), "
+        "announce (tell everyone of every move); "
         "none (observing) is always run: --policies none runs it alone",
     )
     evaluation.add_argument(

@@ -52,6 +52,32 @@ def policies_of(episode: Mapping[str, Any]) -> dict[str, str]:
     return {p: f"{ROBOT}-{p}" for p in acting} | {NONE: BTOM}
 
 
+LOSSES = ("before_false_belief", "before_robot_acted", "after_robot_acted", "robot_acted")
+"""The loss table's columns (:func:`robot_losses`)."""
+
+
+def robot_losses(episodes: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, float | None]]:
+    """Per policy, where the ticks to the goal of the people with a false belief went (means
+    over them, ticks from the episode's start): before the false belief, from it to the robot's
+    first act for them (to the goal when it never acted), from that act to the goal; and the
+    share of them the robot acted for."""
+    table: dict[str, dict[str, float | None]] = {}
+    for policy, key in policies_of(episodes[0]).items():
+        parts: list[tuple[float, float, float, float]] = []
+        for episode in episodes:
+            run = episode[key]
+            for h in run.get("help", {}).values():
+                if not h["false_belief"] or h.get("false_belief_tick") is None:
+                    continue
+                goal = h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"]
+                onset, acted = h["false_belief_tick"], h.get("acted_tick")
+                acted = goal if acted is None else min(acted, goal)
+                parts.append((onset, acted - onset, goal - acted, float(h.get("acted_tick") is not None)))
+        n = len(parts)
+        table[policy] = {name: (sum(p[i] for p in parts) / n if n else None) for i, name in enumerate(LOSSES)}
+    return table
+
+
 def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
     """``(per policy, the first policy minus each other)``: success rate and each of
     :data:`HELP` as ``{mean, lo, hi}``."""
@@ -104,6 +130,7 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
     pooled[MAJORITY] = majority_counts(totals[BTOM], goal).metrics()
     bounds, differences = intervals(per_episode, seed)
     robot, robot_differences = robot_metrics(episodes, seed) if episodes else ({}, {})
+    losses = robot_losses(episodes) if episodes and robot else {}
     return {
         "episodes": len(episodes),
         "episodes_failed": len(failed),
@@ -118,6 +145,7 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
         },
         "robot": robot,
         "robot_differences": robot_differences,
+        "robot_losses": losses,
     }
 
 

@@ -29,7 +29,7 @@ KINDS = ("everyday", "tasks")
 TASK_KINDS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
 """The kinds of task episodes, in the generator's order (``sim2d.generation.tasks.TASKS``; a test keeps
 the two equal: the bridge never imports the engine)."""
-POLICIES = ("tom", "tidy", "announce")
+POLICIES = ("tom", "benefit", "tidy", "announce")
 """The acting robot's policies an evaluation may run (the brain's ``RobotSettings.policy``;
 ``none``, the robot observing, is always run)."""
 

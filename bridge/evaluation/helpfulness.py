@@ -8,7 +8,9 @@ evaluator heard):
   they played with that item (``None``: never);
 - ``wasted_trips``: arrivals at an item location that their true belief, the tick before,
   gave at least one half of holding the item they wanted, when it did not hold it;
-- ``interruptions``: what the robot said to them or asked of them (``say``, ``request``).
+- ``interruptions``: what the robot said to them or asked of them (``say``, ``request``);
+- ``acted_tick``: when a robot first acted for them (:attr:`PersonHelp.acted_tick`): with
+  ``false_belief_tick`` and ``goal_tick``, where the ticks to the goal went (the loss table).
 """
 
 from __future__ import annotations
@@ -36,6 +38,10 @@ class PersonHelp:
     the false belief was about (``None``: never, or no false belief)."""
     wasted_trips: int = 0
     interruptions: int = 0
+    acted_tick: int | None = None
+    """The first tick from the first false belief on that a robot acted for the person on the
+    item it was about: spoke to them or asked something of them (``say``, ``request``), took
+    the item or gave them something (``None``: never, or no false belief)."""
 
 
 def helpfulness(
@@ -84,6 +90,7 @@ def helpfulness(
             and event.target in people
         ):
             people[event.target].interruptions += 1
+        _acted(people, onset, robots, event)
         start = onset.get(event.actor)
         if (
             event.kind is EventKind.PLAY
@@ -94,3 +101,18 @@ def helpfulness(
             if people[event.actor].goal_tick is None:
                 people[event.actor].goal_tick = event.tick
     return people
+
+
+def _acted(
+    people: Mapping[str, PersonHelp], onset: Mapping[str, tuple[int, str]], robots: set[str], event: Event
+) -> None:
+    """Record a robot's first act for a person with a false belief (see ``acted_tick``)."""
+    if event.actor not in robots:
+        return
+    for person, (tick, item) in onset.items():
+        help_ = people[person]
+        if help_.acted_tick is not None or event.tick < tick:
+            continue
+        spoke = event.kind in (EventKind.SAY, EventKind.REQUEST, EventKind.GIVE) and event.target == person
+        if spoke or (event.kind is EventKind.TAKE and event.item == item):
+            help_.acted_tick = event.tick

@@ -115,6 +115,30 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
         if metrics.get("robot_differences"):
             lines += ["", "tom minus each other policy, paired by episode:", ""]
             lines += _rows(metrics["robot_differences"], list(HELP[1:]), "policy")
+        lines += _losses(metrics.get("robot_losses"))
+    return lines
+
+
+LOSS_NOTE = (
+    "Where the ticks go (mean ticks to the goal of the people with a false belief, split: "
+    "before the false belief, from it to the robot's first act for them (`say`, `request`, "
+    "`give` to them, or taking the item; to the goal when it never acted), from that act to "
+    "the goal; and the share of them it acted for):"
+)
+
+
+def _losses(losses: Mapping[str, Mapping[str, float | None]] | None) -> list[str]:
+    """The loss table (none when there is no robot)."""
+    if not losses:
+        return []
+    names = ("before false belief", "before the robot acted", "after it acted", "acted for")
+    lines = ["", LOSS_NOTE, "", "| policy | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
+    for policy, row in losses.items():
+        cells = [
+            "-" if v is None else f"{v:.2f}" if name == "robot_acted" else f"{v:.1f}"
+            for name, v in row.items()
+        ]
+        lines.append(f"| {policy} | " + " | ".join(cells) + " |")
     return lines
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import msgspec
 import pytest
 
-from bridge.evaluation.aggregate import robot_metrics
+from bridge.evaluation.aggregate import robot_losses, robot_metrics
 from bridge.evaluation.helpfulness import helpfulness
 from bridge.evaluation.intervals import pooled_means
 from protocol import (
@@ -53,6 +53,11 @@ def test_a_wasted_trip_a_false_belief_and_an_interruption_by_hand() -> None:
     assert (help_.false_belief, help_.wasted_trips, help_.interruptions) == (True, 1, 1), help_
     assert help_.goal_tick == 4, "the first play with the ball after the false belief began"
     assert help_.false_belief_tick == 1, f"the false belief began at tick 1, got {help_.false_belief_tick}"
+    assert help_.acted_tick == 2, (
+        f"the robot first acted for p when it spoke at tick 2, got {help_.acted_tick}"
+    )
+    alone = helpfulness(scene, states, truths, [by_person, played])["p"]
+    assert alone.acted_tick is None, f"p speaking to the robot is not the robot acting: {alone.acted_tick}"
 
 
 def test_no_false_belief_no_trip_wasted() -> None:
@@ -100,3 +105,23 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
     assert differences["none"]["ticks_to_goal_fb"]["mean"] == -60
     since = {p: policies[p]["ticks_from_false_belief"]["mean"] for p in ("tom", "none")}
     assert since == {"tom": 30, "none": 90}, f"expected ticks from the false belief's tick 10, got {since}"
+
+
+def test_the_loss_table_splits_the_ticks_to_the_goal() -> None:
+    def run(acted: int | None) -> dict:
+        person = {"false_belief": True, "false_belief_tick": 10, "goal_tick": 40, "acted_tick": acted}
+        return {"episode_ticks": 100, "help": {"A1": person, "A2": {"false_belief": False}}}
+
+    losses = robot_losses([{"robot-tom": run(25), "btom": run(None)}])
+    assert losses["tom"] == {
+        "before_false_belief": 10,
+        "before_robot_acted": 15,
+        "after_robot_acted": 15,
+        "robot_acted": 1.0,
+    }, losses["tom"]
+    assert losses["none"] == {
+        "before_false_belief": 10,
+        "before_robot_acted": 30,
+        "after_robot_acted": 0,
+        "robot_acted": 0.0,
+    }, f"a robot that never acted: the whole wait is before it acted, got {losses['none']}"

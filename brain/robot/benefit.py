@@ -1,0 +1,206 @@
+"""What a robot's task is worth (pure): the expected steps it saves the people it concerns,
+over their inferred minds and the robot's own knowledge of where items rest, less its costs.
+
+Unit: a *step* is one grid cell of walking (people and the robot walk at the same speed, so
+a step is a fixed number of engine ticks). Each candidate is scored for one person and one
+item ``k`` resting at ``t``:
+
+- that person's expected steps to reach the item with no help, ``T_none``: they go to the
+  place their belief puts it (location ``l`` with the robot's estimate ``B[l]`` of their belief)
+  and, when it is not there, search on to ``t`` (``search_factor`` times the distance);
+- an **inform** reaches them after the robot's walk into earshot (``r`` steps): from then on
+  they go straight to ``t``; it saves ``max(T_via(l) - (r + d(p, t)), 0)`` for each wrong
+  ``l``, and costs ``interruption_cost``;
+- a **put-back** to ``b`` lands after the robot's walk to the item and on to ``b``: it saves the
+  search from ``b`` when it lands before they reach ``b``; it misleads everyone else who wants
+  the item and believes it at ``t`` (their search from ``t``);
+- a **look** at an unseen place (the robot is not sure where the item rests): its worth is
+  the inform it makes possible, against informing now of the likeliest place (a wrong word
+  sends the person to an empty place).
+
+Every figure is weighted by P(the person wants the item). ``robot_step_cost`` charges each
+step the robot walks. No I/O; numpy on the world model's distance tables.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import shortest_path
+
+from ..model.arrays import FloatArray
+from ..model.estimates import Estimate
+from ..model.world import WorldModel
+from ..settings import RobotSettings
+
+MANIPULATION_STEPS = 2.0
+"""Steps' worth of a pick or a place (the engine's few ticks of handling)."""
+
+_CELL_DISTANCES: dict[int, tuple[WorldModel, FloatArray]] = {}
+
+
+def cell_distances(model: WorldModel) -> FloatArray:
+    """``(C, C)`` walking steps between every two walkable cells (the model's neighbours, so
+    walls count; ``inf`` where no path), computed once per world model."""
+    cached = _CELL_DISTANCES.get(id(model))
+    if cached is not None and cached[0] is model:
+        return cached[1]
+    n = len(model.cells)
+    rows, cols = np.nonzero(model.neighbour >= 0)
+    graph = coo_matrix((np.ones(len(rows)), (rows, model.neighbour[rows, cols])), shape=(n, n)).tocsr()
+    table = shortest_path(graph, unweighted=True, directed=False)
+    _CELL_DISTANCES[id(model)] = (model, table)
+    return table
+
+
+def location_cells(model: WorldModel) -> np.ndarray:
+    """``(L,)`` the cell index of each location (the cell its distance row is zero at)."""
+    return np.argmin(model.distance, axis=1)
+
+
+@dataclass(frozen=True)
+class Worth:
+    """A candidate's expected worth, in steps: ``saved`` for the people it helps, ``harm`` to
+    others it would mislead, ``cost`` of the robot's walk and interruptions; ``net`` is what
+    decides (positive: worth doing)."""
+
+    saved: float
+    harm: float
+    cost: float
+
+    @property
+    def net(self) -> float:
+        return self.saved - self.harm - self.cost
+
+
+def wants(est: Estimate, k: int, lasting: bool = True) -> float:
+    """P(the person wants item ``k``) as help is weighed: with ``lasting``
+    (``RobotSettings.lasting_want``), given that they want some item, so that going out (an
+    errand) reads as passing and leaves the want for an item where it was; else the preference
+    posterior as it is."""
+    if not lasting:
+        return float(est.preference[k])
+    items = est.preference[: len(est.preference) - 1]
+    return float(items[k] / max(float(items.sum()), 1e-12))
+
+
+def _via(model: WorldModel, person_cell: int, t: int, search: float) -> FloatArray:
+    """``(L,)`` steps for a person at ``person_cell`` to reach an item at location ``t`` when
+    they first go to location ``l``: straight there when ``l`` is ``t``, else on to ``t``."""
+    here = model.distance[:, person_cell].astype(float)
+    between = model.distance[:, location_cells(model)[t]].astype(float)
+    return here + search * between
+
+
+def steps_unhelped(
+    model: WorldModel, est: Estimate, k: int, person_cell: int, t: int, search: float
+) -> float:
+    """Expected steps for the person to reach item ``k`` at location ``t`` with no help, over
+    the robot's estimate of where they believe it."""
+    belief = est.beliefs[k, : model.n_locations]
+    return float(belief @ _via(model, person_cell, t, search) / max(belief.sum(), 1e-12))
+
+
+def steps_told(model: WorldModel, person_cell: int, t: int, told: float, search: float) -> FloatArray:
+    """``(L,)`` steps for a person at ``person_cell`` to reach an item at ``t`` when, heading
+    first for location ``l``, they are told after ``told`` steps where it is: until told they
+    walk towards ``l`` (their distance to ``t`` moving in proportion from ``d(p, t)`` to
+    ``d(l, t)``), or search on from ``l`` (closing on ``t`` at ``1 / search`` per step); then they
+    go straight to ``t``. Never more than :func:`_via` (they would have found it anyway)."""
+    to_l = model.distance[:, person_cell].astype(float)
+    to_t = float(model.distance[t, person_cell])
+    between = model.distance[:, location_cells(model)[t]].astype(float)
+    share = np.clip(told / np.maximum(to_l, 1.0), 0.0, 1.0)
+    walking = told + (1.0 - share) * to_t + share * between
+    searching = told + np.maximum(between - (told - to_l) / search, 0.0)
+    steps = np.where(told <= to_l, walking, searching)
+    return np.minimum(steps, _via(model, person_cell, t, search))
+
+
+def inform_worth(
+    model: WorldModel,
+    est: Estimate,
+    k: int,
+    person_cell: int,
+    t: int,
+    robot_steps: float,
+    settings: RobotSettings,
+) -> Worth:
+    """Telling the person that item ``k`` is at ``t``, heard after ``robot_steps`` of the
+    robot's walk into earshot: the steps it saves them over where they may believe it
+    (:func:`steps_told` against :func:`_via`), times P(they want it)."""
+    belief = est.beliefs[k, : model.n_locations] / max(est.beliefs[k, : model.n_locations].sum(), 1e-12)
+    search = settings.search_factor
+    via = _via(model, person_cell, t, search)
+    saved_if = np.maximum(via - steps_told(model, person_cell, t, robot_steps, search), 0.0)
+    saved_if[t] = 0.0
+    saved = wants(est, k, settings.lasting_want) * float(belief @ np.nan_to_num(saved_if, posinf=0.0))
+    return Worth(saved, 0.0, settings.interruption_cost + settings.robot_step_cost * robot_steps)
+
+
+def put_back_worth(
+    model: WorldModel,
+    estimates: Mapping[str, Estimate],
+    cells: Mapping[str, int],
+    owner: str,
+    k: int,
+    t: int,
+    b: int,
+    robot_steps: float,
+    settings: RobotSettings,
+) -> Worth:
+    """Carrying item ``k`` from ``t`` to ``b`` for ``owner`` (``robot_steps``: the robot's walk
+    to the item, then on to ``b``): it saves the owner's search when it lands before they reach
+    ``b``; everyone else who wants it and believes it at ``t`` would search from there."""
+    search = settings.search_factor
+    between = float(model.distance[b, location_cells(model)[t]])
+    est, cell = estimates.get(owner), cells.get(owner)
+    saved = 0.0
+    if est is not None and cell is not None:
+        belief = est.beliefs[k, : model.n_locations] / max(est.beliefs[k, : model.n_locations].sum(), 1e-12)
+        landed = robot_steps + 2 * MANIPULATION_STEPS
+        if landed <= float(model.distance[b, cell]) + settings.put_back_slack:
+            saved = wants(est, k, settings.lasting_want) * float(belief[b]) * search * between
+    harm = 0.0
+    for person, other in estimates.items():
+        if person != owner:
+            there = other.beliefs[k, t] / max(other.beliefs[k, : model.n_locations].sum(), 1e-12)
+            harm += wants(other, k, settings.lasting_want) * float(there) * search * between
+    return Worth(saved, harm, settings.robot_step_cost * robot_steps)
+
+
+def look_or_guess(
+    model: WorldModel,
+    est: Estimate,
+    k: int,
+    person_cell: int,
+    where: FloatArray,
+    robot_to_person: float,
+    robot_to_look: float,
+    settings: RobotSettings,
+) -> tuple[Worth, Worth]:
+    """``(look, guess)`` for telling the person where item ``k`` is when the robot knows only
+    ``where`` ``(L,)``, P(the item rests at each location): **guess** tells them the likeliest
+    place now (right with its probability; wrong, it sends them to an empty place and on);
+    **look** first walks ``robot_to_look`` steps to see the likeliest place, then tells them
+    where the item is (wherever it is: a place seen empty rules it out)."""
+    guess_at = int(np.argmax(where))
+    places = [t for t in range(model.n_locations) if where[t] > 0]
+    right = inform_worth(model, est, k, person_cell, guess_at, robot_to_person, settings)
+    sent = float(model.distance[guess_at, person_cell])  # a wrong word sends them there ...
+    wrong = 0.0
+    for t in places:
+        if t != guess_at:  # ... and on from there, against going straight to t
+            on = settings.search_factor * float(model.distance[t, location_cells(model)[guess_at]])
+            lost = max(sent + on - float(model.distance[t, person_cell]), 0.0)
+            wrong += float(where[t]) * wants(est, k, settings.lasting_want) * lost
+    guess = Worth(float(where[guess_at]) * right.saved, wrong, right.cost)
+    walk = robot_to_look + robot_to_person
+    saved = sum(
+        float(where[t]) * inform_worth(model, est, k, person_cell, t, walk, settings).saved for t in places
+    )
+    look = Worth(saved, 0.0, settings.interruption_cost + settings.robot_step_cost * walk)
+    return look, guess

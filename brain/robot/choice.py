@@ -1,0 +1,158 @@
+"""What the ``tom`` robot chooses to do: every candidate task scored by its expected benefit
+(:mod:`brain.robot.benefit`), the best one per person and item kept when it is worth doing.
+
+Candidates, for each person with empty hands and each item resting where the robot knows (or
+can guess) it is:
+
+- **inform** them where it is (:class:`~brain.robot.situation.Inform`);
+- **put it back** where they believe it (:class:`~brain.robot.situation.PutBack`), when the
+  robot is sure where it rests;
+- **look** first at the likeliest place (:class:`~brain.robot.situation.Look`), when the robot
+  cannot rule out other places and looking is worth more than guessing.
+
+Swaps (:func:`~brain.robot.situation.occupied_tasks`) and the ``tidy`` and ``announce``
+baselines keep their own rules. Pure: a snapshot in, tasks out (one pass per snapshot, shared
+by the tree's branches).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.world import ABSENT
+from ..settings import RobotSettings
+from .benefit import Worth, cell_distances, inform_worth, look_or_guess, put_back_worth
+from .situation import Inform, Look, PutBack, Snapshot, Task, _believed_why
+
+SURE = 0.999
+"""The robot treats an item's place as known when it gives it at least this."""
+
+
+@dataclass(frozen=True)
+class Scored:
+    """A candidate task and what it is expected to be worth (steps)."""
+
+    task: Task
+    worth: Worth
+
+
+_LAST: tuple[Snapshot, RobotSettings, list[Scored]] | None = None
+
+
+def chosen(snap: Snapshot, settings: RobotSettings) -> list[Scored]:
+    """The tasks worth doing now (net worth above 0), the best per person and item, best
+    first (computed once per snapshot and settings)."""
+    global _LAST
+    if _LAST is not None and _LAST[0] is snap and _LAST[1] is settings:
+        return _LAST[2]
+    best: dict[tuple[str, str], Scored] = {}
+    for scored in candidates(snap, settings):
+        task = scored.task
+        key = (task.owner if isinstance(task, PutBack) else task.person, task.item)
+        if key not in best or scored.worth.net > best[key].worth.net:
+            best[key] = scored
+    kept = sorted((s for s in best.values() if s.worth.net > 0), key=lambda s: -s.worth.net)
+    _LAST = (snap, settings, kept)
+    return kept
+
+
+def candidates(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
+    """Every inform, put-back and look the robot could do now, scored."""
+    model = snap.model
+    cells = _cells(snap)
+    robot = cells.get(snap.robot or "")
+    if robot is None:
+        return
+    steps = cell_distances(model)
+    for k, item in enumerate(model.items):
+        where = _where(snap, k)
+        if where is None:
+            continue
+        for person in snap.people:
+            est, cell = snap.estimates.get(person), cells.get(person)
+            if est is None or cell is None or snap.holding(person) is not None:
+                continue
+            to_person = max(float(steps[robot, cell]) - 1.0, 0.0)
+            if not np.isfinite(to_person):
+                continue
+            likeliest = int(np.argmax(where))
+            if where[likeliest] >= SURE:
+                inform = inform_worth(model, est, k, cell, likeliest, to_person, settings)
+                yield Scored(Inform(person, item, model.locations[likeliest]), inform)
+                yield from _put_back(snap, settings, cells, robot, person, k, likeliest)
+                continue
+            seeing = model.sees[:, likeliest]
+            to_look = float(np.min(np.where(seeing, steps[robot], np.inf)))
+            if not np.isfinite(to_look):
+                continue
+            look, guess = look_or_guess(model, est, k, cell, where, to_person, to_look, settings)
+            yield Scored(Inform(person, item, model.locations[likeliest]), guess)
+            yield Scored(Look(item, model.locations[likeliest], person), look)
+
+
+def _put_back(
+    snap: Snapshot, settings: RobotSettings, cells: dict[str, int], robot: int, person: str, k: int, t: int
+) -> Iterator[Scored]:
+    """Putting item ``k`` (resting at ``t``) back where ``person`` most probably believes it,
+    unless they moved it there themselves."""
+    model = snap.model
+    item = model.items[k]
+    if item in snap.moves and snap.moves[item][2] == person:
+        return
+    est = snap.estimates[person]
+    believed = int(np.argmax(est.beliefs[k, : model.n_locations]))
+    if believed == t or model.locations[believed] == ABSENT:
+        return
+    steps = cell_distances(model)
+    at, to = _spot_cell(snap, t), _spot_cell(snap, believed)
+    walk = float(steps[robot, at]) + float(steps[at, to]) - 1.0
+    if not np.isfinite(walk):
+        return
+    worth = put_back_worth(model, snap.estimates, cells, person, k, t, believed, walk, settings)
+    why = _believed_why(snap, item, person, model.locations[believed])
+    yield Scored(PutBack(item, model.locations[believed], person, why=why), worth)
+
+
+def _where(snap: Snapshot, k: int) -> np.ndarray | None:
+    """``(L,)`` where the robot believes item ``k`` rests (``None``: carried, or absent)."""
+    model = snap.model
+    location, holder = snap.item(model.items[k])
+    if holder is not None or location is None or location == ABSENT:
+        return None
+    if snap.where is None:
+        where = np.zeros(model.n_locations)
+        where[model.locations.index(location)] = 1.0
+        return where
+    row = snap.where[k]
+    if row.sum() <= 0 or (ABSENT in model.locations and row[model.locations.index(ABSENT)] > 0.5):
+        return None
+    return row
+
+
+def _cells(snap: Snapshot) -> dict[str, int]:
+    """Every agent's cell index."""
+    index = snap.model.cell_index
+    return {a.id: c for a in snap.state.agents if (c := index.get((a.cell.col, a.cell.row))) is not None}
+
+
+def _spot_cell(snap: Snapshot, location: int) -> int:
+    """The cell index of location index ``location``."""
+    return int(np.argmin(snap.model.distance[location]))
+
+
+def inform_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+    """The ``inform`` branch's tasks under ``tom``: the informs worth doing, best first."""
+    yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, Inform))
+
+
+def put_back_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+    """The ``put back`` branch's tasks under ``tom``: the put-backs worth doing, best first."""
+    yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, PutBack))
+
+
+def look_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Look]:
+    """The ``look`` branch's tasks: the looks worth doing, best first."""
+    yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, Look))

@@ -1,0 +1,139 @@
+"""The robot's settings (:class:`RobotSettings`): when it acts, what its help is weighed
+against, and how long it waits; re-exported by :mod:`brain.settings`, which reads settings
+files."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+ROBOT_ALLOWED = {
+    "confirm_seconds": "confirm_seconds >= 0",
+    "attempts": "an int >= 1",
+    "navigate_timeout": "navigate_timeout > 0",
+    "action_timeout": "action_timeout > 0",
+    "deception_threshold": "0 <= deception_threshold <= 1",
+    "interruption_cost": "interruption_cost >= 0 (steps)",
+    "robot_step_cost": "robot_step_cost >= 0 (steps)",
+    "put_back_slack": "put_back_slack >= 0 (steps)",
+    "search_factor": "search_factor >= 1",
+}
+"""What the robot's settings allow of each value they check that is not a share of one."""
+
+
+def allowed_text(values: object, names: list[str], allowed: Mapping[str, str]) -> str:
+    """``name=value (allowed: ...)`` for each of ``names``, for an error message."""
+    return "; ".join(
+        f"{n}={getattr(values, n)!r} (allowed: {allowed.get(n) or f'0 <= {n} <= 1'})" for n in names
+    )
+
+
+@dataclass(frozen=True)
+class RobotSettings:
+    """When the robot acts, and how long it waits.
+
+    Attributes:
+        preference_threshold: a person's preference must be at least this probable for
+            the robot to act on it.
+        intention_threshold: the same for the intention (item and believed location).
+        belief_threshold: a false belief (``Estimate.false_belief``: the person's belief gives
+            the item's true location less than ``false_belief_mass`` times its likeliest
+            location's) must be at least this probable for the robot to act on it.
+        put_back_preference: an item nobody left where it is is put back for someone who
+            does not know it was moved only when they want it at least this probably (0:
+            for anyone with a false belief about it: the robot walks, nobody is interrupted).
+        put_back_harm: no put-back when someone else who may want the item believes it where
+            it is now (their belief there times their preference at least this).
+        inform_mass: a person heading for a wrong place is told where the item they want
+            is when they probably hold a false belief about it, or when their belief gives
+            its true place less than this (they do not know where it is: searching).
+        swap_accept: a swap is asked for only when the holder probably accepts (their
+            preference for the offered item at least this) or the person does not know who
+            holds the item.
+        confirm_seconds: engine seconds a task must be seen, tick after tick, before the
+            robot starts it (a passing blip of the online estimates starts nothing).
+        attempts: how often the robot tries one task before giving up on it.
+        navigate_timeout: engine seconds a navigation may take.
+        action_timeout: engine seconds a pick, place, give, say or request may take.
+        policy: ``tom`` (the paper's tree, on the people's inferred minds, with the
+            thresholds above), ``benefit`` (the same minds, each task chosen by its expected
+            benefit against the costs below: :mod:`brain.robot.choice`), or a baseline
+            without theory of mind: ``tidy`` (put every moved item back where it was) or
+            ``announce`` (tell everyone about every move).
+        deception_threshold: a move reads as a likely deception (:mod:`brain.robot.deception`)
+            when its mover believes, at least this probably, that someone who most probably
+            wants the item still believes it where it was (did not see the move).
+        on_deception: ``tell`` the deceived person where the item is (and no put-back behind
+            the mover's back), or ``put_back`` as for any move.
+        interruption_cost: what one word from the robot costs the person it speaks to, in
+            *steps* (cells of a person's walk: people and the robot walk at the same speed,
+            so a step is a fixed number of engine ticks); the ``benefit`` robot tells a person
+            where an item is only when the steps it expects to save them, weighted by how
+            probably they want the item, exceed this (``benefit`` policy:
+            :mod:`brain.robot.benefit`).
+        robot_step_cost: steps of a person's time one cell of the robot's own walk is
+            worth (its cost of going somewhere to help).
+        search_factor: how many steps a person who finds a place empty takes, per step of
+            the direct walk from there, to find the item (a search is longer than a walk).
+        put_back_slack: steps a put-back may land after the person it is for could reach
+            the place and still be counted as in time (they may dawdle).
+        lasting_want: weigh help by P(the person wants the item | they want some item), so
+            that going out on an errand reads as passing and leaves the want for an item
+            where it was (else by the preference posterior, in which an errand reads as
+            wanting to leave).
+    """
+
+    preference_threshold: float = 0.6
+    intention_threshold: float = 0.5
+    belief_threshold: float = 0.6
+    put_back_preference: float = 0.0
+    put_back_harm: float = 0.3
+    inform_mass: float = 0.5
+    swap_accept: float = 0.5
+    confirm_seconds: float = 0.5
+    attempts: int = 2
+    navigate_timeout: float = 60.0
+    action_timeout: float = 10.0
+    policy: str = "tom"
+    deception_threshold: float = 0.5
+    on_deception: str = "tell"
+    interruption_cost: float = 1.0
+    robot_step_cost: float = 0.05
+    search_factor: float = 2.5
+    put_back_slack: float = 0.0
+    lasting_want: bool = False
+
+    def __post_init__(self) -> None:
+        if self.policy not in ROBOT_POLICIES:
+            raise ValueError(
+                f"invalid robot settings: policy={self.policy!r} (one of {', '.join(ROBOT_POLICIES)})"
+            )
+        if self.on_deception not in ("tell", "put_back"):
+            raise ValueError(
+                f"invalid robot settings: on_deception={self.on_deception!r} (one of tell, put_back)"
+            )
+        checks = {name: 0.0 <= getattr(self, name) <= 1.0 for name in ROBOT_SHARES}
+        checks |= {"confirm_seconds": self.confirm_seconds >= 0, "attempts": self.attempts >= 1}
+        checks |= {"navigate_timeout": self.navigate_timeout > 0, "action_timeout": self.action_timeout > 0}
+        checks |= {name: getattr(self, name) >= 0 for name in ROBOT_COSTS}
+        checks |= {"search_factor": self.search_factor >= 1}
+        bad = [name for name, ok in checks.items() if not ok]
+        if bad:
+            raise ValueError(f"invalid robot settings: {allowed_text(self, bad, ROBOT_ALLOWED)}")
+
+
+ROBOT_POLICIES = ("tom", "benefit", "tidy", "announce")
+""":attr:`RobotSettings.policy`'s values (:data:`brain.robot.branches.POLICIES`)."""
+ROBOT_SHARES = (
+    "preference_threshold",
+    "intention_threshold",
+    "belief_threshold",
+    "put_back_preference",
+    "put_back_harm",
+    "inform_mass",
+    "swap_accept",
+    "deception_threshold",
+)
+""":class:`RobotSettings` that are probabilities (or shares of one): each in [0, 1]."""
+ROBOT_COSTS = ("interruption_cost", "robot_step_cost", "put_back_slack")
+""":class:`RobotSettings` that are costs in steps: each at least 0."""

@@ -1,0 +1,131 @@
+"""Each candidate's expected benefit on hand-built situations of the paper scene (rooms P1, S1,
+S2, P2 in a row along row 9, the entrance below, outside at the bottom): informing beats
+putting back for a person heading to the wrong room; nothing is put back for a person who saw
+the move; looking beats guessing when the robot cannot rule out an unseen room."""
+
+from __future__ import annotations
+
+import msgspec
+import numpy as np
+import pytest
+
+from brain.model.estimates import Estimate
+from brain.model.world import build_world_model
+from brain.robot.benefit import inform_worth, look_or_guess
+from brain.robot.choice import candidates, chosen
+from brain.robot.situation import Inform, Look, PutBack, Snapshot
+from brain.settings import RobotSettings
+from protocol import Cell
+from sim2d.engine import Engine
+
+LOCATIONS = ("P1", "S1", "S2", "P2")
+BALL = 1
+
+
+@pytest.fixture(scope="module")
+def world():
+    engine = Engine("paper-robot")
+    scene = engine.scene()
+    return scene, build_world_model(scene), engine.state()
+
+
+def believes(place: str, p_ball: float = 0.9) -> Estimate:
+    """A1 wants the ball (``p_ball``) and is sure it is at ``place``."""
+    beliefs = np.zeros((2, 4))
+    beliefs[:, LOCATIONS.index(place)] = 1.0
+    preference = np.array([(1 - p_ball) / 2, p_ball, (1 - p_ball) / 2])
+    return Estimate(beliefs, preference, (BALL, LOCATIONS.index(place), p_ball), np.zeros(2))
+
+
+def snapshot(world, cells: dict[str, tuple[int, int]], ball: str, a1: Estimate, **kw) -> Snapshot:
+    """A2 holds the skate (so only A1 may need the ball); the ball rests at ``ball``."""
+    scene, model, state = world
+    agents = tuple(
+        msgspec.structs.replace(a, cell=Cell(*cells[a.id]), holding="skate" if a.id == "A2" else None)
+        for a in state.agents
+    )
+    items = tuple(
+        msgspec.structs.replace(i, location=ball, held_by=None)
+        if i.id == "ball"
+        else msgspec.structs.replace(i, location=None, held_by="A2")
+        for i in state.items
+    )
+    now = msgspec.structs.replace(state, agents=agents, items=items)
+    estimates = {"A1": a1, "A2": believes("P2", 0.05)}
+    return Snapshot(
+        scene,
+        model,
+        now,
+        estimates,
+        kw.get("owners", {}),
+        {},
+        kw.get("moves", {}),
+        robot="robot",
+        where=kw.get("where"),
+    )
+
+
+def best(snap: Snapshot, kind: type) -> float:
+    """The best net worth of a candidate of ``kind`` for A1's ball (``-inf``: none)."""
+    nets = [
+        s.worth.net
+        for s in candidates(snap, RobotSettings())
+        if isinstance(s.task, kind) and s.task.item == "ball"
+    ]
+    return max(nets, default=-np.inf)
+
+
+def test_a_person_heading_to_the_wrong_room_is_told_rather_than_the_item_carried(world) -> None:
+    # A1 in P2's room believes the ball is at P1, across the house; it is at S2, on their way
+    snap = snapshot(world, {"A1": (13, 9), "A2": (14, 10), "robot": (9, 8)}, "S2", believes("P1"))
+    inform, put_back = best(snap, Inform), best(snap, PutBack)
+    assert inform > 0, f"telling A1 should be worth doing, got net {inform:.2f} steps"
+    assert inform > put_back, f"telling ({inform:.2f}) should beat carrying the ball to P1 ({put_back:.2f})"
+    assert [s.task for s in chosen(snap, RobotSettings())] == [Inform("A1", "ball", "S2")]
+
+
+def test_no_put_back_for_a_person_who_saw_the_move(world) -> None:
+    moved = {"ball": ("P1", "S2", "A2")}
+    cells = {"A1": (7, 1), "A2": (14, 10), "robot": (8, 9)}  # A1 outside, far from P1
+    saw = snapshot(world, cells, "S2", believes("S2"), owners={"ball": "A1"}, moves=moved)
+    assert best(saw, PutBack) == -np.inf, "A1 saw the ball go to S2: putting it back would mislead"
+    assert chosen(saw, RobotSettings()) == [], "A1 knows where the ball is: nothing is worth doing"
+    unseen = snapshot(world, cells, "S2", believes("P1"), owners={"ball": "A1"}, moves=moved)
+    assert best(unseen, PutBack) > 0, (
+        f"A1 did not see the move and the robot lands the ball at P1 first: a put-back should be "
+        f"worth doing, got net {best(unseen, PutBack):.2f}"
+    )
+
+
+def test_looking_beats_guessing_when_an_unseen_room_cannot_be_ruled_out(world) -> None:
+    # the ball is at P1 or at P2, rooms the robot (in the corridor by S1 and S2) cannot see;
+    # A1, in S1's room, believes it at S2: a wrong guess sends them across the house
+    where = np.zeros((2, 4))
+    where[BALL, [0, 3]] = 0.5
+    where[0, 1] = 1.0
+    cells = {"A1": (5, 9), "A2": (14, 10), "robot": (7, 9)}
+    snap = snapshot(world, cells, "P1", believes("S2"), where=where)
+    look, guess = best(snap, Look), best(snap, Inform)
+    assert look > 0, f"looking should be worth doing, got net {look:.2f} steps"
+    assert look > guess, f"looking first ({look:.2f}) should beat telling the likelier half ({guess:.2f})"
+    assert [s.task for s in chosen(snap, RobotSettings())] == [Look("ball", "P1", "A1")]
+
+
+def test_inform_saves_nothing_for_someone_who_already_knows(world) -> None:
+    _, model, _ = world
+    person = model.cell_index[(13, 9)]
+    knows = inform_worth(model, believes("S2"), BALL, person, LOCATIONS.index("S2"), 3.0, RobotSettings())
+    assert knows.saved == 0.0 and knows.net < 0, f"expected nothing saved and a cost, got {knows}"
+    wrong = inform_worth(model, believes("P1"), BALL, person, LOCATIONS.index("S2"), 3.0, RobotSettings())
+    later = inform_worth(model, believes("P1"), BALL, person, LOCATIONS.index("S2"), 9.0, RobotSettings())
+    assert wrong.saved > later.saved > 0, f"a word heard later saves less: {wrong.saved} then {later.saved}"
+
+
+def test_a_certain_place_makes_looking_worthless(world) -> None:
+    _, model, _ = world
+    where = np.array([0.0, 0.0, 1.0, 0.0])
+    person = model.cell_index[(13, 9)]
+    look, guess = look_or_guess(model, believes("P1"), BALL, person, where, 3.0, 4.0, RobotSettings())
+    assert guess.net > look.net, (
+        f"with the place known, guessing ({guess}) is telling, and beats a look ({look})"
+    )
