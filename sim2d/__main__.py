@@ -146,6 +146,15 @@ def generate_parser() -> argparse.ArgumentParser:
         help="with --kind tasks: the task kinds to draw from in turn by seed, comma-separated "
         "(moved, hidden, contested, seen, told, overlooked, stale; default: all)",
     )
+    parser.add_argument(
+        "--autonomy",
+        type=_override,
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set one of the people's [autonomy] settings in every episode written, over the drawn "
+        "one (a TOML value: replan_lag=[100000,100000], search='nearest'); repeatable",
+    )
     parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
     add_log_level(parser, "WARNING")
     return parser
@@ -154,32 +163,33 @@ def generate_parser() -> argparse.ArgumentParser:
 def generate_main(argv: Sequence[str]) -> int:
     """``python -m sim2d generate --map M --seed S --out DIR``: write a random episode
     (``--rooms R --items K``: on a new house of that size instead)."""
+    from .errors import ScenarioError
     from .generation.episodes import write_episode, write_house_episode
 
     parser = generate_parser()
     args = parser.parse_args(argv)
-    if args.rooms is not None:
-        try:
-            print(
-                write_house_episode(
-                    args.out,
-                    args.rooms,
-                    args.items,
-                    args.seed,
-                    args.max_ticks,
-                    args.minds,
-                    args.kind,
-                    args.tasks,
-                )
-            )
-        except ValueError as err:
-            parser.error(str(err))
-    elif args.episodes:
-        for map_name, seed in _episode_list(parser, args.episodes):
-            print(write_episode(args.out, map_name, seed, args.max_ticks, args.minds, args.kind, args.tasks))
-    else:
-        print(write_episode(args.out, args.map, args.seed, args.max_ticks, args.minds, args.kind, args.tasks))
+    common = {"minds": args.minds, "kind": args.kind, "tasks": args.tasks, "autonomy": dict(args.autonomy)}
+    try:
+        if args.rooms is not None:
+            print(write_house_episode(args.out, args.rooms, args.items, args.seed, args.max_ticks, **common))
+        elif args.episodes:
+            for map_name, seed in _episode_list(parser, args.episodes):
+                print(write_episode(args.out, map_name, seed, args.max_ticks, **common))
+        else:
+            print(write_episode(args.out, args.map, args.seed, args.max_ticks, **common))
+    except (ValueError, ScenarioError) as err:
+        parser.error(str(err))
     return 0
+
+
+def _override(text: str) -> tuple[str, str]:
+    """``--autonomy``'s ``NAME=VALUE``, checked (a bad one is a usage error naming it)."""
+    from .generation.overrides import parse_override
+
+    try:
+        return parse_override(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
 
 
 def _task_kinds(text: str) -> tuple[str, ...]:

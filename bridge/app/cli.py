@@ -221,6 +221,15 @@ def _eval_command(command: Command) -> None:
         "moved, hidden, contested, seen, told, overlooked, stale (default: all)",
     )
     evaluation.add_argument(
+        "--autonomy",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set one of the simulated people's [autonomy] settings in every episode, over the drawn "
+        "one (a TOML value, e.g. replan_lag=[100000,100000]: people who never turn back on their own; "
+        "docs/evaluation.md); repeatable",
+    )
+    evaluation.add_argument(
         "--policies",
         default="tom",
         help="the acting robot's policies, one run each, comma-separated: tom (on inferred minds), "

@@ -248,12 +248,15 @@ def _bench(args: argparse.Namespace) -> int:
 
 def _eval(args: argparse.Namespace) -> int:
     from ..evaluation.conditions import conditions
+    from ..evaluation.generation import check_autonomy
 
     brain = settings_argv(args.settings, args.overrides)
     check_brain_settings(args.settings, args.overrides)  # before any process starts
     try:
         tasks = [t.strip() for t in args.tasks.split(",") if t.strip()]
-        chosen = conditions(args.perception.split(","), args.minds.split(","), args.kind.split(","), tasks)
+        kinds = args.kind.split(",")
+        chosen = conditions(args.perception.split(","), args.minds.split(","), kinds, tasks, args.autonomy)
+        check_autonomy(args.autonomy)
     except ValueError as err:
         print(f"toyroom eval: {err}", file=sys.stderr)
         return 2

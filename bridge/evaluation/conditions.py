@@ -43,8 +43,15 @@ class Condition:
     kind: str = "everyday"
     tasks: tuple[str, ...] = ()
     """The task kinds a ``tasks`` condition draws from, in turn by episode seed (empty: all)."""
+    autonomy: tuple[str, ...] = ()
+    """``NAME=VALUE`` settings of the simulated people's ``[autonomy]`` table, over the ones
+    drawn (``python -m sim2d generate --autonomy``, which checks them): the same episodes with
+    people who behave otherwise in one respect."""
 
     def __post_init__(self) -> None:
+        malformed = [s for s in self.autonomy if not s.partition("=")[0].strip() or "=" not in s]
+        if malformed:
+            raise ValueError(f"autonomy settings are NAME=VALUE, not {', '.join(map(repr, malformed))}")
         bad = [task for task in self.tasks if task not in TASK_KINDS]
         if bad:
             raise ValueError(f"task kinds are some of {', '.join(TASK_KINDS)}, not {', '.join(bad)}")
@@ -74,11 +81,15 @@ class Condition:
 
 
 def conditions(
-    perceptions: Sequence[str], minds: Sequence[str], kinds: Sequence[str], tasks: Sequence[str] = ()
+    perceptions: Sequence[str],
+    minds: Sequence[str],
+    kinds: Sequence[str],
+    tasks: Sequence[str] = (),
+    autonomy: Sequence[str] = (),
 ) -> list[Condition]:
-    """Every combination, in the order given, each ``tasks`` condition drawing from ``tasks``
-    (raises ``ValueError`` naming a bad value)."""
+    """Every combination, in the order given, each ``tasks`` condition drawing from ``tasks``,
+    all with the people's ``autonomy`` settings (raises ``ValueError`` naming a bad value)."""
     return [
-        Condition(p, m, k, tuple(tasks) if k == "tasks" else ())
+        Condition(p, m, k, tuple(tasks) if k == "tasks" else (), tuple(autonomy))
         for p, m, k in itertools.product(perceptions, minds, kinds)
     ]

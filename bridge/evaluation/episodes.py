@@ -139,6 +139,7 @@ def episode_specs(job: EpisodeJob) -> tuple[Path, list[RunSpec]]:
             condition.kind,
             job.max_ticks,
             condition.tasks,
+            condition.autonomy,
         )
     (directory / "logs").mkdir(parents=True, exist_ok=True)
     values = ("--values-cache", str(Path(job.workdir) / "values"))  # each map solved once per evaluation

@@ -7,6 +7,7 @@ from __future__ import annotations
 import logging
 import subprocess
 import sys
+import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -30,11 +31,13 @@ def generate(
     kind: str = "everyday",
     max_ticks: int = 1000,
     tasks: Sequence[str] = (),
+    autonomy: Sequence[str] = (),
 ) -> Path:
     """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
     with simulated people of ``minds``, of ``kind`` (``tasks``: drawn from these task kinds;
-    empty: all), ``max_ticks`` long."""
-    return _generate(directory, [index], seed, minds, kind, max_ticks, tasks)[0]
+    empty: all), ``max_ticks`` long; ``autonomy``: ``NAME=VALUE`` settings of the people's
+    ``[autonomy]`` table, over the drawn ones (``python -m sim2d generate --autonomy``)."""
+    return _generate(directory, [index], seed, minds, kind, max_ticks, tasks, autonomy)[0]
 
 
 def generate_all(
@@ -45,10 +48,11 @@ def generate_all(
     kind: str = "everyday",
     max_ticks: int = 1000,
     tasks: Sequence[str] = (),
+    autonomy: Sequence[str] = (),
 ) -> list[Path]:
     """Write episodes ``0 .. episodes - 1`` of a sweep, as :func:`generate` does each, in one
     process (a process start is most of an episode's generation)."""
-    return _generate(directory, range(episodes), seed, minds, kind, max_ticks, tasks)
+    return _generate(directory, range(episodes), seed, minds, kind, max_ticks, tasks, autonomy)
 
 
 def _generate(
@@ -59,6 +63,7 @@ def _generate(
     kind: str,
     max_ticks: int,
     tasks: Sequence[str] = (),
+    autonomy: Sequence[str] = (),
 ) -> list[Path]:
     """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process."""
     if not indices:
@@ -67,7 +72,8 @@ def _generate(
     result = subprocess.run(
         [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
         + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)]
-        + (["--tasks", ",".join(tasks)] if tasks and kind == "tasks" else []),
+        + (["--tasks", ",".join(tasks)] if tasks and kind == "tasks" else [])
+        + [arg for setting in autonomy for arg in ("--autonomy", setting)],
         capture_output=True,
         text=True,
         timeout=120 + 10 * len(indices),
@@ -80,13 +86,34 @@ def _generate(
     return paths
 
 
+def check_autonomy(autonomy: Sequence[str]) -> None:
+    """Raise ``ValueError`` with the generator's words when ``autonomy`` (``NAME=VALUE``
+    settings of the people's ``[autonomy]`` table) would not make valid episodes: checked by
+    writing one throwaway episode with them, before an evaluation starts any run."""
+    if not autonomy:
+        return
+    with tempfile.TemporaryDirectory(prefix="toyroom-autonomy-") as directory:
+        try:
+            _generate(Path(directory), [0], 0, "simple", "everyday", 10, (), autonomy)
+        except RuntimeError as err:
+            reason = str(err).strip().splitlines()[-1].split("error: ", 1)[-1]
+            raise ValueError(f"--autonomy: {reason.split('.toml: ', 1)[-1]}") from None
+
+
 def scenarios_of(workdir: Path, episodes: int, seed: int, condition: Condition, max_ticks: int) -> list[str]:
     """The condition's episodes, generated in one process into its ``scenarios`` folder; where
     that fails, empty names (each job then generates its own, and fails alone)."""
     directory = workdir / condition.name / "scenarios"
     try:
         paths = generate_all(
-            directory, episodes, seed, condition.minds, condition.kind, max_ticks, condition.tasks
+            directory,
+            episodes,
+            seed,
+            condition.minds,
+            condition.kind,
+            max_ticks,
+            condition.tasks,
+            condition.autonomy,
         )
     except (RuntimeError, OSError, subprocess.SubprocessError) as err:
         log.warning("%s; each episode is generated on its own", err)

@@ -13,12 +13,13 @@ those (sim2d, the grid engine) plays them.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 
 from ..scenario.maps import SCENARIO_DIR, load_map
+from .overrides import with_autonomy
 from .tasks import TASKS, check_kinds, person_lines, task_agents
 
 ITEM_SHAPES = (
@@ -306,10 +307,11 @@ def write_house_episode(
     kind: str = "everyday",
     people: int = 2,
     tasks: Sequence[str] | None = None,
+    autonomy: Mapping[str, str] | None = None,
 ) -> Path:
     """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
     ``items`` items and ``people`` people on it (the scaling family of ``toyroom bench``);
-    return its path."""
+    return its path (``autonomy``: :func:`~sim2d.generation.overrides.with_autonomy`)."""
     if rooms < 2:
         raise ValueError(f"a house has at least 2 rooms, not {rooms}")
     directory.mkdir(parents=True, exist_ok=True)
@@ -318,20 +320,19 @@ def write_house_episode(
     map_path.write_text(house_map(map_name, rooms, rooms, seed))
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
-    path.write_text(
-        episode(
-            name,
-            map_path.name,
-            map_path,
-            items,
-            seed,
-            max_ticks=max_ticks,
-            minds=minds,
-            kind=kind,
-            people=people,
-            tasks=tasks,
-        )
+    text = episode(
+        name,
+        map_path.name,
+        map_path,
+        items,
+        seed,
+        max_ticks=max_ticks,
+        minds=minds,
+        kind=kind,
+        people=people,
+        tasks=tasks,
     )
+    path.write_text(with_autonomy(text, autonomy or {}, path))
     return path
 
 
@@ -343,9 +344,11 @@ def write_episode(
     minds: str = "simple",
     kind: str = "everyday",
     tasks: Sequence[str] | None = None,
+    autonomy: Mapping[str, str] | None = None,
 ) -> Path:
     """Write a random episode (and its generated map) into ``directory``; return its path
-    (``tasks``: the task kinds of a ``tasks`` episode, default all)."""
+    (``tasks``: the task kinds of a ``tasks`` episode, default all; ``autonomy``: settings of
+    its ``[autonomy]`` table to override, :func:`~sim2d.generation.overrides.with_autonomy`)."""
     directory.mkdir(parents=True, exist_ok=True)
     spec = MAPS[map_name]
     if spec is None:
@@ -357,17 +360,16 @@ def write_episode(
             map_path.write_text(house_map(map_name, *spec))
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
-    path.write_text(
-        episode(
-            name,
-            map_ref,
-            map_path,
-            ITEMS[map_name],
-            seed,
-            max_ticks=max_ticks,
-            minds=minds,
-            kind=kind,
-            tasks=tasks,
-        )
+    text = episode(
+        name,
+        map_ref,
+        map_path,
+        ITEMS[map_name],
+        seed,
+        max_ticks=max_ticks,
+        minds=minds,
+        kind=kind,
+        tasks=tasks,
     )
+    path.write_text(with_autonomy(text, autonomy or {}, path))
     return path

@@ -11,8 +11,9 @@ from pathlib import Path
 
 import pytest
 
+from bridge.evaluation.conditions import Condition
 from bridge.evaluation.episodes import evaluate
-from bridge.evaluation.generation import generate, generate_all, map_of
+from bridge.evaluation.generation import check_autonomy, generate, generate_all, map_of
 
 EPISODES, SEED = 2, 5
 
@@ -173,3 +174,18 @@ def test_episodes_generated_together_are_those_generated_one_by_one(tmp_path: Pa
         check=False,
     )
     assert bad.returncode == 2 and "'attic:2' is not MAP:SEED" in bad.stderr, bad.stderr
+
+
+def test_autonomy_settings_reach_every_episode_and_bad_ones_are_named(tmp_path: Path) -> None:
+    """``toyroom eval --autonomy``: each generated episode carries the setting; a setting the
+    generator refuses is a ``ValueError`` in its words before any run starts."""
+    paths = generate_all(
+        tmp_path, 2, seed=3, kind="tasks", max_ticks=300, autonomy=["replan_lag=[9000, 9000]"]
+    )
+    for path in paths:
+        assert "replan_lag = [9000, 9000]" in path.read_text(), path.read_text()[:400]
+    check_autonomy(["replan_lag=[9000, 9000]"])
+    with pytest.raises(ValueError, match=r"miss = 2\.0"):
+        check_autonomy(["miss=2"])
+    with pytest.raises(ValueError, match="NAME=VALUE"):
+        Condition(autonomy=("miss",))
