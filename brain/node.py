@@ -329,7 +329,10 @@ class BrainNode:
             log.warning("engine '%s' is back with another scene: a new model", again.engine)
         else:
             log.warning("engine '%s' is back: carrying on", again.engine)
-        return self._link(again, link, realtime)
+        back = self._link(again, link, realtime)
+        if back.robot is not None and robot is not None:  # an engine back mid-episode knows the old ids
+            back.robot.tree.context.book.number_after(robot.tree.context.book)
+        return back
 
     @staticmethod
     def _drain(robot: RobotBrain, inbox: queue.Queue[CommandStatus]) -> None:

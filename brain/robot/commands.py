@@ -31,6 +31,11 @@ class CommandBook:
         self.sent[command.id] = command
         return command.id
 
+    def number_after(self, earlier: CommandBook) -> None:
+        """Number this book's commands on from ``earlier``'s (a link to an engine that came back:
+        it remembers the ids it was sent and refuses one used again)."""
+        self._counter = max(self._counter, earlier._counter)
+
     def cancel(self, command_id: str) -> None:
         """Ask the engine to cancel ``command_id`` if it has not ended."""
         if not self.final(command_id):

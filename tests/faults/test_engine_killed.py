@@ -41,7 +41,7 @@ def start_brain(world: str, *args: str) -> tuple[subprocess.Popen[str], queue.Qu
 
 def test_brain_survives_an_engine_restart(world: str) -> None:
     minds: queue.Queue[Mind] = queue.Queue()
-    engine = EngineProcess(world, "--scenario", "paper-robot", "--realtime", "2")
+    engine = EngineProcess(world, "--scenario", "paper-robot", "--realtime", "1")
     brain, lines = start_brain(world, "--timeout", "60")
     try:
         with Bridge(world) as watcher:
@@ -145,3 +145,45 @@ def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(
             if brain.poll() is None:
                 brain.kill()
             running.close()
+
+
+def test_an_engine_lost_and_back_in_the_same_episode_gets_new_command_ids(world: str) -> None:
+    """An engine frozen past its link's lease (as under heavy load) is lost to the brain, then
+    comes back with the same episode and remembers every command id it was sent: the brain's
+    commands after the link comes back must not reuse one (the engine refuses a duplicate)."""
+    import signal
+
+    from protocol import CommandStatus
+
+    statuses: queue.Queue[CommandStatus] = queue.Queue()
+    engine = EngineProcess(world, "--scenario", "paper-robot", "--realtime", "1")
+    brain, lines = start_brain(world, "--timeout", "60")
+    try:
+        with Bridge(world) as watcher:
+            handshake(watcher, client="test", timeout=30.0)
+            watcher.subscribe(watcher.keys.status(), lambda s, _: statuses.put(s), expected=CommandStatus)
+            before = statuses.get(timeout=60)  # the robot has sent a command
+            engine.process.send_signal(signal.SIGSTOP)
+            try:
+                at, line = lines.get(timeout=10)
+                assert "lost" in line, line
+            finally:
+                engine.process.send_signal(signal.SIGCONT)
+            at, line = lines.get(timeout=30)
+            assert "is back: carrying on" in line, line
+            while not statuses.empty():
+                statuses.get_nowait()
+            after = statuses.get(timeout=60)  # a command sent over the link that came back
+            seen = [after]
+            deadline = time.monotonic() + 2
+            while time.monotonic() < deadline:
+                try:
+                    seen.append(statuses.get(timeout=0.5))
+                except queue.Empty:
+                    pass
+            duplicates = [s for s in seen if "duplicate" in (s.reason or "")]
+            assert not duplicates, f"first command {before.command}; after the link came back: {duplicates}"
+            assert brain.poll() is None
+    finally:
+        brain.kill()
+        engine.close()
