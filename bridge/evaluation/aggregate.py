@@ -4,7 +4,7 @@ people got (:mod:`bridge.evaluation.helpfulness`), paired the same way."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
 from protocol import Observer
@@ -21,22 +21,40 @@ MAJORITY = "majority"
 ROBOT = "robot"
 """An episode's acting runs are keyed ``robot-<policy>``; ``none`` is the observing run's."""
 NONE = "none"
-HELP = ("ticks_to_goal_fb", "ticks_from_false_belief", "wasted_trips", "interruptions")
+HELP = (
+    "ticks_to_goal_fb",
+    "ticks_to_goal_any_fb",
+    "ticks_from_false_belief",
+    "wasted_trips",
+    "interruptions",
+)
 
 
-def _help_sums(run: Mapping[str, Any]) -> dict[str, tuple[float, int]]:
+def mistaken(episode: Mapping[str, Any], keys: Sequence[str]) -> set[str]:
+    """The people who had a false belief about what they wanted in any of the runs ``keys``
+    of ``episode``: one population for every policy (:func:`_help_sums`)."""
+    return {a for key in keys for a, h in episode[key].get("help", {}).items() if h["false_belief"]}
+
+
+def _help_sums(run: Mapping[str, Any], anyone: Collection[str] = ()) -> dict[str, tuple[float, int]]:
     """One run's ``(sum, count)`` of each help measure: ticks to goal over the people who had
-    a false belief (until they first played with the item it was about, from then on; the
-    episode's length when never), counted from the episode's start and from the false
-    belief's first tick (the part a robot can shorten: an errand before it cannot be), and
-    wasted trips and interruptions over every person."""
+    a false belief in this run (until they first played with the item it was about, from then
+    on; the episode's length when never), counted from the episode's start and from the false
+    belief's first tick (the part a robot can shorten: an errand before it cannot be); ticks to
+    goal over ``anyone``, the people with a false belief in any policy's run of the episode
+    (the same people for every policy, so a robot that spares someone a false belief is
+    credited and one that causes one is charged, which ``ticks_to_goal_fb``, over each run's
+    own people, does not do); and wasted trips and interruptions over every person."""
     helped = run.get("help", {})
     fb = [h for h in helped.values() if h["false_belief"]]
     ticks = [h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"] for h in fb]
     onsets = [h.get("false_belief_tick") for h in fb]
     since = [t - onset for t, onset in zip(ticks, onsets, strict=True) if onset is not None]
+    reached = run.get("ticks_to_goal", {})
+    every = [reached.get(a) if reached.get(a) is not None else run["episode_ticks"] for a in sorted(anyone)]
     return {
         "ticks_to_goal_fb": (float(sum(ticks)), len(ticks)),
+        "ticks_to_goal_any_fb": (float(sum(every)), len(every)),
         "ticks_from_false_belief": (float(sum(since)), len(since)),
         "wasted_trips": (float(sum(h["wasted_trips"] for h in helped.values())), len(helped)),
         "interruptions": (float(sum(h["interruptions"] for h in helped.values())), len(helped)),
@@ -84,7 +102,11 @@ def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dic
     policies = policies_of(episodes[0])
     per_policy: dict[str, Any] = {}
     differences: dict[str, Any] = {p: {} for p in list(policies)[1:]}
-    sums = {policy: [_help_sums(e[key]) for e in episodes] for policy, key in policies.items()}
+    people = [mistaken(e, list(policies.values())) for e in episodes]
+    sums = {
+        policy: [_help_sums(e[key], p) for e, p in zip(episodes, people, strict=True)]
+        for policy, key in policies.items()
+    }
     for measure in HELP:
         bounds, diffs = pooled_means({p: [s[measure] for s in sums[p]] for p in policies}, seed)
         for policy in policies:

@@ -41,7 +41,14 @@ NESTED_NOTE = (
     "`nested_first_order_accuracy`, the same answered with its estimate of the other's own "
     "belief (a baseline); `nested_gain`, the difference (same resamples: a paired interval)."
 )
-HELP = ("success", "ticks_to_goal_fb", "ticks_from_false_belief", "wasted_trips", "interruptions")
+HELP = (
+    "success",
+    "ticks_to_goal_fb",
+    "ticks_to_goal_any_fb",
+    "ticks_from_false_belief",
+    "wasted_trips",
+    "interruptions",
+)
 ORACLE = (
     "With simple minds and an omniscient robot, `perceptonly` is an oracle of people's beliefs: "
     "the simulated people update on exactly the percepts it computes, from the same true world, "
@@ -107,7 +114,10 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             "",
             "Robot policies (`ticks_to_goal_fb`: mean ticks until a person who had a false belief "
             "about what they wanted first had it, the episode's length when never; "
-            "`ticks_from_false_belief`: the same counted from the false belief's first tick; "
+            "`ticks_to_goal_any_fb`: the same over the people who had one in any policy's run of "
+            "the episode, the same people for every policy (a robot that spares someone a false "
+            "belief is credited, one that causes one is charged); "
+            "`ticks_from_false_belief`: the same as the first counted from the false belief's first tick; "
             "trips and interruptions per person):",
             "",
             *_rows(metrics["robot"], HELP, "policy"),

@@ -83,6 +83,7 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
         assert set(policy) == {
             "success",
             "ticks_to_goal_fb",
+            "ticks_to_goal_any_fb",
             "ticks_from_false_belief",
             "wasted_trips",
             "interruptions",

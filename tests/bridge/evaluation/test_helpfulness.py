@@ -107,6 +107,37 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
     assert since == {"tom": 30, "none": 90}, f"expected ticks from the false belief's tick 10, got {since}"
 
 
+def test_ticks_to_goal_any_fb_scores_the_same_people_under_every_policy() -> None:
+    """A robot that spares A1 a false belief (A1 has the item at tick 30 instead of 80) drops
+    A1 from its own run's ``ticks_to_goal_fb``, and one that causes A2 a false belief adds A2
+    there; over the people mistaken in any run, each is scored in every run."""
+
+    def run(fb: dict[str, bool], reached: dict[str, int | None]) -> dict:
+        help_ = {
+            a: {
+                "false_belief": fb[a],
+                "false_belief_tick": 10 if fb[a] else None,
+                "goal_tick": reached[a] if fb[a] else None,
+                "wasted_trips": 0,
+                "interruptions": 0,
+            }
+            for a in fb
+        }
+        return {"outcome": {}, "ticks_to_goal": reached, "episode_ticks": 100, "help": help_}
+
+    episode = {
+        "robot-tom": run({"A1": False, "A2": False, "A3": False}, {"A1": 30, "A2": 50, "A3": 20}),
+        "robot-tidy": run({"A1": True, "A2": True, "A3": False}, {"A1": 80, "A2": None, "A3": 20}),
+        "btom": run({"A1": True, "A2": False, "A3": False}, {"A1": 80, "A2": 50, "A3": 20}),
+    }
+    policies, differences = robot_metrics([episode], seed=1)
+    own = {p: policies[p]["ticks_to_goal_fb"]["mean"] for p in ("tom", "tidy", "none")}
+    assert own == {"tom": None, "tidy": 90, "none": 80}, f"each run's own people: {own}"
+    every = {p: policies[p]["ticks_to_goal_any_fb"]["mean"] for p in ("tom", "tidy", "none")}
+    assert every == {"tom": 40, "tidy": 90, "none": 65}, f"A1 and A2 in every run (never: 100): {every}"
+    assert differences["none"]["ticks_to_goal_any_fb"]["mean"] == -25, differences["none"]
+
+
 def test_the_loss_table_splits_the_ticks_to_the_goal() -> None:
     def run(acted: int | None) -> dict:
         person = {"false_belief": True, "false_belief_tick": 10, "goal_tick": 40, "acted_tick": acted}
