@@ -35,7 +35,7 @@ from websockets.sync.client import connect
 from bridge import Bridge
 from bridge.play import held_rate, play_metadata
 from protocol import Event
-from tests.bridge.play.cdp import Browser, Tab, wait_until
+from tests.bridge.devtools import Browser, Tab, wait_until
 from tests.bridge.view.test_framing import ocr
 
 pytestmark = pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium is not installed")

@@ -24,7 +24,7 @@ from PIL import Image
 from support import toyroom_fit
 
 from bridge.rating import COLUMNS
-from tests.bridge.rating.cdp import Page, another_page, chromium
+from tests.bridge.devtools import Tab, another_page, chromium
 
 pytestmark = pytest.mark.skipif(
     shutil.which("chromium") is None, reason="needs chromium (apt-get install chromium)"
@@ -109,7 +109,7 @@ def rows(path: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(handle))
 
 
-def answer(page: Page, values: list[int]) -> int:
+def answer(page: Tab, values: list[int]) -> int:
     """Watch the replay to its end, set the sliders to ``values`` (0-100), press Next and
     wait for the next page; returns the last tick the replay showed."""
     page.call("Page.bringToFront")  # the rater looks at this tab (a background tab's timers are throttled)
