@@ -29,7 +29,6 @@ from bridge import Bridge, LockstepClient, NoReply, Publisher, StepTimeout, hand
 from protocol import (
     AgentKind,
     ClockMode,
-    CommandState,
     CommandStatus,
     ControlReply,
     EngineInfo,
@@ -140,7 +139,11 @@ class BrainNode:
             self._open_shadows.append(shadow)
         elif old is not None and old.shadow is not None and not same:
             log.warning("another scene: the shadow observers stop here")
-        robot = self._robot(info, tracker)
+        # the same scene is the same episode carried on: the robot keeps what it saw happen
+        # (who left each item where, the moves), its tasks and its command numbering
+        robot = (
+            old.robot if old is not None and same and old.robot is not None else self._robot(info, tracker)
+        )
         link = _Link(info, tracker, shadow, robot)
         if self._run_log is not None:
             self._run_log.engine(info)
@@ -306,22 +309,13 @@ class BrainNode:
         return link.info.scenario, link.tracker
 
     def _engine_lost(self, link: _Link, lost: threading.Event, realtime: bool) -> _Link:
-        """The engine went away: say so, give up its commands, keep the estimates, and wait
-        for an engine of the same world; then shake hands again (a new model if the scene
-        changed)."""
+        """The engine went away: say so, keep the estimates, and wait for an engine of the same
+        world; then shake hands again. The same scene is the same episode carried on: the robot
+        keeps its tasks and sends the commands in flight again under new ids (an engine back
+        mid-episode remembers the old ones, and a task dropped now may never be called for
+        again); another scene gets a new model and a new robot."""
         info, robot = link.info, link.robot
         log.warning("engine '%s' lost: keeping the estimates, waiting for it to come back", info.engine)
-        if robot is not None:
-            for command in robot.tree.context.book.in_flight():
-                robot.record(
-                    CommandStatus(
-                        command=command,
-                        robot=robot.robot,
-                        state=CommandState.FAILED,
-                        tick=0,
-                        reason="engine lost",
-                    )
-                )
         while lost.is_set():
             time.sleep(0.1)
         again = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
@@ -330,8 +324,14 @@ class BrainNode:
         else:
             log.warning("engine '%s' is back: carrying on", again.engine)
         back = self._link(again, link, realtime)
-        if back.robot is not None and robot is not None:  # an engine back mid-episode knows the old ids
-            back.robot.tree.context.book.number_after(robot.tree.context.book)
+        if back.robot is not None and robot is not None:
+            book = back.robot.tree.context.book
+            if back.robot is robot:
+                sent = book.resend_in_flight()
+                if sent:
+                    log.info("sending again, under new ids: %s", ", ".join(sent))
+            else:
+                book.number_after(robot.tree.context.book)  # ids never reused
         return back
 
     @staticmethod
