@@ -47,12 +47,14 @@ class CommandBook:
         again = []
         for command_id in self.in_flight():
             if command_id in cancelled:
-                self.statuses[command_id] = CommandStatus(
-                    command=command_id,
-                    robot=self.robot,
-                    state=CommandState.CANCELLED,
-                    tick=0,
-                    reason="engine lost",
+                self.record(
+                    CommandStatus(
+                        command=command_id,
+                        robot=self.robot,
+                        state=CommandState.CANCELLED,
+                        tick=0,
+                        reason="engine lost",
+                    )
                 )
                 continue
             self.resent[command_id] = self.send(self.sent[command_id].action)

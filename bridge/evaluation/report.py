@@ -8,6 +8,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from .aggregate import HELP as HELP_MEASURES
+
 METRICS = (
     "belief_tv",
     "preference_accuracy",
@@ -41,14 +43,8 @@ NESTED_NOTE = (
     "`nested_first_order_accuracy`, the same answered with its estimate of the other's own "
     "belief (a baseline); `nested_gain`, the difference (same resamples: a paired interval)."
 )
-HELP = (
-    "success",
-    "ticks_to_goal_fb",
-    "ticks_to_goal_any_fb",
-    "ticks_from_false_belief",
-    "wasted_trips",
-    "interruptions",
-)
+HELP = ("success", *HELP_MEASURES)
+"""The robot table's columns: the success rate, then each help measure of the aggregate."""
 ORACLE = (
     "With simple minds and an omniscient robot, `perceptonly` is an oracle of people's beliefs: "
     "the simulated people update on exactly the percepts it computes, from the same true world, "
