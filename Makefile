@@ -1,8 +1,9 @@
 # `make run` and `make test` each create .venv when it is missing and install the project
 # into it, every dependency at the version pinned in constraints.txt (the lock), then run the
-# main job / the test suite. `make lock` refreshes the lock; `make test-latest` runs the suite
-# against the newest releases instead, in .venv-latest; `make wheel-check` builds the wheel and
-# runs it from a fresh venv outside the checkout (CI runs it after `make test`).
+# main job / the test suite; `make check` is the fast tier (lint, types, in-process tests).
+# `make lock` refreshes the lock; `make test-latest` runs the suite against the newest
+# releases instead, in .venv-latest; `make wheel-check` builds the wheel and runs it from a
+# fresh venv outside the checkout (CI runs it after `make test`).
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
@@ -11,7 +12,7 @@ PIP_VERSION := 26.3
 UV_VERSION := 0.13.9
 LATEST := .venv-latest
 
-.PHONY: run test lock test-latest wheel-check schema clean chromium mono tesseract
+.PHONY: run test check lock test-latest wheel-check schema clean chromium mono tesseract
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -30,6 +31,13 @@ run: $(VENV)/.run-installed
 
 test: $(VENV)/.test-installed chromium mono tesseract
 	$(PY) -m pytest
+
+# The fast tier: lint, types and every test that starts no process, Zenoh session, browser or
+# Ray (tests/tiers.py marks the others `process`, and fails one that starts something unmarked).
+check: $(VENV)/.test-installed
+	$(PY) -m ruff check .
+	$(PY) -m mypy
+	$(PY) -m pytest --tier check -q
 
 # Re-resolve every dependency (and the test and ray extras) to its newest release, for any
 # platform and Python >= 3.11, with uv (pinned here); commit the new constraints.txt.

@@ -167,6 +167,24 @@ def bridge_rtt(rounds: int, state: State) -> list[float]:
         return ping_pong(ping.put, back, state, rounds)
 
 
+def presence_gone(rounds: int) -> list[float]:
+    """Seconds from a peer closing its session to its departure being reported (liveliness):
+    what tests/bridge/test_presence.py checks only with a generous bound."""
+    world = f"bench{uuid.uuid4().hex[:6]}"
+    times = []
+    with Bridge(world) as watching:
+        watcher = watching.presence("engine")
+        for index in range(rounds):
+            peer = Bridge(world)
+            peer.token("engine", f"p{index}")
+            assert watcher.wait_alive(f"p{index}", timeout=10.0), "a peer's token never appeared"
+            closed = time.monotonic()
+            peer.close()
+            assert watcher.wait_gone(f"p{index}", timeout=10.0), "a closed peer was never reported gone"
+            times.append(time.monotonic() - closed)
+    return times
+
+
 def eval_speed(episodes: int) -> dict[str, Any]:
     """``toyroom eval``'s timing on ``episodes`` episodes with its defaults (2 workers): the
     target is 500 episodes in 10 minutes, 1.2 s per episode."""
@@ -186,6 +204,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
     zenoh_times = zenoh_rtt(rounds, payload)
     bridge_times = bridge_rtt(rounds, state)
     pubsub_times = cross_process(rounds, payload)
+    gone_times = presence_gone(5 if quick else 20)
     ticks = lockstep_bench.measure(payload, blocks=10 if quick else 30, rounds=100 if quick else 200)
     engine_times = engine_step(rounds)
     engine_then = engine_against_review()
@@ -199,6 +218,10 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
         "zenoh_rtt_us": statistics.median(zenoh_times) * 1e6,
         "bridge_rtt_us": statistics.median(bridge_times) * 1e6,
         "lockstep_tick_us": ticks["tick_us"],
+        "presence_gone_ms": {
+            "median": statistics.median(gone_times) * 1e3,
+            "max": max(gone_times) * 1e3,
+        },
         "lockstep_ticks_per_s": 1e6 / ticks["tick_us"],
         "lockstep_profile": {
             "zenoh_rtt_two_processes_us": statistics.median(pubsub_times) * 1e6,
@@ -239,6 +262,10 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
         f"<= 1.5 x raw query: {mixed['ratio']:.2f} x [{mixed['ratio_lo']:.2f}, {mixed['ratio_hi']:.2f}]",
     )
     table.add_row("lockstep_ticks_per_s", f"{numbers['lockstep_ticks_per_s']:.0f}", "")
+    gone = numbers["presence_gone_ms"]
+    table.add_row(
+        "presence_gone_ms (closed peer, median / max)", f"{gone['median']:.0f} / {gone['max']:.0f}", "< 1000"
+    )
     table.add_row("  raw ping-pong, two processes", f"{profile['zenoh_rtt_two_processes_us']:.0f}", "")
     table.add_row(
         "  raw query, two processes (interleaved)", f"{profile['zenoh_query_two_processes_us']:.0f}", ""

@@ -9,6 +9,8 @@ import pytest
 
 from bridge import Bridge
 
+pytest_plugins = ["tiers"]
+
 
 @pytest.fixture
 def world() -> str:

@@ -107,13 +107,17 @@ def test_realtime_runs_by_itself_and_pauses(world: str) -> None:
             ticks.put(state.tick)
 
         client.subscribe(client.keys.state, on_state, expected=State)
-        first = ticks.get(timeout=10.0)
-        time.sleep(1.0)
-        latest = first
-        while not ticks.empty():
-            latest = ticks.get()
-        # 5 x real time at 0.1 s per tick is 50 ticks a second; allow a slow machine half of that
-        assert latest - first >= 20, f"only {latest - first} ticks in 1 s at 5x real time"
+        first = latest = ticks.get(timeout=10.0)
+        # It runs by itself: 20 more ticks come without a step (0.4 s at 5x real time and 0.1 s
+        # a tick). The bound is generous on purpose: a loaded machine may run slower than real
+        # time, and the rate itself is measured by `toyroom bench`, not asserted here.
+        deadline = time.monotonic() + 20.0
+        while latest - first < 20 and time.monotonic() < deadline:
+            try:
+                latest = ticks.get(timeout=1.0)
+            except queue.Empty:
+                continue
+        assert latest - first >= 20, f"expected 20 ticks to come by themselves, got {latest - first} in 20 s"
         with pytest.raises(RemoteError) as refused:
             client.query(client.keys.control, Step(n=1), ControlReply)
         assert refused.value.code is ErrorCode.UNSUPPORTED
