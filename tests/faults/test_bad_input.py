@@ -9,6 +9,7 @@ import sys
 import threading
 import time
 from collections.abc import Iterator
+from dataclasses import dataclass
 
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
@@ -16,7 +17,7 @@ from hypothesis import strategies as st
 from support import EngineProcess, golden_examples
 
 from bridge import Bridge, Received, handshake
-from protocol import Mind, ProtocolError, State, decode, encode
+from protocol import ErrorCode, ErrorReply, Mind, ProtocolError, State, decode, encode
 
 KEYS = [
     "engine/info",
@@ -28,13 +29,32 @@ KEYS = [
     "robot/robot/status",
     "brain/mind",
 ]
+seen_refusals: list[str] = []
 GOLDEN = [encode(m) for m in golden_examples().values()]
 
 
+@dataclass
+class Running:
+    """The engine and the brain under fire, and the bridge that fires."""
+
+    engine: EngineProcess
+    brain: subprocess.Popen[str]
+    bridge: Bridge
+
+    def dead(self) -> str | None:
+        """Which node has exited, with its output, or None while both run."""
+        if self.engine.process.poll() is not None:
+            return f"the engine exited ({self.engine.process.returncode}): {self.engine.output()[-2000:]}"
+        if self.brain.poll() is not None:
+            err = self.brain.stderr.read() if self.brain.stderr else ""
+            return f"the brain exited ({self.brain.returncode}): {err[-2000:]}"
+        return None
+
+
 @pytest.fixture(scope="module")
-def running(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, subprocess.Popen[str], Bridge]]:
+def running(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Running]:
     world = "fuzz-target"
-    with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "1"):
+    with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "1") as engine:
         brain = subprocess.Popen(
             [sys.executable, "-m", "brain", "--world", world, "--log-level", "ERROR", "--timeout", "30"],
             stdout=subprocess.PIPE,
@@ -44,7 +64,7 @@ def running(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, sub
         with Bridge(world) as bridge:
             handshake(bridge, client="fuzzer", timeout=30.0)
             try:
-                yield world, brain, bridge
+                yield Running(engine, brain, bridge)
             finally:
                 brain.terminate()
                 brain.wait(timeout=10)
@@ -83,22 +103,41 @@ payloads = st.one_of(
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(key=st.sampled_from(KEYS), payload=payloads, as_query=st.booleans())
-def test_garbage_everywhere(
-    running: tuple[str, subprocess.Popen[str], Bridge], key: str, payload: bytes, as_query: bool
-) -> None:
+def test_garbage_everywhere(running: Running, key: str, payload: bytes, as_query: bool) -> None:
+    """Each piece of garbage leaves both nodes running, and a request on the engine's control
+    key is refused with an ``error`` reply that says why."""
     # a payload that decodes is a valid message (a pause, a reset, a state of another
     # episode: "1.9" is a compatible minor version), which the nodes rightly obey
     assume(not is_valid_message(payload))
-    _, _, bridge = running
+    bridge = running.bridge
     full = f"{bridge.keys.prefix}/{key}"
     if as_query:
-        list(bridge.session.get(full, payload=payload, timeout=2.0))
+        replies = list(bridge.session.get(full, payload=payload, timeout=2.0))
+        if key == "engine/control":  # a refused request, never silence or a success
+            seen_refusals.append(key)
+            refusals = [_refusal(reply) for reply in replies]
+            assert refusals and all(r is not None for r in refusals), (
+                f"expected an error reply to garbage on {key}, got {replies}"
+            )
+            assert {r.code for r in refusals if r is not None} <= {
+                ErrorCode.BAD_REQUEST,
+                ErrorCode.VERSION_MISMATCH,
+            }, f"expected bad_request or version_mismatch, got {refusals}"
     else:
         bridge.session.put(full, payload)
+    assert running.dead() is None, running.dead()
 
 
-def test_both_still_serve_after_the_fuzzing(running: tuple[str, subprocess.Popen[str], Bridge]) -> None:
-    _, brain, bridge = running
+def _refusal(reply: object) -> ErrorReply | None:
+    """The ``error`` reply a query got, or None when it got a success."""
+    err = getattr(reply, "err", None)
+    if err is None:
+        return None
+    return decode(err.payload.to_bytes(), ErrorReply)
+
+
+def test_both_still_serve_after_the_fuzzing(running: Running) -> None:
+    brain, bridge = running.brain, running.bridge
     got = {"state": threading.Event(), "mind": threading.Event()}
 
     def on_state(_: State, __: Received) -> None:
@@ -109,6 +148,7 @@ def test_both_still_serve_after_the_fuzzing(running: tuple[str, subprocess.Popen
 
     bridge.subscribe(bridge.keys.state, on_state, expected=State)
     bridge.subscribe(bridge.keys.mind, on_mind, expected=Mind)
+    assert seen_refusals, "the fuzzing never queried the engine's control key: it checked no refusal"
     assert handshake(bridge, client="after-fuzz", timeout=10.0).engine.startswith("sim2d")
     assert got["state"].wait(10), "the engine stopped publishing states"
     assert got["mind"].wait(10), "the brain stopped publishing its estimates"
