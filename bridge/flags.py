@@ -86,3 +86,33 @@ def settings_argv(settings: Path | None, overrides: Sequence[str]) -> list[str]:
     (the file's path made absolute: the brain may run elsewhere)."""
     argv = ["--settings", str(settings.resolve())] if settings is not None else []
     return argv + [arg for text in overrides for arg in ("--set", text)]
+
+
+def out_folder_problem(path: Path, flag: str = "--out") -> str | None:
+    """Why ``flag`` ``path`` cannot be a folder (it, or a folder above it, is a file), or
+    ``None`` (it is a folder, or can be made)."""
+    for part in (path, *path.parents):
+        if part.exists():
+            if part.is_dir():
+                return None
+            where = "" if part == path else f" ({part} is a file)"
+            return f"{flag} {path}: expected a folder, got a file{where}"
+    return None
+
+
+def out_file_problem(path: Path, flag: str = "--out", make_folder: bool = True) -> str | None:
+    """Why ``flag`` ``path`` (a positional argument: ``flag`` empty) cannot be written as a
+    file (it is a folder, a folder above it is a file, or, unless the command makes it
+    (``make_folder``), its folder is missing), or ``None``."""
+    named = f"{flag} {path}" if flag else str(path)
+    if path.is_dir():
+        return f"{named}: expected a file, got a folder"
+    folder = path.parent
+    for part in (folder, *folder.parents):
+        if part.is_dir():
+            break
+        if part.exists():
+            return f"{named}: {part} is a file, not a folder"
+    if not make_folder and not folder.is_dir():
+        return f"{named}: the folder {folder} does not exist"
+    return None

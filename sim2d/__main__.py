@@ -18,6 +18,8 @@ from bridge.flags import (
     add_log_level,
     command_parser,
     configure_logging,
+    out_file_problem,
+    out_folder_problem,
 )
 from bridge.recording.mcap import McapRecorder
 from bridge.session import add_network_args, settings_from_args
@@ -89,6 +91,9 @@ def export_main(argv: Sequence[str]) -> int:
     parser.add_argument("--scenario", required=True, help="scenario name or .toml path")
     parser.add_argument("--out", type=Path, help="the JSON file (default: standard output)")
     args = parser.parse_args(argv)
+    if args.out is not None and (problem := out_file_problem(args.out)) is not None:
+        print(f"{parser.prog}: {problem}", file=sys.stderr)
+        return 2
     try:
         text = msgspec.json.format(msgspec.json.encode(export(args.scenario)), indent=1).decode()
     except Sim2dError as err:
@@ -168,6 +173,9 @@ def generate_main(argv: Sequence[str]) -> int:
 
     parser = generate_parser()
     args = parser.parse_args(argv)
+    if (problem := out_folder_problem(args.out)) is not None:
+        print(f"{parser.prog}: {problem}", file=sys.stderr)
+        return 2
     common = {"minds": args.minds, "kind": args.kind, "tasks": args.tasks, "autonomy": dict(args.autonomy)}
     try:
         if args.rooms is not None:

@@ -8,10 +8,10 @@ import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from bridge.flags import add_log_level, add_settings_args, command_parser
+from bridge.flags import add_log_level, add_settings_args, command_parser, out_folder_problem
 from bridge.recording.trace import TraceError, read_trace
 
-from ..errors import SettingsError
+from ..errors import BrainError, SettingsError
 from ..settings import Settings
 from .correlation import JudgedFit, against_first, fit_judgments, judged_search
 from .crossval import folds
@@ -178,6 +178,8 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
     """Run the fit and print the report."""
     if args.address and args.backend != "ray":
         raise SettingsError("--address is a Ray cluster's: it needs --backend ray")
+    if (problem := out_folder_problem(args.out)) is not None:  # before minutes of fitting
+        raise BrainError(problem)
     grid = parse_grid(args.params, args.grid)
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     if args.refine:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -19,6 +20,8 @@ from ..flags import (
     add_settings_args,
     configure_logging,
     log_level,
+    out_file_problem,
+    out_folder_problem,
 )
 from ..session import add_network_args
 from .commands import COMMANDS, NODES, exec_node
@@ -137,7 +140,9 @@ def _replay_command(command: Command) -> None:
     replaying = command("replay", "republish an MCAP recording so brains and viewers run on it")
     replaying.add_argument("file", type=Path, metavar="FILE.mcap", help="the recording")
     _strict_arg(replaying)
-    replaying.add_argument("--speed", type=float, default=1.0, help="times real time; 0: as fast as possible")
+    replaying.add_argument(
+        "--speed", type=float, default=1.0, help="times real time (at least 0.001); 0: as fast as possible"
+    )
     replaying.add_argument(
         "--until-tick", type=int, help="stop after this tick (and keep serving the handshake)"
     )
@@ -248,12 +253,23 @@ def _eval_command(command: Command) -> None:
         "per kind of run (each run still a fresh model and episode; 1: a process pair per run; "
         "default: %(default)s)",
     )
+    _eval_outputs(evaluation)
+    add_settings_args(evaluation)
+
+
+def _eval_outputs(evaluation: argparse.ArgumentParser) -> None:
+    """``toyroom eval``'s options on what it keeps: recordings, an unfinished evaluation."""
     evaluation.add_argument(
         "--record",
         action="store_true",
         help="keep every run's MCAP recording in OUT/recordings/CONDITION/ (for toyroom fit and infer)",
     )
-    add_settings_args(evaluation)
+    evaluation.add_argument(
+        "--fresh",
+        action="store_true",
+        help="discard an unfinished evaluation in --out (one stopped by Ctrl-C) instead of resuming it; "
+        "without it, the same command resumes it and one of another command or code is refused",
+    )
 
 
 def _conform_command(command: Command) -> None:
@@ -308,17 +324,25 @@ def build_parser() -> argparse.ArgumentParser:
 
 FOLDER_OUT = ("run", "infer", "bench", "eval")
 """Commands whose ``--out`` is a folder (made when missing)."""
+MIN_SPEED = 1e-3
+"""The slowest ``toyroom replay --speed`` other than 0 (a thousand times slower than real time)."""
 
 
-def out_folder_problem(path: Path) -> str | None:
-    """Why ``--out`` ``path`` cannot be a folder (it, or a folder above it, is a file), or
-    ``None``."""
-    for part in (path, *path.parents):
-        if part.exists():
-            if part.is_dir():
-                return None
-            where = "" if part == path else f" ({part} is a file)"
-            return f"--out {path}: expected a folder, got a file{where}"
+def argument_problem(args: argparse.Namespace) -> str | None:
+    """What is wrong with arguments the parser let through (an ``--out`` that is a file, a
+    recording to write that is a folder or in a missing one, a replay speed that is no speed),
+    in one line, or ``None``."""
+    if args.command in FOLDER_OUT and (problem := out_folder_problem(args.out)) is not None:
+        return problem
+    if args.command == "run" and args.record is not None:
+        return out_file_problem(args.record, "--record", make_folder=False)
+    if args.command == "record":
+        return out_file_problem(args.file, "", make_folder=False)
+    if args.command == "replay" and not (args.speed == 0 or MIN_SPEED <= args.speed < math.inf):
+        return (
+            f"--speed {args.speed}: expected 0 (as fast as possible) or a number of times real time "
+            f"from {MIN_SPEED:g}"
+        )
     return None
 
 
@@ -332,7 +356,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exec_node(rest[0], [*rest[1:], *levels])
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level or "INFO")
-    if args.command in FOLDER_OUT and (problem := out_folder_problem(args.out)) is not None:
+    if (problem := argument_problem(args)) is not None:
         print(f"toyroom {args.command}: {problem}", file=sys.stderr)
         return 2
     try:

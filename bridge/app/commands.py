@@ -12,6 +12,7 @@ import sys
 import threading
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from ..evaluation.conditions import POLICIES, Condition
 from ..flags import PROG_ENV, settings_argv
@@ -98,38 +99,70 @@ def eval_main(
     max_ticks: int = 1000,
     batch: int = 10,
     address: str | None = None,
+    fresh: bool = False,
 ) -> int:
     """Run the evaluation with a progress bar and print the metrics (``address``: the Ray
-    cluster's, with ``backend`` ``ray``)."""
+    cluster's, with ``backend`` ``ray``). SIGINT, SIGTERM or SIGHUP stop it within seconds,
+    keeping the finished episodes for the same command to resume (``128 + signal``); 1 when
+    every episode failed."""
     from rich.console import Console
     from rich.markdown import Markdown
     from rich.progress import Progress
 
     from ..evaluation.episodes import evaluate
+    from ..evaluation.interrupt import EvaluationStopped, catch_signals
     from ..evaluation.report import report
 
     chosen = tuple(conditions) or (Condition(),)
-    with Progress() as bar:
-        total = episodes * len(chosen)
-        task = bar.add_task(f"{episodes} episodes x {len(chosen)} condition(s)", total=total)
-        metrics = evaluate(
-            episodes,
-            seed,
-            out,
-            conditions=chosen,
-            workers=workers,
-            backend=backend,
-            progress=lambda n: bar.advance(task, n),
-            brain_args=tuple(brain_args),
-            command=command,
-            policies=policies,
-            record=record,
-            max_ticks=max_ticks,
-            batch=batch,
-            address=address,
-        )
+    try:
+        with catch_signals(), Progress() as bar:
+            total = episodes * len(chosen)
+            task = bar.add_task(f"{episodes} episodes x {len(chosen)} condition(s)", total=total)
+            metrics = evaluate(
+                episodes,
+                seed,
+                out,
+                conditions=chosen,
+                workers=workers,
+                backend=backend,
+                progress=lambda n: bar.advance(task, n),
+                brain_args=tuple(brain_args),
+                command=command,
+                policies=policies,
+                record=record,
+                max_ticks=max_ticks,
+                batch=batch,
+                address=address,
+                fresh=fresh,
+                notify=lambda text: bar.console.print(f"toyroom eval: {text}", markup=False, soft_wrap=True),
+            )
+    except EvaluationStopped as err:
+        print(f"toyroom eval: {err}", file=sys.stderr, flush=True)
+        return 128 + err.signum
     Console().print(Markdown(report(metrics)))
     print(f"wrote {out / 'metrics.json'} and {out / 'report.md'}")
+    return failed_episodes(metrics, out)
+
+
+def failed_episodes(metrics: dict[str, Any], out: Path) -> int:
+    """Say how many episodes failed, if any (on stderr); 1 when all did (there are no
+    scores), else 0 (the metrics are over the others and say how many failed)."""
+    failed = sum(c["episodes_failed"] for c in metrics["conditions"])
+    total = metrics["episodes"] * len(metrics["conditions"])
+    if not failed:
+        return 0
+    where = f"their errors are in {out / 'episodes.json'}, their nodes' logs under {out}"
+    if failed == total:
+        print(
+            f"toyroom eval: every episode failed ({failed} of {total}), nothing scored ({where})",
+            file=sys.stderr,
+        )
+        return 1
+    print(
+        f"toyroom eval: {failed} of {total} episodes failed; the metrics are over the other "
+        f"{total - failed} ({where})",
+        file=sys.stderr,
+    )
     return 0
 
 
@@ -265,9 +298,15 @@ def _eval(args: argparse.Namespace) -> int:
     if unknown:
         print(f"toyroom eval: unknown policies {unknown} (known: {', '.join(POLICIES)})", file=sys.stderr)
         return 2
-    if args.batch < 1:
-        print(f"toyroom eval: --batch must be at least 1 episode, got {args.batch}", file=sys.stderr)
-        return 2
+    for flag, value in (
+        ("--episodes", args.episodes),
+        ("--workers", args.workers),
+        ("--batch", args.batch),
+        ("--max-ticks", args.max_ticks),
+    ):
+        if value < 1:
+            print(f"toyroom eval: {flag} must be at least 1, got {value}", file=sys.stderr)
+            return 2
     if args.address and args.backend != "ray":
         print("toyroom eval: --address is a Ray cluster's: it needs --backend ray", file=sys.stderr)
         return 2
@@ -286,6 +325,7 @@ def _eval(args: argparse.Namespace) -> int:
         max_ticks=args.max_ticks,
         batch=args.batch,
         address=args.address,
+        fresh=args.fresh,
     )
 
 

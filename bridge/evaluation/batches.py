@@ -29,9 +29,10 @@ from pathlib import Path
 from protocol import Truth
 
 from ..bridge import Bridge
-from ..processes import engine_command, report_failure, start_node, stop_node, wait_for_engine
+from ..processes import engine_command, report_failure, wait_for_engine
 from ..pubsub import Received
 from ..session import SessionSettings
+from .interrupt import NODES
 from .runs import RunRecord, RunResult, RunSpec, brain_command, read_log, score_run, settle
 from .truths import subscribe_truths
 
@@ -83,7 +84,7 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
     name = f"batch-{scenarios[0].stem}-{uuid.uuid4().hex[:6]}"
     world, settings = f"eval-{uuid.uuid4().hex[:10]}", SessionSettings()
     engine_log = logs / f"{name}.engine.log"
-    engine = start_node(
+    engine = NODES.start(
         engine_command("sim2d", world, settings, "--scenario", str(scenarios[0]), "--lockstep"), engine_log
     )
     result = BatchResult([[] for _ in episodes], [])
@@ -91,11 +92,13 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
     try:
         with Bridge(world, settings) as bridge:
             if wait_for_engine(bridge, engine) is None:
+                NODES.check()
                 report_failure("engine", engine.returncode, engine_log)
                 return BatchResult.nothing(len(episodes), len(episodes[0]))
             subscribe_truths(bridge, truths.on_truth)
             for kind in range(len(episodes[0])):
                 if engine.poll() is not None:  # gone: no later run can finish
+                    NODES.check()
                     report_failure("engine", engine.returncode, engine_log)
                     return BatchResult.nothing(len(episodes), len(episodes[0]))
                 specs = [runs[kind] for runs in episodes]
@@ -111,7 +114,7 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
                     else:
                         current.append(scored)
     finally:
-        stop_node(engine)
+        NODES.stop(engine)
     return result
 
 
@@ -127,7 +130,7 @@ def _run_kind(
     exited is stopped (it would wait for the engine to come back)."""
     command = brain_command(specs[0], world, settings, folder, [s.scenario for s in specs])
     brain_log = folder.with_name(folder.name + ".brain.log")
-    brain = start_node(command, brain_log)
+    brain = NODES.start(command, brain_log)
     deadline = time.monotonic() + SECONDS_PER_RUN * len(specs)
     code = None
     while code is None and time.monotonic() < deadline and engine.poll() is None:
@@ -141,7 +144,8 @@ def _run_kind(
             folder.name,
             "its engine exited" if engine.poll() is not None else "too slow",
         )
-        stop_node(brain)
+        NODES.stop(brain)
+    NODES.check()  # stopped: what the brain left is no run
     if code == 0:
         return len(specs)
     report_failure("brain", brain.returncode, brain_log)

@@ -19,10 +19,8 @@ import json
 import logging
 import shutil
 import subprocess
-import tempfile
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -33,8 +31,11 @@ from .aggregate import ROBOT, aggregate, by_task
 from .batches import run_batch
 from .conditions import Condition
 from .generation import MAPS, generate, map_of, scenarios_of
+from .interrupt import NODES, EvaluationStopped
 from .planned import policy_table
+from .pool import run_chunks
 from .report import report
+from .resume import EPISODES, Ledger, begin, finished, plan_of
 from .runs import MOTION, RunResult, RunSpec, run_once
 from .timing import cpu_seconds, timing
 
@@ -100,6 +101,8 @@ def run_episode(job: EpisodeJob) -> dict[str, Any]:
     episode whose runs kept failing comes back with its ``error`` and no scores."""
     try:
         return _episode(job)
+    except EvaluationStopped:
+        raise
     except Exception as err:
         log.error("episode %d failed: %s", job.index, err)
         return {
@@ -202,6 +205,7 @@ def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[st
         try:
             return run_once(spec, logs)
         except (RuntimeError, OSError, subprocess.SubprocessError) as err:
+            NODES.check()  # its nodes were stopped by a signal: no failure of the run
             failures.append(str(err))
             log.warning("%s (attempt %d of %d)", err, attempt, RUN_ATTEMPTS)
             tag = spec.tag
@@ -228,6 +232,8 @@ def evaluate(
     max_ticks: int = 1000,
     batch: int = BATCH,
     address: str | None = None,
+    fresh: bool = False,
+    notify: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
     """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
     and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
@@ -235,52 +241,79 @@ def evaluate(
     ``record``: keep every run's MCAP recording under ``out/recordings/``; ``max_ticks``: each
     episode's length; ``batch``: at most this many episodes share their node processes, 1:
     none do, :func:`batches`; ``address``: with the Ray backend, the cluster's, default
-    ``RAY_ADDRESS``, :mod:`.rayepisodes`)."""
+    ``RAY_ADDRESS``, :mod:`.rayepisodes`). An unfinished evaluation of the same plan in
+    ``out`` is resumed, its finished episodes kept (:mod:`.resume`; ``notify`` is told how
+    many), unless ``fresh``.
+
+    Raises:
+        IncompatibleRun: ``out`` holds an unfinished evaluation of another plan.
+        EvaluationStopped: a stop signal came (:mod:`.interrupt`), with the episodes kept.
+    """
     out.mkdir(parents=True, exist_ok=True)
-    workdir = tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)
-    started, cpu = time.monotonic(), cpu_seconds()  # generating the episodes counts too
-    jobs = [
-        EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record, max_ticks, scenario)
-        for c in conditions
-        for i, scenario in enumerate(scenarios_of(Path(workdir), episodes, seed, c, max_ticks))
-    ]
+    NODES.reset()
+    plan = plan_of(episodes, seed, conditions, brain_args, policies, record, max_ticks)
+    state, entries = begin(out, plan, [c.name for c in conditions], fresh)
+    total = episodes * len(conditions)
+    if entries and notify is not None:
+        notify(f"resuming the unfinished evaluation in {out}: {len(entries)} of {total} episodes kept")
+    if entries and progress is not None:
+        progress(len(entries))
+    workdir = str(out / state.workdir)
+    ledger = Ledger(out, state, cpu_seconds)  # generating the episodes counts too
+
+    def done(job: EpisodeJob, entry: dict[str, Any]) -> None:
+        ledger.keep(job.condition.name, entry)
+        entries[(job.condition.name, job.index)] = entry
+        if progress is not None:
+            progress(1)
+
     try:
-        results = _run_jobs(jobs, workers, backend, progress, out / "episodes.jsonl", batch, address)
+        jobs = [
+            EpisodeJob(i, seed, workdir, c, brain_args, tuple(policies), record, max_ticks, scenario)
+            for c in conditions
+            for i, scenario in enumerate(scenarios_of(Path(workdir), episodes, seed, c, max_ticks))
+            if (c.name, i) not in entries
+        ]
+        _run_jobs(jobs, workers, backend, done, batch, address)
+    except EvaluationStopped as err:
+        ledger.save()
+        raise EvaluationStopped(err.signum, len(entries), total, out / EPISODES) from None
     finally:  # the solved Q-values (--values-cache) are a cache of this evaluation only
         shutil.rmtree(Path(workdir) / "values", ignore_errors=True)
-    took = time.monotonic() - started
-    used = None if backend == "ray" else {k: cpu_seconds()[k] - cpu[k] for k in cpu}
-    measured = []
-    for condition, chunk in zip(conditions, _chunks(results, episodes), strict=True):
-        chunk.sort(key=lambda r: int(r["index"]))
-        summary = {**dataclasses.asdict(condition), "name": condition.name}
-        summary |= aggregate(chunk, seed, OBSERVERS)
-        summary["by_map"] = {m: aggregate([r for r in chunk if r["map"] == m], seed, OBSERVERS) for m in MAPS}
-        if condition.kind == "tasks":
-            summary["by_task"] = by_task(condition, chunk, seed, OBSERVERS)
-        measured.append(summary)
+    chunks = [[entries[(c.name, i)] for i in range(episodes)] for c in conditions]
+    used = None if backend == "ray" else ledger.cpu()
     metrics = {
         "episodes": episodes,
         "seed": seed,
         "brain_args": list(brain_args),
         "policies": [*policies, "none"],
         "command": command,
-        "timing": timing(results, took, workers, used),
-        "conditions": measured,
+        "timing": timing([r for chunk in chunks for r in chunk], ledger.seconds(), workers, used),
+        "conditions": [
+            _summary(condition, chunk, seed) for condition, chunk in zip(conditions, chunks, strict=True)
+        ],
     }
-    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
-    (out / "episodes.json").write_text(
-        json.dumps(
-            {c.name: chunk for c, chunk in zip(conditions, _chunks(results, episodes), strict=True)}, indent=1
-        )
-        + "\n"
-    )
-    (out / "report.md").write_text(report(metrics, out))
+    _write(out, metrics, {c.name: chunk for c, chunk in zip(conditions, chunks, strict=True)})
     return metrics
 
 
-def _chunks(results: list[dict[str, Any]], size: int) -> list[list[dict[str, Any]]]:
-    return [results[i : i + size] for i in range(0, len(results), size)]
+def _write(out: Path, metrics: dict[str, Any], episodes: dict[str, list[dict[str, Any]]]) -> None:
+    """``metrics.json``, ``episodes.json`` (each condition's episodes) and ``report.md``;
+    then the evaluation is no longer an unfinished one (:mod:`.resume`)."""
+    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
+    (out / "episodes.json").write_text(json.dumps(episodes, indent=1) + "\n")
+    (out / "report.md").write_text(report(metrics, out))
+    finished(out)
+
+
+def _summary(condition: Condition, chunk: list[dict[str, Any]], seed: int) -> dict[str, Any]:
+    """One condition's entry of ``metrics.json``, from its episodes (in order of index)."""
+    summary = {**dataclasses.asdict(condition), "name": condition.name}
+    summary |= aggregate(chunk, seed, OBSERVERS)
+    summary["by_map"] = {m: aggregate([r for r in chunk if r["map"] == m], seed, OBSERVERS) for m in MAPS}
+    if condition.kind == "tasks":
+        summary["by_task"] = by_task(condition, chunk, seed, OBSERVERS)
+    return summary
 
 
 def batches(jobs: Sequence[EpisodeJob], workers: int, size: int) -> list[list[EpisodeJob]]:
@@ -335,27 +368,20 @@ def _run_jobs(
     jobs: list[EpisodeJob],
     workers: int,
     backend: str,
-    progress: Callable[[int], None] | None,
-    partial: Path,
+    done: Callable[[EpisodeJob, dict[str, Any]], None],
     batch: int = BATCH,
     address: str | None = None,
-) -> list[dict[str, Any]]:
-    """Every job's result, in the order of ``jobs``, each kept in ``partial`` as it comes
-    back (``batch``: episodes per batch, locally, :func:`batches`; with Ray, each episode a
-    task on the cluster at ``address``, :mod:`.rayepisodes`)."""
+) -> None:
+    """Every job, ``done(job, entry)`` as each comes back (``batch``: episodes per batch,
+    locally, :func:`batches`; with Ray, each episode a task on the cluster at ``address``,
+    :mod:`.rayepisodes`).
+
+    Raises:
+        EvaluationStopped: a stop signal came; what came back before it went to ``done``.
+    """
     if backend == "ray":
         from .rayepisodes import run_on_ray
 
-        return run_on_ray(jobs, workers, progress, partial, address)
-    results: dict[int, dict[str, Any]] = {}
-    order = {id(job): n for n, job in enumerate(jobs)}
-    with ThreadPoolExecutor(max_workers=workers) as pool, partial.open("w") as kept:
-        futures = {pool.submit(run_episodes, chunk): chunk for chunk in batches(jobs, workers, batch)}
-        for future in as_completed(futures):
-            for job, entry in zip(futures[future], future.result(), strict=True):
-                results[order[id(job)]] = entry
-                kept.write(json.dumps(entry) + "\n")
-                kept.flush()
-                if progress is not None:
-                    progress(1)
-    return [results[n] for n in range(len(jobs))]
+        run_on_ray(jobs, workers, done, address)
+        return
+    run_chunks(batches(jobs, workers, batch), run_episodes, workers, done)

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .conditions import Condition
+from .interrupt import NODES
 
 log = logging.getLogger("toyroom.eval")
 
@@ -69,15 +70,12 @@ def _generate(
     if not indices:
         return []
     entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in indices]
-    result = subprocess.run(
+    result = NODES.run(
         [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
         + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)]
         + (["--tasks", ",".join(tasks)] if tasks and kind == "tasks" else [])
         + [arg for setting in autonomy for arg in ("--autonomy", setting)],
-        capture_output=True,
-        text=True,
         timeout=120 + 10 * len(indices),
-        check=False,
     )
     paths = [Path(line) for line in result.stdout.splitlines() if line.strip()]
     if result.returncode != 0 or len(paths) != len(indices):

@@ -11,10 +11,11 @@ from __future__ import annotations
 
 import hashlib
 import json
-import subprocess
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+
+from .interrupt import NODES
 
 SETTINGS_OPTIONS = ("--settings", "--set")
 
@@ -29,7 +30,7 @@ def settings_options(args: Sequence[str]) -> list[str]:
 
 
 def _run(command: list[str], what: str) -> str:
-    result = subprocess.run(command, capture_output=True, text=True, timeout=300, check=False)
+    result = NODES.run(command, timeout=300)
     if result.returncode != 0:
         raise RuntimeError(f"{what}: {result.stderr.strip() or result.stdout.strip()}")
     return result.stdout

@@ -12,7 +12,9 @@ cluster need not see the driver's files, only have the same toyroom installed.
 from __future__ import annotations
 
 import os
+import signal
 import socket
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
@@ -23,6 +25,8 @@ J = TypeVar("J")
 R = TypeVar("R")
 
 LOOPBACK = "127.0.0.1"
+WAIT_S = 0.2
+"""Seconds between two calls of ``run_with_ray``'s ``check`` while tasks run."""
 LOCAL_ONLY = "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"
 """Ray's switch for clusters that never leave the machine: at ``0`` (read when Ray is
 imported) Ray takes this machine's address to be ``127.0.0.1``, so its servers listen on
@@ -105,6 +109,7 @@ def run_with_ray(
     address: str | None = None,
     shipped: Callable[[J], Sequence[str]] | None = None,
     arrived: Callable[[R], R] | None = None,
+    check: Callable[[], None] | None = None,
 ) -> list[R]:
     """``fn(job)`` for every job, as Ray tasks; the results in the order of ``jobs``.
 
@@ -115,8 +120,14 @@ def run_with_ray(
             ``fn(job, *files)``, each file as ``(its name, its bytes)``.
         arrived: applied to each result as it arrives (what it returns is kept), e.g. to
             write it out.
+        check: called every ``WAIT_S`` s while tasks run; what it raises (a stop signal came)
+            cancels the tasks left and is raised here. With it, the signal handlers this
+            process had before Ray started are kept (Ray replaces SIGTERM's).
     """
+    handlers = _handlers() if check is not None else {}
     started_here = connect(cluster_address(address), workers)
+    for sig, handler in handlers.items():
+        signal.signal(sig, handler)
     import ray
 
     try:
@@ -128,16 +139,36 @@ def run_with_ray(
         results: dict[int, R] = {}
         pending = list(refs)
         while pending:
-            done, pending = ray.wait(pending, num_returns=1)
+            done, pending = ray.wait(pending, num_returns=1, timeout=None if check is None else WAIT_S)
+            _checked(ray, check, pending)
             for ref in done:
                 result = ray.get(ref)
                 results[order[ref]] = arrived(result) if arrived is not None else result
-            if progress is not None:
+            if progress is not None and done:
                 progress(len(done))
         return [results[n] for n in range(len(jobs))]
     finally:
         if started_here:
             ray.shutdown()
+
+
+def _handlers() -> dict[int, Any]:
+    """SIGINT's and SIGTERM's handlers now (none outside the main thread: none can be set)."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+
+
+def _checked(ray: Any, check: Callable[[], None] | None, pending: Sequence[Any]) -> None:
+    """``check()``; if it raises, every pending task is cancelled (its worker killed) first."""
+    if check is None:
+        return
+    try:
+        check()
+    except BaseException:
+        for ref in pending:
+            ray.cancel(ref, force=True)
+        raise
 
 
 def _put_files(ray: Any, paths: Sequence[str]) -> dict[str, Any]:

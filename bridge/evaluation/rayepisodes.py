@@ -15,7 +15,6 @@ folder, about a second).
 from __future__ import annotations
 
 import dataclasses
-import json
 import tempfile
 import tomllib
 from collections.abc import Callable, Sequence
@@ -24,6 +23,7 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from .episodes import EpisodeJob, run_episode
+from .interrupt import NODES
 from .raybackend import node_id, run_with_ray
 
 
@@ -34,6 +34,8 @@ class Shipped:
 
     entry: dict[str, Any]
     files: dict[str, bytes]
+    condition: str = ""
+    """The name of the episode's condition."""
 
 
 def scenario_files(scenario: str) -> list[str]:
@@ -71,38 +73,42 @@ def run_shipped(job: EpisodeJob, *files: tuple[str, bytes]) -> Shipped:
         logs = Path(local.workdir) / job.condition.name / "logs"
         kept = [*logs.glob("*.log"), *(root / "recordings").rglob("*.mcap")]
         made = {path.relative_to(root).as_posix(): path.read_bytes() for path in sorted(kept)}
-    return Shipped({**entry, "node": node}, made)
+    return Shipped({**entry, "node": node}, made, job.condition.name)
 
 
 def run_on_ray(
     jobs: Sequence[EpisodeJob],
     workers: int,
-    progress: Callable[[int], None] | None,
-    partial: Path,
+    done: Callable[[EpisodeJob, dict[str, Any]], None],
     address: str | None = None,
-) -> list[dict[str, Any]]:
-    """Every job's entry, in order, each run as a Ray task (:func:`run_shipped`) on the
-    cluster at ``address`` (default ``RAY_ADDRESS``; none: a Ray started here); as they
-    arrive, the entries kept in ``partial`` (``episodes.jsonl``) and the files written into
-    its folder (the output folder)."""
-    with partial.open("w") as kept:
+) -> None:
+    """Every job run as a Ray task (:func:`run_shipped`) on the cluster at ``address``
+    (default ``RAY_ADDRESS``; none: a Ray started here); as each arrives, the files it made
+    written into the output folder (the workdir's parent's) and ``done(job, entry)``.
 
-        def arrived(shipped: Shipped) -> Shipped:
-            write_files(partial.parent, shipped.files)
-            kept.write(json.dumps(shipped.entry) + "\n")
-            kept.flush()
-            return Shipped(shipped.entry, {})  # the files' bytes are not kept
+    Raises:
+        EvaluationStopped: a stop signal came (:mod:`.interrupt`): the tasks left are cancelled.
+    """
+    if not jobs:
+        return
+    out = Path(jobs[0].workdir).parent
+    by_key = {(job.condition.name, job.index): job for job in jobs}
 
-        results = run_with_ray(
-            run_shipped,
-            jobs,
-            workers,
-            progress,
-            address=address,
-            shipped=lambda job: scenario_files(job.scenario),
-            arrived=arrived,
-        )
-    return [shipped.entry for shipped in results]
+    def arrived(shipped: Shipped) -> Shipped:
+        NODES.check()  # what arrives with a stop signal is not kept
+        write_files(out, shipped.files)
+        done(by_key[(shipped.condition, int(shipped.entry["index"]))], shipped.entry)
+        return Shipped(shipped.entry, {}, shipped.condition)  # the files' bytes are not kept
+
+    run_with_ray(
+        run_shipped,
+        jobs,
+        workers,
+        address=address,
+        shipped=lambda job: scenario_files(job.scenario),
+        arrived=arrived,
+        check=NODES.check,
+    )
 
 
 def write_files(out: Path, files: dict[str, bytes]) -> None:

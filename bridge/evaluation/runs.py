@@ -17,18 +17,12 @@ from pathlib import Path
 from protocol import EngineInfo, Event, EventKind, Mind, Scene, State, Truth, decode
 
 from ..bridge import Bridge
-from ..processes import (
-    engine_command,
-    node_command,
-    report_failure,
-    start_node,
-    stop_node,
-    wait_for_engine,
-)
+from ..processes import engine_command, node_command, report_failure, wait_for_engine
 from ..pubsub import Received
 from ..session import SessionSettings
 from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
+from .interrupt import NODES
 from .metrics import Counts, Outcome, false_belief_causes, score_tick
 from .nestedscore import score_nested
 from .outcome import judge
@@ -173,7 +167,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     tag = spec.tag
     engine_log, brain_log = logs / f"{tag}.engine.log", logs / f"{tag}.brain.log"
     shadow_dir = logs / f"{tag}.shadows"
-    engine = start_node(
+    engine = NODES.start(
         engine_command(
             "sim2d", world, settings, "--scenario", str(spec.scenario), "--lockstep", *spec.engine_args
         ),
@@ -185,11 +179,14 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
         with Bridge(world, settings) as bridge:
             info = wait_for_engine(bridge, engine)
             if info is None:
+                NODES.check()
                 report_failure("engine", engine.returncode, engine_log)
                 raise RuntimeError(f"{tag}: the engine failed")
             subscribe_truths(bridge, record.on_truth)
-            brain = start_node(brain_command(spec, world, settings, shadow_dir), brain_log)
-            if brain.wait(timeout=1800) != 0:
+            brain = NODES.start(brain_command(spec, world, settings, shadow_dir), brain_log)
+            code = brain.wait(timeout=1800)
+            NODES.check()  # stopped: its nodes were, so what they left is no run
+            if code != 0:
                 report_failure("brain", brain.returncode, brain_log)
                 raise RuntimeError(f"{tag}: the brain failed")
             read_log(record, shadow_dir, spec.observer)  # the brain's own record of the run
@@ -198,7 +195,7 @@ def run_once(spec: RunSpec, logs: Path) -> dict[str, RunResult]:
     finally:
         for process in (brain, engine):
             if process is not None:
-                stop_node(process)
+                NODES.stop(process)
     return score_run(spec, info.scene, record, shadow_dir)
 
 
@@ -322,6 +319,7 @@ def settle(
     seen, since = count(), time.monotonic()
     while time.monotonic() < deadline:
         time.sleep(0.05)
+        NODES.check()
         now = count()
         if now != seen:
             seen, since = now, time.monotonic()
