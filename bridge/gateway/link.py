@@ -88,6 +88,10 @@ def to_json(payload: bytes, mime: str | None) -> bytes:
     return payload
 
 
+TOO_DEEP = "nested too deeply to decode"
+"""What a frame or payload nested too deeply to decode is told (msgspec's depth limit)."""
+
+
 def checked_payload(raw: msgspec.Raw, where: str, ref: int | None) -> bytes:
     """A frame's payload after checking that it is a protocol message (any minor version)."""
     data = bytes(raw)
@@ -95,7 +99,25 @@ def checked_payload(raw: msgspec.Raw, where: str, ref: int | None) -> bytes:
         decode(data, None, Encoding.JSON)
     except ProtocolError as err:
         raise Refusal("bad_payload", f"{where}: {err}", ref) from None
+    except RecursionError:  # nested deeper than the decoder goes: not a message
+        raise Refusal("bad_payload", f"{where}: {TOO_DEEP}", ref) from None
     return data
+
+
+def read_frame(data: bytes) -> ClientFrame:
+    """One client frame, decoded.
+
+    Raises:
+        Refusal: ``bad_frame`` naming what is wrong: not JSON, not a frame, a field of the
+            wrong type, or nested too deeply to decode (which raises ``RecursionError`` in the
+            decoder; caught here so that such a frame is refused like any other).
+    """
+    try:
+        return _frames.decode(data)
+    except msgspec.DecodeError as err:
+        raise Refusal("bad_frame", f"not a gateway frame ({err}): {data[:120]!r}") from None
+    except RecursionError:
+        raise Refusal("bad_frame", f"not a gateway frame ({TOO_DEEP}): {data[:40]!r}...") from None
 
 
 class ClientLink:
@@ -147,9 +169,9 @@ class ClientLink:
     def handle(self, data: bytes) -> None:
         """Act on one frame; every failure becomes an error frame, never an exception."""
         try:
-            frame = _frames.decode(data)
-        except msgspec.DecodeError as err:
-            self.refuse("bad_frame", f"not a gateway frame ({err}): {data[:120]!r}")
+            frame = read_frame(data)
+        except Refusal as err:
+            self.refuse(err.code, err.message)
             return
         try:
             self.dispatch(frame)

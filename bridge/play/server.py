@@ -7,7 +7,9 @@
   (a browser's page may connect only from this server's own origin, the one it was served
   from: another site's page cannot drive a participant's person). Frames are JSON: the
   server sends ``scene`` (the map), then ``view`` (what the person sees, what they heard, the
-  open question) every state; the page sends ``{"type": "key", "key", "pressed"}`` for every key press.
+  open question) every state; the page sends ``{"type": "key", "key", "pressed"}`` for every key
+  press (:mod:`.frames`). A frame that is not one (not JSON, nested too deeply, another type)
+  is answered with ``{"type": "error", "message"}`` and one log line; the world runs on.
 
 Each participant has a world of their own (:class:`.world.PlayWorld`), started when their
 page first connects. Loopback by default; anything else is warned about.
@@ -20,6 +22,7 @@ import logging
 import secrets
 import socket
 import threading
+from collections.abc import Callable
 from http import HTTPStatus
 from pathlib import Path
 from urllib.parse import parse_qs, urlsplit
@@ -30,6 +33,7 @@ from websockets.sync.server import Server, ServerConnection, serve
 
 from ..errors import ConfigError
 from ..session import LOOPBACK
+from .frames import FrameRefused, read_key
 from .world import PlayConfig, PlayWorld
 
 log = logging.getLogger("toyroom.play")
@@ -150,30 +154,44 @@ class PlayServer:
 
         world.attach(send)
         try:
-            self._start(participant or "", world)
-            for frame in connection:
-                self._on_frame(world, frame)
+            if self._started(participant or "", world):
+                for frame in connection:
+                    self._on_frame(world, frame, send)
         except ConnectionClosed:
             pass
-        except Exception as err:  # the world could not start: the page is told
-            log.exception("%s's world failed", participant)
-            world.end(f"the world could not start: {err}")
         finally:
             world.detach(send)
 
-    def _start(self, participant: str, world: PlayWorld) -> None:
-        with self._starting[participant]:
-            if world.bridge is None and world.ended is None:
-                log.info("starting %s's world '%s'", participant, world.world)
-                world.start()
-
-    def _on_frame(self, world: PlayWorld, frame: str | bytes) -> None:
+    def _started(self, participant: str, world: PlayWorld) -> bool:
+        """Start ``participant``'s world unless it runs (or has ended); ``False`` when it
+        could not start (the world is ended with the reason, and the page told)."""
         try:
-            message = json.loads(frame)
-            if message.get("type") == "key":
-                world.key(str(message["key"])[:32], float(message.get("pressed", 0.0)))
-        except (ValueError, KeyError, TypeError, AttributeError):
-            log.info("%s: a frame that is not a key press: %.80r", world.participant, frame)
+            with self._starting[participant]:
+                if world.bridge is None and world.ended is None:
+                    log.info("starting %s's world '%s'", participant, world.world)
+                    world.start()
+        except Exception as err:  # the world could not start: the page is told
+            log.exception("%s's world failed", participant)
+            world.end(f"the world could not start: {err}")
+            return False
+        return True
+
+    def _on_frame(
+        self, world: PlayWorld, frame: str | bytes, send: Callable[[dict[str, object]], None]
+    ) -> None:
+        """Act on one frame from the page: a key press, or an ``error`` frame back saying what
+        was wrong with it (one log line); the world runs on either way."""
+        try:
+            press = read_key(frame)
+        except FrameRefused as err:
+            log.warning("%s: a frame refused: %s", world.participant, err)
+            send({"type": "error", "message": str(err)})
+            return
+        try:
+            world.key(press.key, press.pressed)
+        except Exception as err:  # a world ending as the key comes: said, the page stays
+            log.warning("%s: the key %r was not sent: %s", world.participant, press.key, err)
+            send({"type": "error", "message": f"the key {press.key!r} was not sent: {err}"})
 
     def close(self) -> None:
         """Stop serving; end every world still running (marked incomplete)."""

@@ -7,6 +7,8 @@ otherwise, one link per participant (``/rate/ID?token=T``).
 - Origin checks: an answer (``POST``) must come from the page's own origin (its ``Origin``
   header equal to ``http://`` + its ``Host``, or one of ``origins``); on loopback the ``Host``
   must be a loopback name (no DNS rebinding). Anything else is refused (403).
+- Bounded (:mod:`.serving`): idle connections time out, at most so many at once, a client
+  that goes away is one log line; a bad ``Content-Length`` is answered 400.
 - Each answer is appended to the answers CSV and flushed before the reply
   (:class:`.answers.AnswerBook`); a page (re)load shows the participant's next unanswered
   question.
@@ -25,7 +27,7 @@ import socket
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from http.server import BaseHTTPRequestHandler
 from pathlib import Path
 from typing import Any
 from urllib.parse import parse_qs, quote, urlsplit
@@ -36,6 +38,7 @@ from .answers import AnswerBook
 from .drawing import frames, plan
 from .page import page_state, render
 from .questions import Question, Study
+from .serving import DEFAULT_LIMITS, BoundedHTTPServer, ServerLimits
 
 log = logging.getLogger("toyroom.rating")
 
@@ -95,7 +98,13 @@ class RatingServer:
         url: ``http://HOST:PORT`` it serves on.
     """
 
-    def __init__(self, settings: RatingSettings, host: str = "127.0.0.1", port: int = 0) -> None:
+    def __init__(
+        self,
+        settings: RatingSettings,
+        host: str = "127.0.0.1",
+        port: int = 0,
+        limits: ServerLimits = DEFAULT_LIMITS,
+    ) -> None:
         self.settings = settings
         self.book = AnswerBook(settings.answers)
         self.loopback = LOOPBACK_HOST.match(host) is not None
@@ -104,10 +113,9 @@ class RatingServer:
         self._lock = threading.Lock()
         handler = type("Handler", (_Handler,), {"rating": self})
         try:
-            self._server = ThreadingHTTPServer((host, port), handler)
+            self._server = BoundedHTTPServer((host, port), handler, limits)
         except OSError as err:
             raise ConfigError(f"toyroom rate cannot listen on {host}:{port}: {err.strerror}") from None
-        self._server.daemon_threads = True
         shown = lan_address() if host in ("0.0.0.0", "::") else host
         shown = f"[{shown}]" if ":" in shown else shown
         self.url = f"http://{shown}:{self._server.server_address[1]}"
@@ -238,9 +246,8 @@ class _Handler(BaseHTTPRequestHandler):
         if origin not in allowed:
             self._reply(403, f"refused: origin {origin!r} is not this page's")
             return
-        length = int(self.headers.get("Content-Length") or 0)
-        if not 0 < length <= MAX_BODY:
-            self._reply(400, f"expected a JSON body of 1 to {MAX_BODY} bytes")
+        length = self._length()
+        if length is None:
             return
         try:
             body = json.loads(self.rfile.read(length))
@@ -252,3 +259,18 @@ class _Handler(BaseHTTPRequestHandler):
             return
         status, text = self.rating.answer(participant, body)
         self._reply(status, text)
+
+    def _length(self) -> int | None:
+        """The body's length in bytes from ``Content-Length``; else replies 400 (and logs one
+        line) and returns ``None``."""
+        raw = self.headers.get("Content-Length")
+        text = (raw or "").strip()
+        length = int(text) if re.fullmatch(r"[0-9]{1,9}", text) else -1
+        if 0 < length <= MAX_BODY:
+            return length
+        problem = "no Content-Length" if raw is None else f"Content-Length {raw!r}"
+        log.warning("%s: refused an answer with %s", self.address_string(), problem)
+        self._reply(
+            400, f"expected a JSON body of 1 to {MAX_BODY} bytes (a Content-Length in bytes), got {problem}"
+        )
+        return None

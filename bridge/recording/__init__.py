@@ -1,11 +1,11 @@
 """Recordings: ``trace.jsonl`` (:mod:`.trace`, written and read there alone), MCAP files
-that Foxglove opens (:mod:`.mcap`), what is readable of either, cut off or whole
-(:mod:`.readable`), replaying them (:mod:`.replay`), and ``events.csv`` read off a trace
-(:mod:`.events`)."""
+that Foxglove opens (:mod:`.mcap`), what is readable of either, whole, cut off, damaged
+inside or foreign (:mod:`.readable`), replaying them (:mod:`.replay`), and ``events.csv``
+read off a trace (:mod:`.events`)."""
 
 from .events import EventRow, event_rows, write_events_csv
 from .mcap import McapRecorder, mcap_to_trace, read_mcap
-from .readable import Cut, Recorded, Recording, RecordingError, read_recording
+from .readable import Cut, Dropped, Recorded, Recording, RecordingError, read_recording
 from .trace import Trace, TraceError, TraceRecorder, episode_of, read_trace, trace_records, write_trace
 
 __all__ = [
@@ -19,6 +19,7 @@ __all__ = [
     "write_events_csv",
     "write_trace",
     "Cut",
+    "Dropped",
     "EventRow",
     "McapRecorder",
     "Recorded",

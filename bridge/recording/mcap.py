@@ -28,7 +28,7 @@ from protocol.schema import message_schema
 
 from ..bridge import Bridge
 from .readable import Recorded, read_recording
-from .trace import Recorder, write_trace
+from .trace import Recorder, episode_of, write_trace
 
 FLUSH_SECONDS = 0.5
 log = logging.getLogger("toyroom.recording")
@@ -111,15 +111,20 @@ def read_mcap(path: Path) -> Iterator[Recorded]:
 
 def mcap_to_trace(source: Path, target: Path) -> int:
     """Write (what is readable of) an MCAP recording as a ``trace.jsonl``; return the number
-    of messages. A cut-off file is warned about (the byte offset and the ticks kept).
+    of messages. A cut-off or damaged file is warned about (the byte offset, what was
+    dropped and the ticks kept).
 
     Raises:
-        RecordingError: the file is missing, not an MCAP file, or holds no message.
+        RecordingError: the file is missing, not an MCAP file, not a toyroom recording, or
+            holds no message.
+        TraceError: naming ``source`` (never ``target``) when it holds no handshake or state.
     """
     recording = read_recording(source)
     if recording.cut is not None:
         log.warning("%s", recording.cut.warning())
-    return write_trace(recording.messages(), target)
+    messages = list(recording.messages())
+    episode_of(messages, source)  # no episode: said of the user's file, not of the trace made of it
+    return write_trace(messages, target)
 
 
 def recorded_settings(path: Path) -> str | None:

@@ -1,13 +1,16 @@
 """``toyroom replay FILE.mcap``: republish a recording so brains and viewers run on it.
 
 Messages go out on their recorded keys (moved to another world with ``world``), spaced as
-recorded divided by ``speed`` (0: as fast as possible). The recorded handshake is served on
-``engine/info`` with a real-time clock, so a brain follows the replay as it would a live
-real-time engine, and a viewer draws it.
+recorded divided by ``speed`` (0: as fast as possible). Only messages on toyroom keys go
+out: those on other topics (a foreign recorder's, or keys Zenoh would refuse) are named in
+one warning and never reach Zenoh; damaged ones were dropped on reading (:mod:`.readable`).
+The recorded handshake is served on ``engine/info`` with a real-time clock, so a brain
+follows the replay as it would a live real-time engine, and a viewer draws it.
 """
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
 from pathlib import Path
@@ -22,6 +25,7 @@ from ..handshake import serve_info
 from .readable import Recording, read_recording
 
 _JSON = zenoh.Encoding("application/json")
+log = logging.getLogger("toyroom.recording")
 
 
 def replay(
@@ -41,7 +45,16 @@ def replay(
     viewer), the last ``brain/mind`` is sent once more half a second after the end: as fast
     as possible, a slow subscriber may have had the last ones dropped, and the mind is what
     a viewer draws over the scene."""
-    records = (source if isinstance(source, Recording) else read_recording(source)).records
+    recording = source if isinstance(source, Recording) else read_recording(source)
+    records = recording.records
+    if recording.foreign:
+        log.warning(
+            "%s: not replayed: the messages on %d topics that are not toyroom keys (%s)",
+            recording.path,
+            len(recording.foreign),
+            ", ".join(repr(t) for t in recording.foreign[:3])
+            + (", ..." if len(recording.foreign) > 3 else ""),
+        )
     info = None
     for record in records:
         if record.key.endswith("/engine/info"):
@@ -81,9 +94,11 @@ def replay(
                 time.sleep(delay)
         parts = record.key.split("/", 2)  # toyroom/<world>/<rest>
         key = f"{prefix}/{parts[2]}" if len(parts) == 3 else record.key
-        publisher = publishers.get(key)
+        if key not in publishers:
+            publishers[key] = _publisher(bridge, key)
+        publisher = publishers[key]
         if publisher is None:
-            publisher = publishers[key] = bridge.session.declare_publisher(key, encoding=_JSON)
+            continue
         publisher.put(record.data)  # type: ignore[attr-defined]
         sent += 1
         if key.endswith("/brain/mind"):
@@ -101,3 +116,13 @@ def _tick(data: bytes) -> int:
     except (msgspec.DecodeError, AttributeError):
         return -1
     return tick if isinstance(tick, int) else -1
+
+
+def _publisher(bridge: Bridge, key: str) -> object | None:
+    """A publisher on ``key``; ``None`` (and one warning) when Zenoh refuses the key (a
+    recording's keys are checked on reading, so this is a last guard)."""
+    try:
+        return bridge.session.declare_publisher(key, encoding=_JSON)
+    except zenoh.ZError as err:
+        log.warning("not replayed: the messages on %r, not a key Zenoh takes (%s)", key, err)
+        return None

@@ -4,6 +4,7 @@ Zenoh sessions on loopback on the other."""
 from __future__ import annotations
 
 import json
+import logging
 import queue
 import subprocess
 import sys
@@ -26,6 +27,9 @@ from bridge.gateway import Gateway, GatewaySettings, parse_listen
 from protocol import Encoding, EngineInfo, Hello, Mind, State, Step
 from protocol.schema import SCHEMA_DIR
 
+DEEP = "[" * 30000 + "]" * 30000
+"""JSON nested deeper than any decoder goes (msgspec raises ``RecursionError`` on it)."""
+DEEP_PUT = '{"op": "put", "key": "engine/state", "payload": ' + DEEP + "}"
 FRAME_SCHEMAS = {path.stem: json.loads(path.read_text()) for path in (SCHEMA_DIR / "gateway").glob("*.json")}
 
 
@@ -82,6 +86,30 @@ def test_the_first_frame_must_be_hello(gateway: Gateway) -> None:
     anonymous.close()
 
 
+def test_a_frame_nested_too_deeply_is_refused_even_before_hello(
+    gateway: Gateway, caplog: pytest.LogCaptureFixture
+) -> None:
+    """Not a close with 1011 and a traceback: an error frame, one warning, the link lives on."""
+    caplog.set_level(logging.WARNING)
+    anonymous = Client(gateway.url)
+    for frame in (DEEP_PUT, '{"op": "hello", "role": "engine", "name": "x", "extra": ' + DEEP + "}"):
+        anonymous.send(frame)
+        error = anonymous.error()
+        assert error["code"] == "bad_frame" and "nested too deeply" in error["message"], (
+            f"expected bad_frame saying 'nested too deeply', got {error}"
+        )
+    assert anonymous.hello()["op"] == "welcome", "the connection should stay usable after the refusals"
+    anonymous.close()
+    tracebacks = [
+        r.getMessage() for r in caplog.records if r.exc_info is not None or r.levelno >= logging.ERROR
+    ]
+    assert tracebacks == [], f"expected no error or traceback in the log, got {tracebacks}"
+    refusals = [r.getMessage() for r in caplog.records if "nested too deeply" in r.getMessage()]
+    assert len(refusals) == 2 and all("\n" not in m for m in refusals), (
+        f"expected 2 one-line warnings: {refusals}"
+    )
+
+
 def test_a_token_file_is_required_of_every_client(world: str, tmp_path: Path) -> None:
     secret = tmp_path / "token"
     secret.write_text("s3cret\n")
@@ -119,6 +147,14 @@ def test_a_token_file_is_required_of_every_client(world: str, tmp_path: Path) ->
         ({"op": "reply", "qid": 99, "payload": {}}, "unknown_id", "99"),
         ({"op": "unsubscribe", "id": 7}, "unknown_id", "7"),
         ({"op": "get", "id": 1, "key": "engine/info", "timeout": -1}, "bad_frame", "timeout"),
+        pytest.param(DEEP, "bad_frame", "Expected `object`, got `array`", id="nested-array"),
+        pytest.param(DEEP_PUT, "bad_frame", "nested too deeply to decode", id="nested-payload"),
+        pytest.param(
+            '{"op": "put", "key": "engine/state", "payload": {"type": "state", "x": ' + DEEP + "}}",
+            "bad_frame",
+            "nested too deeply",
+            id="nested-in-a-message",
+        ),
     ],
 )
 def test_a_malformed_frame_gets_an_error_frame_and_the_link_lives_on(

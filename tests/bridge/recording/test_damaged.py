@@ -6,6 +6,7 @@ the byte offset where it broke and the ticks kept, and refused with ``--strict``
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -13,8 +14,13 @@ import uuid
 from pathlib import Path
 
 import pytest
+from mcap.reader import make_reader
 from mcap.writer import Writer
-from support import toyroom_run
+from support import golden_examples, toyroom_run
+
+from bridge import Bridge
+from protocol import encode
+from tests.bridge.devtools import wait_until
 
 WARNING = re.compile(r"unreadable from byte (\d+) of (\d+) \(.+\); kept ticks (\d+)-(\d+) \((\d+) messages")
 
@@ -105,7 +111,7 @@ def test_an_mcap_file_without_an_episode_is_named_and_nothing_is_left(tmp_path: 
     out = tmp_path / "out"
     result = toyroom("infer", other, "--out", out)
     assert result.returncode == 2 and result.stderr.startswith(
-        f"toyroom infer: {other}: no engine handshake"
+        f"toyroom infer: {other}: not a toyroom recording: none of its topics is a toyroom key"
     ), result.stderr
     assert not out.exists(), f"infer left {sorted(p.name for p in out.iterdir())} behind"
 
@@ -128,3 +134,160 @@ def test_infer_writes_the_runs_events_csv(recorded: Path, tmp_path: Path) -> Non
     inferred, live = ((d / "events.csv").read_text().splitlines() for d in (out, recorded / "run"))
     assert len(live) > 10 and inferred[0] == live[0]
     assert sorted(inferred) == sorted(live), "events.csv differs (two recorders may order a tick apart)"
+
+
+# ----- damage inside a recording, foreign recordings ---------------------------------------
+
+DAMAGED_TICK = 50
+"""The tick whose state the damaged copies spoil."""
+
+
+def spoiled(source: Path, target: Path, how: str) -> bytes:
+    """Copy the MCAP ``source`` to ``target`` with the state of :data:`DAMAGED_TICK` spoiled
+    (``tick``: its tick the string 'abc'; ``nan``: a person's x NaN); the spoiled payload."""
+    with source.open("rb") as handle:
+        reader = make_reader(handle)
+        records = list(reader.iter_messages(log_time_order=False))
+    bad = b""
+    with target.open("wb") as handle:
+        writer = Writer(handle, use_chunking=False)
+        writer.start(profile="", library="test")
+        schemas: dict[int, int] = {}
+        channels: dict[int, int] = {}
+        for schema, channel, message in records:
+            if schema is not None and schema.id not in schemas:
+                schemas[schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
+            if channel.id not in channels:
+                sid = schemas[schema.id] if schema is not None else 0
+                channels[channel.id] = writer.register_channel(channel.topic, channel.message_encoding, sid)
+            data = message.data
+            payload = json.loads(data)
+            if channel.topic.endswith("/engine/state") and payload["tick"] == DAMAGED_TICK and not bad:
+                if how == "tick":
+                    payload["tick"] = "abc"
+                else:
+                    payload["agents"][0]["x"] = float("nan")
+                data = bad = json.dumps(payload).encode()  # NaN written as the bare word NaN
+            writer.add_message(channels[channel.id], message.log_time, data, message.publish_time)
+        writer.finish()
+    assert bad, f"no state of tick {DAMAGED_TICK} in {source}"
+    return bad
+
+
+DAMAGE = re.compile(
+    r"damaged: dropped 1 message that cannot be decoded \(byte (\d+): engine/state tick (\S+): "
+    r"(.+)\); kept ticks (\d+)-(\d+) \((\d+) messages\)"
+)
+
+
+@pytest.mark.parametrize(("how", "tick", "says"), [("tick", "'abc'", "$.tick"), ("nan", "50", "not a JSON")])
+def test_an_undecodable_message_inside_is_named_and_refused_with_strict(
+    recorded: Path, tmp_path: Path, how: str, tick: str, says: str
+) -> None:
+    damaged = tmp_path / "damaged.mcap"
+    bad = spoiled(recorded / "run.mcap", damaged, how)
+    out = tmp_path / "out"
+    result = toyroom("infer", damaged, "--out", out)
+    assert result.returncode == 0, (
+        f"expected the damaged file used (exit 0), got {result.returncode}:\n{result.stderr}"
+    )
+    found = DAMAGE.search(result.stderr)
+    assert found is not None and str(damaged) in result.stderr, (
+        f"expected a warning naming the dropped state, got:\n{result.stderr}"
+    )
+    offset, named, reason, first, last, _ = found.groups()
+    data = damaged.read_bytes()
+    assert data[int(offset)] == 0x05 and bad in data[int(offset) : int(offset) + len(bad) + 64], (
+        f"byte {offset} is not where the spoiled message's record starts"
+    )
+    assert named == tick and says in reason, f"expected tick {tick} and {says!r} named, got {found.group(0)}"
+    assert int(first) == 0 and int(last) > DAMAGED_TICK, (
+        f"expected the ticks around the damage kept: {first}-{last}"
+    )
+    mind_ticks = {int(line.split(",", 1)[0]) for line in (out / "mind.csv").read_text().splitlines()[1:]}
+    assert DAMAGED_TICK not in mind_ticks and DAMAGED_TICK + 1 in mind_ticks, "the dropped tick was inferred"
+
+    strict = tmp_path / "strict"
+    refused = toyroom("infer", damaged, "--out", strict, "--strict")
+    assert refused.returncode == 1 and DAMAGE.search(refused.stderr), (
+        f"expected --strict to refuse the damaged file (exit 1) with the warning, got {refused.returncode}:\n"
+        f"{refused.stderr}"
+    )
+    assert not strict.exists(), "--strict left outputs behind"
+
+
+def write_mcap(path: Path, messages: list[tuple[str, bytes]]) -> None:
+    """An MCAP file of ``(topic, JSON payload)``, one channel per topic."""
+    with path.open("wb") as handle:
+        writer = Writer(handle)
+        writer.start(profile="", library="someone else")
+        schema = writer.register_schema(name="thing", encoding="jsonschema", data=b"{}")
+        channels: dict[str, int] = {}
+        for time, (topic, data) in enumerate(messages, start=1):
+            if topic not in channels:
+                channels[topic] = writer.register_channel(
+                    topic=topic, message_encoding="json", schema_id=schema
+                )
+            writer.add_message(channel_id=channels[topic], log_time=time, data=data, publish_time=time)
+        writer.finish()
+
+
+FOREIGN = [("a//b", b'{"x": 1}'), ("/camera/image", b'{"x": 2}'), ("toyroom/x//b", b'{"x": 3}')]
+
+
+@pytest.mark.parametrize("command", ["replay", "infer", "fit"])
+def test_a_foreign_mcap_is_refused_in_one_line_naming_it(tmp_path: Path, command: str) -> None:
+    foreign = tmp_path / "foreign.mcap"
+    write_mcap(foreign, FOREIGN)
+    out = tmp_path / "out"
+    extra = {
+        "replay": ["--world", f"w{uuid.uuid4().hex[:8]}", "--speed", "0"],
+        "infer": ["--out", out],
+        "fit": ["--params", "beta", "--folds", "1", "--out", out, "--no-progress"],
+    }[command]
+    result = toyroom(command, foreign, *extra)
+    line = f"{foreign}: not a toyroom recording: none of its topics is a toyroom key"
+    assert result.returncode == 2 and result.stderr.count("\n") == 1 and line in result.stderr, (
+        f"expected exit 2 and one line saying {line!r}, got {result.returncode}:\n"
+        f"{result.stdout}\n{result.stderr}"
+    )
+    assert "'a//b'" in result.stderr and "Traceback" not in result.stderr and not out.exists(), result.stderr
+
+
+def test_replay_sends_only_toyroom_keys_of_a_mixed_recording(tmp_path: Path) -> None:
+    """Foreign topics in a toyroom recording are named in a warning and never reach Zenoh."""
+    golden = golden_examples()
+    mixed = tmp_path / "mixed.mcap"
+    ours = [
+        ("toyroom/rec/engine/info", encode(golden["engine_info"])),
+        ("toyroom/rec/engine/state", encode(golden["state"])),
+    ]
+    write_mcap(mixed, [ours[0], *FOREIGN, ours[1]])
+    world = f"w{uuid.uuid4().hex[:8]}"
+    heard: list[str] = []
+    with Bridge(world) as bridge:
+        subscriber = bridge.session.declare_subscriber(
+            "**", lambda sample: heard.append(str(sample.key_expr))
+        )
+        result = toyroom("replay", mixed, "--world", world, "--speed", "0", "--wait-subscribers", "30")
+        wait_until(lambda: f"toyroom/{world}/engine/state" in heard, 30, "the replayed state")
+        subscriber.undeclare()
+    assert result.returncode == 0 and "Traceback" not in result.stderr, (
+        f"exit {result.returncode}:\n{result.stderr}"
+    )
+    assert "not replayed" in result.stderr and "'a//b'" in result.stderr, (
+        f"expected the foreign topics named:\n{result.stderr}"
+    )
+    sent = sorted(key for key in heard if not key.startswith(f"toyroom/{world}/@"))
+    assert sent == [f"toyroom/{world}/engine/state"], f"expected only the state on the wire, got {sent}"
+
+
+def test_fit_names_the_users_file_of_an_mcap_without_an_episode(tmp_path: Path) -> None:
+    lonely = tmp_path / "lonely.mcap"
+    write_mcap(lonely, [("toyroom/rec/engine/state", encode(golden_examples()["state"]))])
+    result = toyroom(
+        "fit", lonely, "--params", "beta", "--folds", "1", "--out", tmp_path / "out", "--no-progress"
+    )
+    assert result.returncode == 2 and f"{lonely}: no engine handshake" in result.stderr, (
+        f"expected exit 2 naming {lonely}, got {result.returncode}:\n{result.stderr}"
+    )
