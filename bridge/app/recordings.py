@@ -22,8 +22,8 @@ from .commands import exec_node
 
 
 def checked(path: Path, command: str, strict: bool) -> Recording | None:
-    """The readable part of the recording at ``path``, after a warning when it is cut off;
-    ``None`` when it is cut off and ``strict`` refuses it (both said on stderr).
+    """The readable part of the recording at ``path``, after a warning when it is cut off or
+    damaged; ``None`` when it is and ``strict`` refuses it (both said on stderr).
 
     Raises:
         RecordingError: the file is missing, of neither format, or holds no message.
@@ -33,8 +33,8 @@ def checked(path: Path, command: str, strict: bool) -> Recording | None:
         print(f"toyroom {command}: warning: {recording.cut.warning()}", file=sys.stderr, flush=True)
         if strict:
             print(
-                f"toyroom {command}: refused: {path} is cut off (without --strict, the part before "
-                "the break is used)",
+                f"toyroom {command}: refused: {path} is {recording.cut.kind} (without --strict, what "
+                "is readable of it is used)",
                 file=sys.stderr,
                 flush=True,
             )

@@ -214,6 +214,9 @@ def test_an_undecodable_message_inside_is_named_and_refused_with_strict(
         f"{refused.stderr}"
     )
     assert not strict.exists(), "--strict left outputs behind"
+    assert f"refused: {damaged} is damaged" in refused.stderr, (
+        f"expected the refusal to say the file is damaged (not cut off):\n{refused.stderr}"
+    )
 
 
 def write_mcap(path: Path, messages: list[tuple[str, bytes]]) -> None:
