@@ -9,6 +9,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from bridge.flags import add_log_level, add_settings_args, command_parser, out_folder_problem
+from bridge.recording.readable import RecordingError, read_recording
 from bridge.recording.trace import TraceError, read_trace
 
 from ..errors import BrainError, SettingsError
@@ -121,6 +122,20 @@ def as_traces(paths: Sequence[Path], scratch: Path) -> list[Path]:
     return out
 
 
+def not_whole(paths: Sequence[Path]) -> list[str]:
+    """For each recording that was cut off or damaged, a note saying what the fit stood on
+    (``fit``'s report carries them, so a fit to partial recordings never looks whole)."""
+    notes = []
+    for path in paths:
+        try:
+            cut = read_recording(path).cut
+        except RecordingError:
+            continue  # refused already, naming the file, when it was read for the fit
+        if cut is not None:
+            notes.append(cut.note())
+    return notes
+
+
 def _judgments(path: Path, traces: Sequence[Path], recordings: Sequence[Path]) -> list[Judgment]:
     """``--judgments`` read and checked against the recordings before any fitting.
 
@@ -202,7 +217,16 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
         judged = _judged(args, traces, judgments, grid, models, settings) if judgments else []
         refined = _refined(args, traces, fits, grid, settings)
         summary = write_fit(
-            args.out, fits, list(args.recordings), grid, settings, args.seed, argv, judged, refined
+            args.out,
+            fits,
+            list(args.recordings),
+            grid,
+            settings,
+            args.seed,
+            argv,
+            judged,
+            refined,
+            not_whole(args.recordings),
         )
     print((args.out / "report.md").read_text(encoding="utf-8"))
     source = summary["judgments"] if judged else summary["models"]

@@ -116,10 +116,12 @@ def write_fit(
     command: Sequence[str],
     judged: Sequence[JudgedFit] = (),
     refined: Refinement | None = None,
+    notes: Sequence[str] = (),
 ) -> dict[str, Any]:
     """The outputs (see the module docstring); returns ``fit.json``'s content. With
     ``judged`` (a fit to judgments), ``settings.toml`` holds its first model's point; else,
-    with ``refined`` (the optimiser's result), its point."""
+    with ``refined`` (the optimiser's result), its point. ``notes`` say which recordings
+    were not whole (cut off or damaged) and what of them was used."""
     out.mkdir(parents=True, exist_ok=True)
     first = fits[0]
     name, point = (judged[0].model, judged[0].fitted) if judged else (first.table.model, first.fitted)
@@ -152,6 +154,7 @@ def write_fit(
             for f in fits
         },
         "ranking": [f.table.model for f in ranked],
+        "recordings_not_whole": list(notes),
     }
     if refined is not None:
         summary["refinement"] = refined.as_json()
@@ -203,6 +206,7 @@ def report(summary: Mapping[str, Any]) -> str:
         f"{len(summary['recordings'])} recordings; grid: "
         + ", ".join(f"{k} in {{{', '.join(f'{v:g}' for v in vs)}}}" for k, vs in summary["grid"].items()),
         "",
+        *[f"{note.strip()}\n" for note in summary.get("recordings_not_whole", ())],
         "Held-out log-likelihood per action (natural log; higher is better), each episode scored at",
         "the point fitted without its fold; bootstrap 95% intervals over episodes; differences paired",
         "by episode.",

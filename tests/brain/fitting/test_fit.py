@@ -61,3 +61,18 @@ def test_fit_on_ray_finds_what_worker_processes_find(recordings: list[Path], tmp
     a, b = (json.loads((tmp_path / d / "fit.json").read_text())["models"] for d in ("local", "ray"))
     for model in ("graded", "motion"):
         assert a[model]["held_out_per_action"] == b[model]["held_out_per_action"], (model, a[model], b[model])
+
+
+def test_a_fit_to_a_cut_recording_says_so_in_its_report(recordings: list[Path], tmp_path: Path) -> None:
+    whole = recordings[0].read_bytes()
+    cut = tmp_path / "cut.jsonl"
+    cut.write_bytes(whole[: len(whole) * 2 // 3])  # a copy that stopped mid-line
+    out = tmp_path / "fit"
+    result = fit(cut, *recordings[1:], "--params", "beta", "--grid", "beta=2", "--folds", "2", "--out", out)
+    assert result.returncode == 0, result.stderr
+    report = (out / "report.md").read_text()
+    assert "The recording was cut off" in report and "cut.jsonl" in report, (
+        f"expected the report to say that cut.jsonl was cut off and what was kept, got:\n{report[:1500]}"
+    )
+    summary = json.loads((out / "fit.json").read_text())
+    assert summary["recordings_not_whole"], "fit.json names no cut recording"
