@@ -44,6 +44,7 @@ from .outputs.results import MindCache, mind_message
 from .outputs.runlog import RunLog
 from .outputs.shadows import ShadowMinds
 from .realtime import EventFeed, Heartbeats
+from .reconnect import await_receipt, drain, where_left
 from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
 from .tracking.tracker import MindTracker, Observer
@@ -100,6 +101,8 @@ class BrainNode:
         self.shadow_dir = shadow_dir or Path(".")
         self._open_shadows: list[ShadowMinds] = []
         self._max_ticks: int | None = None
+        self._lost: threading.Event | None = None
+        """Set while no engine is alive (lock-step runs: :func:`.reconnect.await_receipt` looks at it)."""
         self._skipped = 0
         """States skipped because the tracker could not follow them."""
         self._on_tick: Callable[[State, tuple[Event, ...]], None] | None = None
@@ -183,6 +186,7 @@ class BrainNode:
                 return self._free_run(scenario, seed)
             return self._lockstep(first, scenario, seed)
         finally:
+            self._lost = None
             for shadow in self._open_shadows:
                 shadow.close()
             self._open_shadows.clear()
@@ -213,12 +217,12 @@ class BrainNode:
         if robot is not None and link.commands is not None:
             if link.heartbeats is not None:  # real time: tell the engine the brain is there
                 link.heartbeats.beat()
-                self._drain(robot, link.inbox)
+                drain(robot, link.inbox)
             robot.observe(events)
             for command in robot.tick(link.tracker.believed_state(state)):
                 link.commands.put(command)
                 if link.heartbeats is None:
-                    self._await_receipt(robot, link.inbox, command.id)
+                    await_receipt(robot, link.inbox, command.id, self.timeout, self._lost)
         activity = robot.activity() if robot is not None else None
         mind = mind_message(link.tracker, state, activity, link.minds)
         self._mind.put(mind)
@@ -235,26 +239,50 @@ class BrainNode:
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("engine '%s', scenario '%s', scene '%s'", info.engine, info.scenario, info.scene.name)
         link = self._link(info, None, realtime=False)
-        lost = self._watch_engine()
+        lost = self._lost = self._watch_engine()
         events = clock.last_reply.events if clock.last_reply is not None else ()
         while not self._tick(link, state, events):
-            try:
-                state = clock.step(1)
-            except (StepTimeout, NoReply):
-                if not lost.wait(2.0):  # the engine is there but does not answer: a real failure
-                    raise
-                link = self._engine_lost(link, lost, realtime=False)
-                state = clock.reset(scenario=scenario or link.info.scenario or None, seed=seed)
-                events = clock.last_reply.events if clock.last_reply is not None else ()
-                continue
+            link, state = self._advance(clock, link, lost, state, scenario, seed)
             reply = clock.last_reply
             events = reply.events if reply is not None else ()
             if link.robot is not None and reply is not None:
                 for status in reply.statuses:
                     link.robot.record(status)
-                self._drain(link.robot, link.inbox)
+                drain(link.robot, link.inbox)
         clock.close()
         return link.info.scenario, link.tracker
+
+    def _advance(
+        self,
+        clock: LockstepClient,
+        link: _Link,
+        lost: threading.Event,
+        state: State,
+        scenario: str | None,
+        seed: int,
+    ) -> tuple[_Link, State]:
+        """The link and the state after one more step of ``state``'s episode. An engine lost
+        meanwhile (its liveliness token gone: killed, or stalled past its link's lease) is
+        waited for; back where the brain left it, the step is asked again and the episode
+        carries on; restarted (another episode, or tick), the episode starts again (a reset).
+
+        Raises:
+            BrainError: the engine came back further on in the same episode: it stepped while
+                the link was down, and what happened on those ticks is lost.
+            StepTimeout: the engine is there but does not answer.
+        """
+        while True:
+            try:
+                return link, clock.step(1)
+            except (StepTimeout, NoReply):
+                if not lost.wait(2.0):  # the engine is there but does not answer: a real failure
+                    raise
+            robot = link.robot
+            link = self._engine_lost(link, lost, realtime=False)
+            if where_left(clock, link.info.engine, state):
+                continue
+            self._resend(link, robot)
+            return link, clock.reset(scenario=scenario or link.info.scenario or None, seed=seed)
 
     def _watch_engine(self) -> threading.Event:
         """An event set while no engine of the world is alive."""
@@ -311,9 +339,10 @@ class BrainNode:
     def _engine_lost(self, link: _Link, lost: threading.Event, realtime: bool) -> _Link:
         """The engine went away: say so, keep the estimates, and wait for an engine of the same
         world; then shake hands again. The same scene is the same episode carried on: the robot
-        keeps its tasks and sends the commands in flight again under new ids (an engine back
-        mid-episode remembers the old ones, and a task dropped now may never be called for
-        again); another scene gets a new model and a new robot."""
+        keeps its tasks; in real time it sends the commands in flight again under new ids (an
+        engine back mid-episode remembers the old ones, and a task dropped now may never be
+        called for again; in lock-step :meth:`_advance` does, for a restarted engine alone);
+        another scene gets a new model and a new robot."""
         info, robot = link.info, link.robot
         log.warning("engine '%s' lost: keeping the estimates, waiting for it to come back", info.engine)
         while lost.is_set():
@@ -324,37 +353,20 @@ class BrainNode:
         else:
             log.warning("engine '%s' is back: carrying on", again.engine)
         back = self._link(again, link, realtime)
-        if back.robot is not None and robot is not None:
-            book = back.robot.tree.context.book
-            if back.robot is robot:
-                sent = book.resend_in_flight()
-                if sent:
-                    log.info("sending again, under new ids: %s", ", ".join(sent))
-            else:
-                book.number_after(robot.tree.context.book)  # ids never reused
+        if back.robot is not None and robot is not None and back.robot is not robot:
+            back.robot.tree.context.book.number_after(robot.tree.context.book)  # ids never reused
+        if realtime:
+            self._resend(back, robot)
         return back
 
     @staticmethod
-    def _drain(robot: RobotBrain, inbox: queue.Queue[CommandStatus]) -> None:
-        while True:
-            try:
-                robot.record(inbox.get_nowait())
-            except queue.Empty:
-                return
-
-    def _await_receipt(self, robot: RobotBrain, inbox: queue.Queue[CommandStatus], command: str) -> None:
-        """Wait until the engine has accepted or refused ``command`` (keeps runs reproducible)."""
-        deadline = None if self.timeout is None else time.monotonic() + self.timeout
-        while not robot.tree.context.book.answered(command):
-            remaining = None if deadline is None else deadline - time.monotonic()
-            if remaining is not None and remaining <= 0:
-                raise StepTimeout(
-                    f"the engine never answered robot command '{command}' within {self.timeout:g} s"
-                )
-            try:
-                robot.record(inbox.get(timeout=remaining))
-            except queue.Empty:
-                continue
+    def _resend(back: _Link, robot: RobotBrain | None) -> None:
+        """The same robot on an engine that may not have its commands in flight: send them
+        again, under new ids."""
+        if back.robot is not None and back.robot is robot:
+            sent = back.robot.tree.context.book.resend_in_flight()
+            if sent:
+                log.info("sending again, under new ids: %s", ", ".join(sent))
 
 
 @dataclass

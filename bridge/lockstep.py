@@ -116,6 +116,19 @@ class LockstepClient:
         deadline = self._deadline()
         return self._result(request, self._control(request, deadline), deadline)
 
+    def where(self) -> ControlReply:
+        """Where a lock-step engine's clock is now (its episode, tick and state), changing
+        nothing: a ``resume``, which a lock-step engine answers with its state and ignores
+        (``protocol/README.md``). For a client that lost its link and must know whether the
+        engine moved meanwhile; not for a real-time engine (it would resume a paused clock).
+        """
+        request = Resume()
+        deadline = self._deadline()
+        reply = self._control(request, deadline)
+        if reply.state is not None:
+            self._on_state(reply.state, Received(self.bridge.keys.state, self.bridge.encoding))
+        return reply
+
     def pause(self) -> ControlReply:
         """Pause a real-time engine."""
         return self._control(Pause(), self._deadline())

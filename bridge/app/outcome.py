@@ -13,10 +13,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from protocol import Error as ProtocolErrorBase
+from protocol import State
 
 from ..errors import BridgeError
 from ..processes import start_node, stop_nodes
 from ..recording.events import write_events_csv
+from ..recording.readable import TraceError
+from ..recording.trace import trace_records
 from .outfolder import FAILED
 
 BRAIN_OUTPUTS = ("mind.csv", "beliefs.png", "preferences.png", "report.md")
@@ -34,12 +37,15 @@ class Outcome:
             inferred from the trace.
         node: the node that failed (``engine`` or ``brain``) and its exit status, for the
             end of its log.
+        removed: why the brain's outputs were removed though the brain finished (empty: it
+            did not finish).
     """
 
     status: int
     reason: str = ""
     infer: bool = False
     node: tuple[str, int | None] | None = None
+    removed: str = ""
 
 
 def exit_text(status: int | None) -> str:
@@ -80,6 +86,29 @@ def trace_span(path: Path) -> TraceSpan | None:
     return TraceSpan(min(ticks), max(ticks)) if ticks else None
 
 
+def not_one_episode(path: Path) -> str | None:
+    """What keeps ``path`` from being one episode's record, or ``None`` when its states are
+    one episode's ticks 0..n, in order, each once. E.g. ``trace.jsonl is not one episode's
+    ticks 0..n: it holds episode 1 ticks 0-214, then episode 2 ticks 0-621`` (an engine reset
+    mid-run), or ``... episode 1 ticks 0-209, then episode 1 ticks 211-621`` (a lost tick)."""
+    runs: list[list[int]] = []  # [episode, first tick, last tick] of each unbroken stretch
+    try:
+        for _, _, message in trace_records(path, strict=False):
+            if not isinstance(message, State):
+                continue
+            last = runs[-1] if runs else None
+            if last is not None and last[0] == message.episode and last[2] + 1 == message.tick:
+                last[2] = message.tick
+            else:
+                runs.append([message.episode, message.tick, message.tick])
+    except TraceError as err:
+        return str(err)
+    if len(runs) == 1 and runs[0][1] == 0:
+        return None
+    held = ", then ".join(f"episode {e} ticks {a}-{b}" for e, a, b in runs) or "no state"
+    return f"{path.name} is not one episode's ticks 0..n: it holds {held}"
+
+
 def infer_argv(folder: Path, observer: str, settings: list[str]) -> list[str]:
     """``toyroom infer``'s arguments that make the brain's outputs in ``folder`` from its
     trace (the ``settings.toml`` beside the trace is used unless ``settings`` names others)."""
@@ -101,7 +130,12 @@ def infer_from_trace(folder: Path, argv: list[str], stop: threading.Event) -> bo
 
 
 def failure_note(
-    reason: str, folder: Path, span: TraceSpan | None, argv: list[str], inferred: bool | None
+    reason: str,
+    folder: Path,
+    span: TraceSpan | None,
+    argv: list[str],
+    inferred: bool | None,
+    removed: str = "",
 ) -> str:
     """The ``FAILED`` note of a run that did not finish, whose outputs are in ``folder``.
 
@@ -111,6 +145,7 @@ def failure_note(
         argv: the ``toyroom infer`` arguments that recover the brain's outputs (with the paths
             the folder will have).
         inferred: whether they were inferred here (``None``: not tried).
+        removed: why they were removed though the brain finished (empty: it did not).
     """
     kept = sorted(p.name + ("/" if p.is_dir() else "") for p in folder.iterdir() if p.name != FAILED)
     command = shlex.join(["toyroom", *argv])
@@ -126,7 +161,9 @@ def failure_note(
         ]
     else:
         why = (
-            "inferring them failed (infer.log says why)" if inferred is False else "the brain did not finish"
+            "inferring them failed (infer.log says why)"
+            if inferred is False
+            else removed or "the brain did not finish"
         )
         lines += [
             f"trace.jsonl holds {span.text()}; {', '.join(BRAIN_OUTPUTS)} are not here ({why}).",

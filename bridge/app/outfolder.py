@@ -11,6 +11,10 @@ the end:
 - failed or interrupted: the folder, with its ``FAILED`` note, becomes ``DIR`` if ``DIR`` was
   missing or empty, else the sibling ``DIR.failed-YYYYMMDD-HHMMSS``; ``DIR`` keeps what it had.
 
+While a run is on it holds a lock on ``DIR`` (``fcntl.flock`` on the sibling file ``DIR.lock``,
+which names its process and goes when the run ends): a second run into the same ``DIR`` is
+refused at its start, naming the first, instead of both finishing and one's results being lost.
+
 A run's outputs are the names in :data:`RUN_OUTPUTS`; a ``DIR`` holds an earlier run when it
 has one of :data:`RUN_MARKERS`. A ``DIR`` that is a file, or that holds files of a run's
 names but no earlier run (a project folder with its own ``settings.toml``...), is refused
@@ -20,6 +24,7 @@ before anything starts.
 from __future__ import annotations
 
 import ctypes
+import fcntl
 import fnmatch
 import os
 import shutil
@@ -73,6 +78,40 @@ def _exchange(first: Path, second: Path) -> bool:
     return bool(done == 0)
 
 
+def _take_lock(target: Path) -> tuple[int, Path]:
+    """Lock ``target`` for this process: an exclusive ``flock`` on ``target.lock`` (made if
+    missing), which is made to hold this process's id; the open file and its path.
+
+    Raises:
+        BridgeError: another process holds the lock (naming it), or the file cannot be made.
+    """
+    path = target.with_name(f"{target.name}.lock")
+    while True:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as err:
+            raise BridgeError(f"cannot make the lock file {path} for --out {target}: {err}") from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.read(fd, 32).decode(errors="replace").strip() or "whose id is not written yet"
+            os.close(fd)
+            raise BridgeError(
+                f"--out {target} is being written by another toyroom run (process {holder}); "
+                "wait for it to end or name another folder"
+            ) from None
+        try:
+            if os.stat(path).st_ino == os.fstat(fd).st_ino:
+                break  # else a run that ended removed it after this one opened it: again
+        except FileNotFoundError:
+            pass
+        os.close(fd)
+    os.ftruncate(fd, 0)
+    os.write(fd, f"{os.getpid()}\n".encode())
+    return fd, path
+
+
 class RunFolder:
     """The results folder ``target`` of one run, and the fresh folder the run writes into
     (:attr:`staging`, made by :meth:`open`).
@@ -96,6 +135,7 @@ class RunFolder:
                     "trace.jsonl): a run would replace them; name another folder"
                 )
         self.staging = self.target.with_name(f"{self.target.name}.running-{os.getpid()}")
+        self._lock: tuple[int, Path] | None = None
 
     def _entries(self) -> list[Path]:
         return sorted(self.target.iterdir()) if self.target.is_dir() else []
@@ -104,8 +144,11 @@ class RunFolder:
         """Make the fresh folder, with ``note(folder)`` as its ``FAILED`` file until :meth:`finish`.
 
         Raises:
-            BridgeError: it cannot be made.
+            BridgeError: another run is writing ``target`` (its process named), or the folder
+                cannot be made.
         """
+        if self._lock is None:
+            self._lock = _take_lock(self.target)
         self.staging = _fresh(self.staging)
         try:
             self.staging.mkdir(parents=True)
@@ -144,6 +187,14 @@ class RunFolder:
             os.rename(self.staging / name, self.target / name)
         self.staging.rmdir()
         shutil.rmtree(aside, ignore_errors=True)
+
+    def release(self) -> None:
+        """Give up the lock on ``target`` (its file goes); safe to call twice."""
+        if self._lock is not None:
+            fd, path = self._lock
+            self._lock = None
+            path.unlink(missing_ok=True)  # while still held: nobody locks the file going
+            os.close(fd)
 
     def failed_destination(self) -> Path:
         """Where a failed run goes: ``target`` when missing or empty, else a fresh sibling

@@ -55,6 +55,7 @@ from .outcome import (
     failure_note,
     infer_argv,
     infer_from_trace,
+    not_one_episode,
     running_note,
     trace_span,
 )
@@ -62,6 +63,9 @@ from .outfolder import FAILED, RunFolder
 from .stopping import Interrupted, StopRequest, signal_name
 
 log = logging.getLogger("toyroom.run")
+
+NOT_ONE_EPISODE = "removed: they are not one episode's; toyroom infer makes them of the trace's last episode"
+"""Why a run whose trace is not one episode's ticks keeps no brain outputs (its ``FAILED`` note)."""
 
 
 @dataclass(frozen=True)
@@ -153,15 +157,18 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     check_brain_settings(config.settings, config.overrides)
     with StopRequest() as stop:
         staging = folder.open(lambda out: running_note(os.getpid(), infer_argv(out, config.observer, [])))
-        outcome = Episode(config, settings, world, staging, stop).run()
         try:
+            outcome = Episode(config, settings, world, staging, stop).run()
             return _conclude(config, folder, outcome, stop)
         except OSError as err:
+            why = f"{outcome.reason}, and " if outcome.reason else ""
             print(
-                f"toyroom run: cannot put the outputs in place ({err}); they are in {staging}/",
+                f"toyroom run: {why}cannot put the outputs in place ({err}); they are in {staging}/",
                 file=sys.stderr,
             )
             return 1
+        finally:
+            folder.release()
 
 
 @dataclass
@@ -249,22 +256,30 @@ class Episode:
             else:
                 ended.clear()
 
-        with TraceRecorder(bridge, out / "trace.jsonl", info=info), mcap, view:
+        trace = TraceRecorder(bridge, out / "trace.jsonl", info=info)
+        with trace, mcap, view:
             bridge.subscribe(bridge.keys.mind, view.on_mind, expected=Mind)
             bridge.subscribe(bridge.keys.state, on_state, expected=State)
             brain_args = _brain_args(config, out)
             brain = self._node(node_command("brain", self.world, self.settings, *brain_args), "brain.log")
             while brain.poll() is None:
                 self.stop.check()
+                if trace.error is not None:  # a full disk: nothing the run makes can be kept
+                    return Outcome(1, trace.error)
                 # after the last state the brain needs the engine no more: it finishes alone
                 if engine.poll() is not None and not ended.wait(0.5):
                     reason = f"the engine {exit_text(engine.returncode)} before the episode ended"
                     return Outcome(1, reason, infer=True, node=("engine", engine.returncode))
                 view.refresh(0.1)
             self.stop.event.wait(0.2)  # let the last messages reach the recorder
+        if trace.error is not None:
+            return Outcome(1, trace.error)
         if brain.returncode != 0:
             reason = f"the brain {exit_text(brain.returncode)}{_last_line(out / 'brain.log')}"
             return Outcome(1, reason, node=("brain", brain.returncode))
+        problem = not_one_episode(out / "trace.jsonl")  # what no node may pass off as one run
+        if problem is not None:
+            return Outcome(1, problem, removed=NOT_ONE_EPISODE)
         if engine.poll() not in (None, 0):
             print(
                 f"toyroom run: the engine {exit_text(engine.returncode)} after the episode ended",
@@ -309,7 +324,8 @@ def _conclude(config: RunConfig, folder: RunFolder, outcome: Outcome, stop: Stop
             reason += (
                 f" (and inferring the minds from the trace was interrupted by {signal_name(stop.signum)})"
             )
-    note = failure_note(reason, out, span, infer_argv(destination, config.observer, options), inferred)
+    argv = infer_argv(destination, config.observer, options)
+    note = failure_note(reason, out, span, argv, inferred, outcome.removed)
     (out / FAILED).write_text(note, encoding="utf-8")
     placed = folder.place_failed(destination)
     if outcome.node is not None:

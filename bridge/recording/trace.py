@@ -94,22 +94,41 @@ class Recorder:
         self.close()
 
 
+def write_error(err: OSError, path: Path) -> str:
+    """One line for a failed write: ``no space left on device writing trace.jsonl``."""
+    what = err.strerror or str(err)
+    return f"{what[:1].lower()}{what[1:]} writing {path.name}"
+
+
 class TraceRecorder(Recorder):
-    """Writes every message of a world to a ``trace.jsonl`` (flushed line by line)."""
+    """Writes every message of a world to a ``trace.jsonl`` (flushed line by line). A write
+    that fails (a full disk) ends the recording: :attr:`error` says why, in one line, and
+    the messages after it are dropped (not one traceback per message); the caller says so."""
 
     def __init__(
         self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
     ) -> None:
         self.path = path
+        self.error: str | None = None
+        """Why the trace stopped being written (``None``: it did not)."""
         self._file: IO[str] = path.open("w", encoding="utf-8")
         super().__init__(bridge, info=info, timeout=timeout)
 
     def _store(self, key: str, message: Message) -> None:
-        self._file.write(trace_line(key, message) + "\n")
-        self._file.flush()
+        if self.error is not None:
+            return
+        try:
+            self._file.write(trace_line(key, message) + "\n")
+            self._file.flush()
+        except OSError as err:
+            self.error = write_error(err, self.path)
+            log.debug("%s: the trace stops here", self.error)  # the caller reports it
 
     def _finish(self) -> None:
-        self._file.close()
+        try:
+            self._file.close()
+        except OSError as err:  # its last lines could not be written
+            self.error = self.error or write_error(err, self.path)
 
 
 @dataclass(frozen=True)
