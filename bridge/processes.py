@@ -33,7 +33,7 @@ from .bridge import Bridge
 from .errors import BridgeError, NoReply
 from .flags import settings_argv
 from .handshake import handshake
-from .session import SessionSettings
+from .session import DEFAULT_LEASE_MS, SessionSettings
 
 POLL_S = 0.2
 """Seconds between two looks at the stop event: the longest a signal waits to be handled."""
@@ -162,6 +162,7 @@ def node_command(package: str, world: str, settings: SessionSettings, *args: str
         "--world",
         world,
         *_network_args(settings),
+        *([] if settings.lease_ms == DEFAULT_LEASE_MS else ["--lease-ms", str(settings.lease_ms)]),
         *args,
     ]
 

@@ -59,6 +59,11 @@ def is_loopback(endpoint: str) -> bool:
     return host == "localhost" or host == "::1" or host.startswith("127.")
 
 
+DEFAULT_LEASE_MS = 800
+"""How long a silent link is kept (ms): a node stalled for longer is taken for gone."""
+MIN_LEASE_MS, MAX_LEASE_MS = 100, 60_000
+
+
 @dataclass(frozen=True)
 class SessionSettings:
     """How to open a session. Fields left ``None`` take the safe default.
@@ -69,8 +74,9 @@ class SessionSettings:
         listen: endpoints to listen on; default: the world port on loopback (peer, router).
         connect: endpoints to connect to; default: the world port on loopback.
         config_file: a Zenoh JSON5 config to start from (flags still override it).
-        lease_ms: how long a silent link is kept, in milliseconds; a killed peer is
-            noticed within this time.
+        lease_ms: how long this session's peers keep its link while it is silent (a stall:
+            SIGSTOP, a loaded machine), in milliseconds; past it they take it for gone. A
+            killed process closes its links, so it is noticed at once whatever the lease.
         scout_delay_ms: how long, in milliseconds, opening a peer session may wait for the
             peers it learns of to connect (Zenoh's ``scouting/delay``). Zenoh's default, 500,
             is paid in full by the first session of a world, which has nobody to wait for,
@@ -83,7 +89,7 @@ class SessionSettings:
     listen: tuple[str, ...] | None = None
     connect: tuple[str, ...] | None = None
     config_file: Path | None = None
-    lease_ms: int = 800
+    lease_ms: int = DEFAULT_LEASE_MS
     scout_delay_ms: int = 100
     extra: tuple[tuple[str, str], ...] = field(default=())
     """Further ``(path, json5 value)`` config insertions, applied last."""
@@ -188,6 +194,14 @@ def add_network_args(parser: argparse.ArgumentParser, *, world: bool = True) -> 
     group.add_argument(
         "--connect", action="append", metavar="ENDPOINT", help="connect endpoint (a router or peer)"
     )
+    group.add_argument(
+        "--lease-ms",
+        type=lease_ms,
+        metavar="MS",
+        help=f"how long this session's peers keep its link while it is silent (a stall), in ms "
+        f"(default {DEFAULT_LEASE_MS}, toyroom run's nodes 8000; {MIN_LEASE_MS}-{MAX_LEASE_MS}); "
+        "a killed process is noticed at once",
+    )
 
 
 def settings_from_args(args: argparse.Namespace) -> SessionSettings:
@@ -197,7 +211,22 @@ def settings_from_args(args: argparse.Namespace) -> SessionSettings:
         listen=tuple(args.listen) if args.listen else None,
         connect=tuple(args.connect) if args.connect else None,
         config_file=args.zenoh_config,
+        lease_ms=getattr(args, "lease_ms", None) or DEFAULT_LEASE_MS,
     )
+
+
+def lease_ms(text: str) -> int:
+    """``--lease-ms``: a whole number of milliseconds within the allowed range.
+
+    Raises:
+        argparse.ArgumentTypeError: naming the value and the range."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number of milliseconds, got {text!r}") from None
+    if not MIN_LEASE_MS <= value <= MAX_LEASE_MS:
+        raise argparse.ArgumentTypeError(f"{value} is outside {MIN_LEASE_MS}-{MAX_LEASE_MS} ms")
+    return value
 
 
 DEFAULT_ROUTER_ENDPOINT = "tcp/127.0.0.1:7447"

@@ -266,6 +266,7 @@ def _run(args: argparse.Namespace) -> int:
         shadows=tuple(args.shadow),
         settings=args.settings,
         overrides=tuple(args.overrides),
+        **({"lease_ms": args.lease_ms} if args.lease_ms is not None else {}),
     )
     return run(config, settings_from_args(args))
 

@@ -20,7 +20,7 @@ import subprocess
 import sys
 import threading
 from contextlib import nullcontext
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from rich.console import Console
@@ -64,6 +64,11 @@ from .stopping import Interrupted, StopRequest, signal_name
 
 log = logging.getLogger("toyroom.run")
 
+RUN_LEASE_MS = 8000
+"""The lease of ``toyroom run``'s nodes (ms): a node stalled (SIGSTOP, a loaded machine) for up
+to 8 s keeps its links, so the episode simply waits for it; it is below the brain's 10 s step
+timeout, so an engine stalled for longer is taken for gone (and the brain carries on or stops,
+saying why) before the step times out. A killed node closes its links and is noticed at once."""
 NOT_ONE_EPISODE = "removed: they are not one episode's; toyroom infer makes them of the trace's last episode"
 """Why a run whose trace is not one episode's ticks keeps no brain outputs (its ``FAILED`` note)."""
 
@@ -98,6 +103,9 @@ class RunConfig:
     """A settings file for the brain (``[model]``, ``[robot]``)."""
     overrides: tuple[str, ...] = ()
     """``NAME=VALUE`` settings for the brain, after the file's."""
+    lease_ms: int = RUN_LEASE_MS
+    """How long, in milliseconds, the engine's and the brain's links outlive a stall of either
+    (their sessions' lease): a stall shorter than this is waited for and the episode runs on."""
 
 
 class MindView:
@@ -149,7 +157,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
         BridgeError: before any process starts: ``--out`` names a file or another project's
             folder, a setting is not allowed, the engine cannot be run here.
     """
-    settings = settings or SessionSettings()
+    settings = replace(settings or SessionSettings(), lease_ms=config.lease_ms)
     world = config.world or f"run-{os.getpid()}"
     folder = RunFolder(config.out)
     if config.engine != "csharp":  # its command is made once the scenario is exported

@@ -70,6 +70,22 @@ def test_a_bad_argument_is_one_line_and_exit_2(tmp_path: Path, argv: tuple[str, 
     )
 
 
+@pytest.mark.parametrize("lease", ["5", "1e9", "soon"])
+def test_a_lease_out_of_range_is_refused_by_argparse(tmp_path: Path, lease: str) -> None:
+    """``--lease-ms`` (argparse's usage, then one line naming the value; exit 2)."""
+    out = tmp_path / "r"
+    argv = ["run", "--scenario", "sally-anne", "--no-live", "--out", str(out), "--lease-ms", lease]
+    result = subprocess.run(
+        [sys.executable, "-m", "bridge", *argv], capture_output=True, text=True, timeout=120
+    )
+    last = result.stderr.strip().splitlines()[-1]
+    assert result.returncode == 2 and last.startswith("toyroom run: error: argument --lease-ms: "), (
+        f"expected exit 2 and argparse's line on --lease-ms, got exit {result.returncode}:\n{result.stderr}"
+    )
+    assert repr(lease) in last or f"{lease} is outside 100-60000 ms" in last, last
+    assert not out.exists(), "a refused run wrote its folder"
+
+
 def _metrics(failed: list[int], episodes: int) -> dict:
     return {"episodes": episodes, "conditions": [{"episodes_failed": n} for n in failed]}
 
