@@ -72,6 +72,8 @@ def _problem(command: str) -> str | None:
     """Why ``command`` does not parse, or ``None`` (also for one that is skipped)."""
     if "..." in command or "[" in command or "|" in command or " #" in command:
         return None  # a synopsis or an excerpt, not a command
+    if re.match(r"toyroom [\w-]+:", command):
+        return None  # a message the command prints (`toyroom eval: stopped by SIGINT: ...`)
     argv = shlex.split(PLACEHOLDER.sub("1", re.sub(r"<[^>]*>", "1", command)))[1:]
     _, rest = global_parser().parse_known_args(argv)
     if not rest or rest[0] == "COMMAND":
