@@ -14,3 +14,24 @@ class SettingsError(BrainError, ValueError):
 class StateError(BrainError, ValueError):
     """A ``state`` the brain cannot follow: an item of the scene missing from it, neither
     resting nor held, held by an agent it does not list, or resting at an unknown place."""
+
+
+class NonFiniteError(BrainError, ArithmeticError):
+    """A number of the model's output (a probability, a utility) is NaN or infinite: the
+    brain fails rather than publish or write it (:mod:`brain.outputs.finite`).
+
+    Attributes:
+        person: whose estimate. tick: the engine tick. field: which quantity.
+    """
+
+    def __init__(self, person: str, tick: int, field: str, detail: str) -> None:
+        self.person, self.tick, self.field = person, tick, field
+        super().__init__(
+            f"'{person}' at tick {tick}: the model's {field} not finite ({detail}): its numbers "
+            "overflowed; nothing more is published (check the settings: python -m brain check-settings)"
+        )
+
+
+class ModelTooLarge(BrainError, MemoryError):
+    """A scene whose model arrays would take more memory than the brain allows
+    (:data:`brain.model.size.MAX_MODEL_BYTES`), refused before any is allocated."""

@@ -4,8 +4,25 @@ files."""
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+
+MAGNITUDE = 1e6
+"""The largest size of any float setting (model's and robot's). The model's numbers are
+sums and products of them: ``beta`` times Q-values (at most a utility over ``1 - discount``,
+itself at least float64's 1e-16: ``1e6 * 1e6 / 1e-16 = 1e28``), ``r`` summed over the model's
+worlds, rates (per second) times seconds; within this bound each stays far inside float64's
+1.8e308, so no setting can make the model's numbers overflow into inf or NaN (``beta=1e308``
+did: ``beta * Q`` overflowed before the softmax could subtract its maximum, and mind.csv
+filled with NaN). The softmax itself already subtracts the largest ``beta * Q`` (log-sum-exp)."""
+
+FINITE_ALLOWED = (
+    f"a finite number of size at most {MAGNITUDE:.0e}".replace("e+0", "e")
+    + ": the model multiplies and sums the settings, so a larger one overflows float64 into inf/NaN"
+)
+"""What :func:`unbounded` says every float setting allows."""
 
 ROBOT_ALLOWED = {
     "confirm_seconds": "confirm_seconds >= 0",
@@ -26,6 +43,34 @@ def allowed_text(values: object, names: list[str], allowed: Mapping[str, str]) -
     return "; ".join(
         f"{n}={getattr(values, n)!r} (allowed: {allowed.get(n) or f'0 <= {n} <= 1'})" for n in names
     )
+
+
+def unbounded(values: object) -> list[str]:
+    """The float fields of the dataclass ``values`` that are not finite or are larger than
+    :data:`MAGNITUDE` (NaN, an infinity, ``1e308``), by name."""
+    return [
+        f.name
+        for f in dataclasses.fields(values)  # type: ignore[arg-type]
+        if isinstance(value := getattr(values, f.name), float)
+        and not (math.isfinite(value) and abs(value) <= MAGNITUDE)
+    ]
+
+
+def check_values(kind: str, values: object, checks: Mapping[str, bool], allowed: Mapping[str, str]) -> None:
+    """Raise ``ValueError`` naming every value out of bounds: first any float that is not
+    finite or too large (:func:`unbounded`), else any of ``checks`` that failed.
+
+    Raises:
+        ValueError: ``invalid KIND settings: name=value (allowed: ...)``, one line.
+    """
+    huge = unbounded(values)
+    if huge:
+        raise ValueError(
+            f"invalid {kind} settings: {allowed_text(values, huge, dict.fromkeys(huge, FINITE_ALLOWED))}"
+        )
+    bad = [name for name, ok in checks.items() if not ok]
+    if bad:
+        raise ValueError(f"invalid {kind} settings: {allowed_text(values, bad, allowed)}")
 
 
 @dataclass(frozen=True)
@@ -117,9 +162,7 @@ class RobotSettings:
         checks |= {"navigate_timeout": self.navigate_timeout > 0, "action_timeout": self.action_timeout > 0}
         checks |= {name: getattr(self, name) >= 0 for name in ROBOT_COSTS}
         checks |= {"search_factor": self.search_factor >= 1}
-        bad = [name for name, ok in checks.items() if not ok]
-        if bad:
-            raise ValueError(f"invalid robot settings: {allowed_text(self, bad, ROBOT_ALLOWED)}")
+        check_values("robot", self, checks, ROBOT_ALLOWED)
 
 
 ROBOT_POLICIES = ("tom", "benefit", "tidy", "announce")

@@ -14,13 +14,14 @@ from .errors import SettingsError
 from .robotsettings import (
     ROBOT_ALLOWED,
     RobotSettings,
-    allowed_text,
+    check_values,
 )
 
 
 @dataclass(frozen=True)
 class ModelSettings:
-    """Every parameter of the Theory-of-Mind model.
+    """Every parameter of the Theory-of-Mind model. Every float is finite and at most
+    :data:`~brain.robotsettings.MAGNITUDE` (1e6) in size, so the model's numbers stay finite.
 
     Attributes:
         r: the paper's factor ``f``: a change of believed world weighs ``r`` times a stay
@@ -143,7 +144,7 @@ class ModelSettings:
             "wait_decisions": self.wait_decisions == 0 or self.wait_decisions > 1,
             "discount": 0.0 < self.discount < 1.0,
             "belief_model": self.belief_model in ("point", "graded"),
-            "prior_resolution": self.prior_resolution >= 1,
+            "prior_resolution": 1 <= self.prior_resolution <= 100,
             "ignorance": 0.0 <= self.ignorance <= 1.0,
             "stale_share": 0.0 <= self.stale_share <= 1.0,
             "belief_update": self.belief_update in ("predict", "paper"),
@@ -157,10 +158,9 @@ class ModelSettings:
             "hearsay": self.hearsay >= 0.0,
             "forget": self.forget >= 0.0,
             "nested_peek": self.nested_peek >= 0.0,
+            "vi_tolerance": self.vi_tolerance >= 0.0,
         }
-        bad = [name for name, ok in checks.items() if not ok]
-        if bad:
-            raise ValueError(f"invalid model settings: {allowed_text(self, bad, ALLOWED)}")
+        check_values("model", self, checks, ALLOWED)
 
 
 ALLOWED = {
@@ -174,7 +174,7 @@ ALLOWED = {
     "wait_decisions": "0, or wait_decisions > 1",
     "discount": "0 < discount < 1",
     "belief_model": "one of point, graded",
-    "prior_resolution": "an int >= 1",
+    "prior_resolution": "an int from 1 to 100 (the grid's points grow as its power of the spots)",
     "ignorance": "0 <= ignorance <= 1",
     "stale_share": "0 <= stale_share <= 1",
     "belief_update": "one of predict, paper",
@@ -188,6 +188,7 @@ ALLOWED = {
     "hearsay": "hearsay >= 0",
     "forget": "forget >= 0",
     "nested_peek": "nested_peek >= 0",
+    "vi_tolerance": "vi_tolerance >= 0",
 }
 """What the settings allow of each value they check, as their errors say it (``toyroom run``
 checks them with ``python -m brain check-settings`` before any process starts)."""
@@ -248,6 +249,21 @@ def parse_override(text: str) -> tuple[str, str, object]:
     return section, field, _value(section, field, value)
 
 
+def _read_toml(path: Path) -> dict[str, object]:
+    """A settings file's tables.
+
+    Raises:
+        SettingsError: one line naming the file: missing, not UTF-8, not TOML, or nested
+            deeper than ``tomllib`` can read (its recursion limit).
+    """
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise SettingsError(f"{path}: {err}") from None
+    except RecursionError:
+        raise SettingsError(f"{path}: not valid TOML: nested too deep to read") from None
+
+
 def load_settings(path: Path | None = None, overrides: Sequence[str] = ()) -> Settings:
     """The defaults, then a settings file's ``[model]`` and ``[robot]`` tables, then each
     ``NAME=VALUE`` override.
@@ -257,10 +273,7 @@ def load_settings(path: Path | None = None, overrides: Sequence[str] = ()) -> Se
     """
     values: dict[str, dict[str, object]] = {section: {} for section in SECTIONS}
     if path is not None:
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except (OSError, tomllib.TOMLDecodeError) as err:
-            raise SettingsError(f"{path}: {err}") from None
+        data = _read_toml(path)
         for section, table in data.items():
             if section not in SECTIONS or not isinstance(table, dict):
                 raise SettingsError(f"{path}: unknown table [{section}]; known: {', '.join(SECTIONS)}")

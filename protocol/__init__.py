@@ -11,6 +11,16 @@ from .events import Event, EventKind
 from .geometry import NEIGHBOURS, Cell, GridCell, Pose, Vec2
 from .handshake import Capability, ClockMode, EngineInfo, Hello
 from .keys import Keys, check_name
+from .limits import (
+    LIMITS,
+    MAX_AGENTS,
+    MAX_CELL_SIZE,
+    MAX_GRID_CELLS,
+    MAX_ITEMS,
+    MAX_LOCATIONS,
+    MAX_REGIONS,
+    limit_problems,
+)
 from .message import Header, Message
 from .mind import (
     AgentMind,
@@ -108,6 +118,13 @@ __all__ = [
     "Hello",
     "Intention",
     "InvalidScene",
+    "LIMITS",
+    "MAX_AGENTS",
+    "MAX_CELL_SIZE",
+    "MAX_GRID_CELLS",
+    "MAX_ITEMS",
+    "MAX_LOCATIONS",
+    "MAX_REGIONS",
     "ItemBelief",
     "ItemPlace",
     "ItemShape",
@@ -161,6 +178,7 @@ __all__ = [
     "note_unknown",
     "read_header",
     "scene_problems",
+    "limit_problems",
     "tag_of",
     "to_builtins",
     "unknown_action",

@@ -13,6 +13,7 @@ from collections.abc import Iterable
 
 from .errors import ProtocolError
 from .geometry import NEIGHBOURS, GridCell
+from .limits import limit_problems
 from .scene import Scene
 
 
@@ -158,7 +159,11 @@ def _reach_problems(walkable: set[GridCell], region_of: Cells) -> list[str]:
 
 
 def scene_problems(scene: Scene) -> list[str]:
-    """Every inconsistency in ``scene``, as readable lines; empty when the scene is sound."""
+    """Every inconsistency in ``scene``, as readable lines; empty when the scene is sound. A
+    scene beyond :mod:`protocol.limits` gets those problems alone (its cells are not walked)."""
+    too_big = limit_problems(scene)
+    if too_big:
+        return too_big
     problems = _id_problems(scene)
     region_of = _region_cells(scene, problems)
     problems += _door_problems(scene, region_of)

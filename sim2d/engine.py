@@ -179,9 +179,15 @@ class Engine:
 
     def reset(self, scenario: Scenario | str | None = None, seed: int = 0) -> TickResult:
         """Start a new episode (of ``scenario``, or the current one) and return tick 0. A
-        scenario that cannot be loaded raises and leaves the episode count as it was."""
-        chosen = self.scenario if scenario is None else scenario
-        loaded = chosen if isinstance(chosen, Scenario) else load_scenario(chosen)
+        scenario that cannot be loaded raises and leaves the episode count as it was.
+
+        The name of the scenario playing (``engine_info``'s ``scenario``) is the scenario
+        playing, whatever it was loaded from: an engine started on ``my-house.toml`` resets
+        to that file when a brain that joins it asks for ``my-house``."""
+        if scenario is None or scenario == self.scenario.name:
+            loaded = self.scenario
+        else:
+            loaded = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
         self.episode += 1
         try:
             self._load(loaded, seed)

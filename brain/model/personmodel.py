@@ -27,6 +27,7 @@ from .gradedfactored import GradedFactoredModel
 from .gradedperson import GradedModel
 from .lapses import LapseModel
 from .personinterface import PersonModel
+from .size import check_model_size
 from .world import build_world_model
 
 log = logging.getLogger(__name__)
@@ -43,7 +44,12 @@ def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = Fa
 def base_person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
     """The model ``settings.belief_model`` names, graded (the default) or point: exact while
     the scene's ``W`` worlds are at most ``settings.exact_max_worlds``, factored above it
-    (:mod:`brain.model.gradedfactored`, :mod:`brain.model.factored`)."""
+    (:mod:`brain.model.gradedfactored`, :mod:`brain.model.factored`).
+
+    Raises:
+        ModelTooLarge: its arrays would exceed :data:`brain.model.size.MAX_MODEL_BYTES`.
+    """
+    check_model_size(scene, settings)  # before anything of its size is allocated
     worlds = build_world_model(scene).n_worlds
     if worlds > settings.exact_max_worlds:
         if settings.desire_model == "graded" or settings.person_planner == "belief":

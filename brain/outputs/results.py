@@ -32,6 +32,7 @@ from ..model.estimates import OUT, Estimate
 from ..model.nested import NestedBeliefs
 from ..model.world import WorldModel
 from ..tracking.tracker import MindTracker
+from .finite import check_estimate, check_rows
 from .groundtruth import load_ground_truth
 from .mindtable import mind_rows, write_csv
 from .report import write_report
@@ -45,7 +46,13 @@ def mind_message(
     tracker: MindTracker, state: State, robot: RobotActivity | None = None, cache: MindCache | None = None
 ) -> Mind:
     """The online estimates of every person (and what the robot does), as a ``mind`` message
-    (``cache``: the caller's, kept between ticks)."""
+    (``cache``: the caller's, kept between ticks).
+
+    Raises:
+        NonFiniteError: a person's estimate holds NaN or an infinity (naming them, the
+            quantity and the tick): the brain fails rather than publish a message that every
+            subscriber would drop.
+    """
     agents = []
     nested_of = nested_messages(tracker)
     for person in tracker.people:
@@ -60,6 +67,7 @@ def mind_message(
                 cache[person] = kept  # type: ignore[index]
             agents.append(kept[1])
             continue
+        check_estimate(tracker.model, person, state.tick, est)  # NaN is never published
         agents.append(agent_mind(tracker, person, est, nested))
         if cache is not None:
             cache[person] = (est, agents[-1])
@@ -163,6 +171,7 @@ def write_outputs(tracker: MindTracker, scenario: str, out: Path) -> Path:
     """Write ``mind.csv``, ``beliefs.png``, ``preferences.png`` and ``report.md`` into ``out``."""
     out.mkdir(parents=True, exist_ok=True)
     rows = mind_rows(tracker)
+    check_rows((r.tick, r.agent, r.quantity, r.item, r.p_online, r.p_smoothed) for r in rows)
     write_csv(rows, out / "mind.csv")
     write_report(
         rows, scenario, tracker.observer.value, load_ground_truth(scenario), out, exact=tracker.exact

@@ -73,8 +73,19 @@ class Autonomy:
 
 
 def _tick_range(value: Any, default: tuple[int, int]) -> tuple[int, int]:
+    """``[min, max]`` ticks, two integers (``5.9`` is refused, not read as 5)."""
     low, high = value if value is not None else default
-    return (int(low), int(high))
+    if not all(isinstance(v, int) and not isinstance(v, bool) for v in (low, high)):
+        raise ValueError(f"a tick pair must be two integers, got {value!r}")
+    return (low, high)
+
+
+def _rate(table: dict[str, Any], name: str) -> float:
+    """A probability of the table: a number (``true`` or ``"0.5"`` is refused)."""
+    value = table[name]
+    if not isinstance(value, int | float) or isinstance(value, bool):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    return float(value)
 
 
 def parse_autonomy(data: dict[str, Any], path: Path) -> Autonomy:
@@ -86,7 +97,7 @@ def parse_autonomy(data: dict[str, Any], path: Path) -> Autonomy:
     table = check_keys(data.get("autonomy", {}), AUTONOMY_KEYS, path, "autonomy")
     try:
         return Autonomy(
-            **{name: float(table[name]) for name in RATES if name in table},
+            **{name: _rate(table, name) for name in RATES if name in table},
             search=str(table.get("search", Autonomy.search)),
             planner=str(table.get("planner", Autonomy.planner)),
             play_ticks=_tick_range(table.get("play_ticks"), Autonomy.play_ticks),

@@ -15,6 +15,10 @@ from pathlib import Path
 from typing import Any
 
 from protocol import (
+    MAX_CELL_SIZE,
+    MAX_GRID_CELLS,
+    MAX_LOCATIONS,
+    MAX_REGIONS,
     NEIGHBOURS,
     AgentKind,
     AgentSpec,
@@ -33,6 +37,7 @@ from protocol import (
 from protocol.bundled import bundled_dir
 
 from ..errors import ScenarioError
+from .numbers import integer, real
 from .tables import (
     DOOR_KEYS,
     LOCATION_KEYS,
@@ -114,6 +119,10 @@ class GameMap:
         )
 
 
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
 def parse_cell(value: Any, path: Path, entry: str) -> GridCell:
     if (
         not isinstance(value, list)
@@ -144,8 +153,12 @@ def read_toml(path: Path) -> dict[str, Any]:
             entry = f"{kind} '{path.name.removesuffix(suffix)}'"
             raise ScenarioError(path, entry, f"not bundled; known: {known} (or give a .toml file)") from None
         raise ScenarioError(path, "", "no such file") from None
-    except tomllib.TOMLDecodeError as err:
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise ScenarioError(path, "", f"not valid TOML: {err}") from None
+    except RecursionError:
+        raise ScenarioError(path, "", "not valid TOML: nested too deep to read") from None
+    except OSError as err:
+        raise ScenarioError(path, "", f"cannot read it: {err.strerror or err}") from None
 
 
 def map_path(name_or_path: str) -> Path:
@@ -157,21 +170,24 @@ def map_path(name_or_path: str) -> Path:
 
 
 def _grid(data: dict[str, Any], path: Path) -> tuple[float, int, int]:
-    """``cell_size`` (m), ``columns`` and ``rows`` of a map file."""
-    try:
-        cell_size = float(data.get("cell_size", 1.0))
-        columns = int(data["columns"])
-        rows = int(data["rows"])
-    except (KeyError, TypeError, ValueError) as err:
-        raise ScenarioError(path, "", f"expected numbers cell_size, columns and rows ({err})") from None
-    if cell_size <= 0 or columns < 1 or rows < 1:
-        raise ScenarioError(path, "", "cell_size must be > 0 and columns, rows >= 1")
+    """``cell_size`` (m), ``columns`` and ``rows`` of a map file, the grid within
+    :data:`protocol.MAX_GRID_CELLS` (checked before any cell is built)."""
+    cell_size = real(data.get("cell_size", 1.0), path, "cell_size", "cell_size", MAX_CELL_SIZE)
+    if "columns" not in data or "rows" not in data:
+        raise ScenarioError(path, "", "expected integers columns and rows")
+    columns = integer(data["columns"], path, "columns", "columns")
+    rows = integer(data["rows"], path, "rows", "rows")
+    if columns * rows > MAX_GRID_CELLS:
+        problem = (
+            f"{columns:,} x {rows:,} = {columns * rows:,} grid cells, above the limit of {MAX_GRID_CELLS:,}"
+        )
+        raise ScenarioError(path, "columns, rows", problem)
     return cell_size, columns, rows
 
 
 def _rect_cells(rect: Any, path: Path, entry: str, columns: int, rows: int) -> list[GridCell]:
     """The cells of one ``[col, row, width, height]`` rectangle, each inside the grid."""
-    if not (isinstance(rect, list) and len(rect) == 4 and all(isinstance(v, int) for v in rect)):
+    if not (isinstance(rect, list) and len(rect) == 4 and all(_is_int(v) for v in rect)):
         raise ScenarioError(path, entry, f"expected rects of [col, row, width, height], got {rect!r}")
     col, row, width, height = rect
     if width < 1 or height < 1:
@@ -213,7 +229,8 @@ def _regions(
     """Every region, and the region of every region cell."""
     region_of: dict[GridCell, str] = {}
     regions = [
-        _region(table, i, path, grid, region_of) for i, table in enumerate(tables(data, "regions", path))
+        _region(table, i, path, grid, region_of)
+        for i, table in enumerate(tables(data, "regions", path, MAX_REGIONS))
     ]
     region_ids = [r.id for r in regions]
     if not regions:
@@ -350,7 +367,8 @@ def load_map(name_or_path: str) -> GameMap:
     region_ids = [r.id for r in regions]
     doors = [_door(t, i, path, region_of, region_ids) for i, t in enumerate(tables(data, "doors", path))]
     locations = [
-        _location(t, i, path, region_of, region_ids) for i, t in enumerate(tables(data, "locations", path))
+        _location(t, i, path, region_of, region_ids)
+        for i, t in enumerate(tables(data, "locations", path, MAX_LOCATIONS))
     ]
     sees = _visibility(data, path, region_of, doors, locations)
     game_map = GameMap(

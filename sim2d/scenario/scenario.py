@@ -10,16 +10,20 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from protocol import AgentKind, GridCell, ItemShape
+from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, ItemShape
 
 from ..errors import ScenarioError
 from .autonomy import Autonomy, parse_autonomy
 from .jobs import JOB_KEYS, Jobs, job_items, parse_jobs
 from .maps import SCENARIO_DIR, GameMap, load_map, parse_cell, read_toml
+from .numbers import integer, real
 from .script import Step, Take, parse_step
 from .tables import AGENT_KEYS, ITEM_KEYS, SCENARIO_KEYS, check_keys, entry_of, tables
 
 RobotMode = Literal["act", "observe"]
+
+MAX_TICK_SECONDS = 3600.0
+"""The longest tick (s) a scenario may have: a finite time, its multiples too."""
 
 
 @dataclass(frozen=True)
@@ -175,7 +179,8 @@ def _agent(table: dict[str, Any], i: int, game_map: GameMap, path: Path) -> Agen
 
 def _agents(data: dict[str, Any], game_map: GameMap, path: Path) -> list[AgentSetup]:
     """Every agent, with distinct ids and at most one robot."""
-    agents = [_agent(table, i, game_map, path) for i, table in enumerate(tables(data, "agents", path))]
+    listed = tables(data, "agents", path, MAX_AGENTS)
+    agents = [_agent(table, i, game_map, path) for i, table in enumerate(listed)]
     agent_ids = [a.id for a in agents]
     if len(set(agent_ids)) != len(agent_ids):
         raise ScenarioError(path, "agents", f"duplicate agent ids in {agent_ids}")
@@ -228,7 +233,7 @@ def _items(data: dict[str, Any], game_map: GameMap, path: Path, agents: list[Age
     holders: dict[str, str] = {}
     items = [
         _item(table, i, path, location_ids, agent_ids, holders)
-        for i, table in enumerate(tables(data, "items", path))
+        for i, table in enumerate(tables(data, "items", path, MAX_ITEMS))
     ]
     item_ids = {item.id for item in items}
     if len(item_ids) != len(items):
@@ -269,17 +274,11 @@ def _check_references(agents: list[AgentSetup], item_ids: set[str], path: Path) 
 
 
 def _timing(data: dict[str, Any], path: Path) -> tuple[float, int, int]:
-    """``tick_seconds`` (s), ``max_ticks`` and ``settle_ticks``."""
-    try:
-        tick_seconds = float(data.get("tick_seconds", 0.1))
-        max_ticks = int(data.get("max_ticks", 3000))
-        settle_ticks = int(data.get("settle_ticks", 1))
-    except (TypeError, ValueError) as err:
-        raise ScenarioError(
-            path, "", f"expected numbers tick_seconds, max_ticks, settle_ticks ({err})"
-        ) from None
-    if tick_seconds <= 0 or max_ticks < 1 or settle_ticks < 1:
-        raise ScenarioError(path, "", "tick_seconds must be > 0, max_ticks and settle_ticks >= 1")
+    """``tick_seconds`` (s, finite, at most :data:`MAX_TICK_SECONDS`), ``max_ticks`` and
+    ``settle_ticks`` (integers, at least 1)."""
+    tick_seconds = real(data.get("tick_seconds", 0.1), path, "tick_seconds", "tick_seconds", MAX_TICK_SECONDS)
+    max_ticks = integer(data.get("max_ticks", 3000), path, "max_ticks", "max_ticks")
+    settle_ticks = integer(data.get("settle_ticks", 1), path, "settle_ticks", "settle_ticks")
     return tick_seconds, max_ticks, settle_ticks
 
 

@@ -97,14 +97,17 @@ def entry_of(table: Any, section: str, i: int) -> str:
     return f"{section}[{i}] '{name}'" if isinstance(name, str) and name else f"{section}[{i}]"
 
 
-def tables(data: dict[str, Any], key: str, path: Path) -> list[Any]:
-    """``data[key]``, an array of tables (``[[key]]``; empty when absent). Each element is
-    checked by its reader, with :func:`check_keys`.
+def tables(data: dict[str, Any], key: str, path: Path, limit: int | None = None) -> list[Any]:
+    """``data[key]``, an array of tables (``[[key]]``; empty when absent) of at most ``limit``
+    (:mod:`protocol.limits`). Each element is checked by its reader, with :func:`check_keys`.
 
     Raises:
-        ScenarioError: ``data[key]`` is not an array (a single ``[key]`` table, a string...).
+        ScenarioError: ``data[key]`` is not an array (a single ``[key]`` table, a string...),
+            or holds more than ``limit`` tables.
     """
     value = data.get(key, [])
     if not isinstance(value, list):
         raise ScenarioError(path, key, f"expected an array of tables ([[{key}]]), got {value!r}")
+    if limit is not None and len(value) > limit:
+        raise ScenarioError(path, key, f"{len(value):,} {key}, above the limit of {limit:,}")
     return value

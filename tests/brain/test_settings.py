@@ -3,6 +3,7 @@ and the settings a run wrote read back to the same."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -100,3 +101,61 @@ def test_infer_on_a_recording_reproduces_its_run(tmp_path: Path) -> None:
         assert (tmp_path / name / "mind.csv").read_text() == (run / "mind.csv").read_text(), (
             f"{name}: infer did not reproduce the run's mind.csv"
         )
+
+
+FLOAT_SETTINGS = [
+    (section, f.name)
+    for section, cls in (("model", ModelSettings), ("robot", RobotSettings))
+    for f in dataclasses.fields(cls)
+    if f.type in ("float", float)
+]
+
+
+@pytest.mark.parametrize(("section", "name"), FLOAT_SETTINGS)
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf", "1e308"])
+def test_every_float_setting_is_finite_and_bounded(section: str, name: str, value: str) -> None:
+    """Issue 49, item 3: a value that would make the model's numbers non-finite (NaN, an
+    infinity, or one so large that a product of it overflows float64) is refused at start,
+    naming the setting, its value and the bound."""
+    with pytest.raises(SettingsError) as caught:
+        load_settings(None, [f"{section}.{name}={value}"])
+    message = str(caught.value)
+    assert f"{name}=" in message and "allowed" in message and "\n" not in message, (
+        f"expected one line naming {name} and what is allowed, got {message!r}"
+    )
+
+
+def test_a_settings_file_with_nan_or_deep_nesting_is_one_line(tmp_path: Path) -> None:
+    """Issue 49, item 7: a settings file of NaN, or nested too deep for tomllib, is one line
+    naming the file (no traceback)."""
+    path = tmp_path / "s.toml"
+    path.write_text("[model]\nbeta = nan\n")
+    with pytest.raises(SettingsError, match=r"beta=nan \(allowed: a finite number"):
+        load_settings(path)
+    path.write_text("x = " + "[" * 100_000 + "]" * 100_000 + "\n")
+    with pytest.raises(SettingsError) as caught:
+        load_settings(path)
+    message = str(caught.value)
+    assert message.startswith(f"{path}: ") and "\n" not in message, (
+        f"expected one line naming the file, got {message!r}"
+    )
+
+
+def test_check_settings_refuses_a_beta_that_overflows(tmp_path: Path) -> None:
+    """Issue 49, item 3: ``--set beta=1e308`` (which made 39,013 NaN in mind.csv while the run
+    exited 0) is refused by ``python -m brain check-settings`` (what ``toyroom run`` asks
+    before it starts any process): exit 2 and one line naming the bound and why."""
+    import subprocess
+    import sys
+
+    result = subprocess.run(
+        [sys.executable, "-m", "brain", "check-settings", "--set", "beta=1e308"],
+        capture_output=True,
+        text=True,
+        timeout=120,  # a Python start and an import: seconds, generous for a loaded machine
+    )
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 2 and len(lines) == 1, (
+        f"expected exit 2 and one line, got {result.returncode}: {result.stderr!r}"
+    )
+    assert "beta=1e+308" in lines[0] and "1e6" in lines[0], f"expected the bound named, got {lines[0]!r}"

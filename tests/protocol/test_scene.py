@@ -128,3 +128,35 @@ def test_open_map_with_line_of_sight_fits() -> None:
     )
     assert scene_problems(scene) == []
     assert scene.cell_centre(Cell(0, 0)) == Vec2(-1.25, -0.5)
+
+
+def test_a_scene_beyond_the_limits_is_refused_naming_each_limit() -> None:
+    """Issue 49, item 4: a scene past :mod:`protocol.limits` (here 1,000 items on a 1000 x 997
+    grid with 101 agents) fails the handshake's check naming each limit and the value, and
+    quickly: its cells are never walked (the bound is generous for a loaded machine)."""
+    import time
+
+    from tests.scenes import tiny_scene
+
+    base = tiny_scene()
+    agent = base.agents[0]
+    scene = msgspec.structs.replace(
+        base,
+        columns=1000,
+        rows=997,
+        items=tuple(ItemSpec(id=f"i{k}") for k in range(1000)),
+        agents=tuple(msgspec.structs.replace(agent, id=f"p{k}") for k in range(101)),
+        cell_size=float("inf"),
+    )
+    start = time.monotonic()
+    problems = scene_problems(scene)
+    assert time.monotonic() - start < 5, "expected the limits checked before any cell is walked"
+    assert problems == [
+        "grid cells (columns x rows): 997,000, above the limit of 10,000",
+        "items: 1,000, above the limit of 100",
+        "agents: 101, above the limit of 100",
+        "cell_size: inf m, not a finite size of at most 1000 m",
+    ], f"expected each limit named with its value, got {problems}"
+    with pytest.raises(InvalidScene, match="4 problem"):
+        validate_scene(scene)
+    assert scene_problems(base) == [], "the tiny scene is within every limit"

@@ -1,0 +1,88 @@
+"""The memory a scene's model takes, computed from its sizes before anything is allocated,
+and the bound the brain keeps to (:data:`MAX_MODEL_BYTES`).
+
+Sizes (``docs/model.md``): ``C`` walkable cells, ``L`` item locations (and ``absent``),
+``K`` items, ``V = 2 L``, ``W = V**K`` worlds, ``A`` actions, ``U`` candidate desires,
+``P`` hypotheses of one item's initial belief (graded), ``G = P**K``. The figure counts the
+largest arrays of the model the settings pick (``exact_max_worlds``, ``belief_model``),
+float64 unless said: the exact model's ``(U, S, A)`` Q-values and likelihoods and its
+``(S, A)`` transitions (``S = C (K+1) W``) and, graded, its ``(G, W)`` beliefs; the factored
+model's ``(D, C, 3, V, A)`` Q-values and likelihoods and, graded, its ``(K, P, V)`` beliefs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from math import comb
+
+from protocol import RegionKind, Scene
+
+from ..errors import ModelTooLarge
+from ..settings import ModelSettings
+from .planner import n_actions
+
+MAX_MODEL_BYTES = 2 * 2**30
+"""2 GiB: the most the model's arrays of one scene may take. ``toyroom bench``'s largest
+house (20 rooms, 10 items, 8 people) needs about 75 MB, the paper map's exact graded model
+about 30 MB; a brain process holds a model per observer (shadows too), so a larger scene
+would crowd out a laptop's memory rather than run."""
+
+
+@dataclass(frozen=True)
+class ModelSize:
+    """A scene's model: which form, how many bytes, and the product that gives them."""
+
+    form: str
+    bytes: int
+    how: str
+
+
+def grid_points(n_locations: int, resolution: int, ignorance: float) -> int:
+    """``P``: the grid's points over ``n_locations`` at ``resolution``, and the uniform
+    belief when ``ignorance > 0`` (:func:`brain.model.graded.initial_points`; at most one more)."""
+    return comb(n_locations + resolution - 1, resolution) + (1 if ignorance > 0 else 0)
+
+
+def _candidates(settings: ModelSettings, n_items: int, leaves: bool) -> int:
+    """``U``: candidate desires (:func:`brain.model.desires.utilities`)."""
+    goals = n_items + 1
+    if settings.desire_model == "graded":
+        return settings.desire_levels ** (goals if leaves else n_items) - 1
+    return goals
+
+
+def model_size(scene: Scene, settings: ModelSettings) -> ModelSize:
+    """The memory the model of ``scene`` under ``settings`` takes (see the module's note)."""
+    C = len(scene.walkable())
+    L = len(scene.locations) + any(item.absent for item in scene.items)
+    K, V = len(scene.items), 2 * L
+    A, W = n_actions(K), V**K
+    graded = settings.belief_model == "graded"
+    P = grid_points(L, settings.prior_resolution, settings.ignorance) if graded else 0
+    if W > settings.exact_max_worlds:
+        size = 2 * (K + 1) * C * 3 * V * A * 8 + 2 * K * P * V * 8
+        how = f"factored: 2 x {K + 1} preferences x {C} cells x 3 x {V} values x {A} actions"
+        return ModelSize(
+            "factored", size, how + (f" + 2 x {K} items x {P} hypotheses x {V}" if graded else "")
+        )
+    leaves = any(r.kind == RegionKind.OUTSIDE for r in scene.regions)
+    U, S = _candidates(settings, K, leaves), C * (K + 1) * W
+    size = S * A * (16 * U + 9) + (3 * P**K * W * 8 if graded else 0)
+    how = f"exact: {C} cells x {K + 1} x {W} worlds x {A} actions x {U} desires"
+    return ModelSize("exact", size, how + (f" + 3 x {P}^{K} hypotheses x {W} worlds" if graded else ""))
+
+
+def check_model_size(scene: Scene, settings: ModelSettings) -> ModelSize:
+    """``scene``'s model size, once it is within :data:`MAX_MODEL_BYTES`.
+
+    Raises:
+        ModelTooLarge: one line naming the scene, the bytes, how they come about and the limit.
+    """
+    size = model_size(scene, settings)
+    if size.bytes > MAX_MODEL_BYTES:
+        raise ModelTooLarge(
+            f"scene '{scene.name}': the model's arrays would take {size.bytes / 2**30:.3g} GiB "
+            f"({size.how}, 8 bytes each), above the brain's limit of {MAX_MODEL_BYTES / 2**30:.0f} GiB "
+            "(MAX_MODEL_BYTES): fewer cells, item spots or items"
+        )
+    return size
