@@ -76,16 +76,19 @@ def ask_engine(bridge: Bridge, hello: Hello, timeout: float | None) -> EngineInf
     Raises:
         NoReply: no engine answered in time.
     """
-    deadline = None if timeout is None else time.monotonic() + timeout
+    started = time.monotonic()
+    deadline = None if timeout is None else started + timeout
     while True:
         # never a negative timeout (Zenoh refuses one): a late wake-up still asks once more
         remaining = None if deadline is None else max(deadline - time.monotonic(), 0.01)
         try:
             return bridge.query(bridge.keys.info, hello, EngineInfo, timeout=remaining)
-        except NoReply as err:
+        except NoReply:
             if deadline is not None and time.monotonic() + 0.05 >= deadline:
+                waited = time.monotonic() - started
                 raise NoReply(
-                    f"no engine answered the handshake on '{bridge.keys.info}' within {timeout:g} s ({err})"
+                    f"no engine answered the handshake on '{bridge.keys.info}': waited {waited:.1f} s "
+                    f"(the limit, {timeout:g} s); is an engine of this world running, or still starting?"
                 ) from None
             time.sleep(0.05)
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import re
 import uuid
 
 import msgspec
@@ -106,5 +107,9 @@ def test_inconsistent_scene_fails_the_handshake(bridges: tuple[Bridge, Bridge]) 
 
 def test_no_engine_times_out_with_a_clear_error(bridges: tuple[Bridge, Bridge]) -> None:
     _, client = bridges
-    with pytest.raises(NoReply, match="no engine answered the handshake"):
-        handshake(client, client="test", timeout=0.5)
+    with pytest.raises(NoReply, match="no engine answered the handshake") as caught:
+        handshake(client, client="test", timeout=1.5)
+    message = str(caught.value)
+    assert re.search(r"waited \d+\.\d s \(the limit, 1\.5 s\)", message) and "within 0" not in message, (
+        f"expected how long it waited and its limit (never the last try's own timeout), got: {message}"
+    )
