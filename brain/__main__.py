@@ -42,6 +42,7 @@ from .errors import BrainError
 from .fitting.command import fit_main, fit_parser
 from .model.planner import use_store
 from .model.revisions import SharedRevisions
+from .model.size import check_model_size
 from .node import BrainNode
 from .outputs.policytable import write_policy_table
 from .outputs.results import write_outputs
@@ -132,25 +133,31 @@ def infer_parser() -> argparse.ArgumentParser:
     parser.add_argument("trace", type=Path, help="a trace.jsonl written by `toyroom run`")
     parser.add_argument("--out", type=Path, required=True, help="directory for mind.csv, figures, report.md")
     parser.add_argument("--observer", choices=OBSERVERS, default=OBSERVERS[0], help="person model")
+    parser.add_argument(
+        "--note",
+        default="",
+        help="a paragraph for report.md, put first (toyroom infer: the recording was cut off or damaged)",
+    )
     add_settings_args(parser)
     add_log_level(parser, "WARNING")
     return parser
 
 
-def infer_main(trace_path: Path, out: Path, observer: Observer, settings: Settings) -> int:
-    """Replay a trace through the inference and write the outputs."""
+def infer_main(trace_path: Path, out: Path, observer: Observer, settings: Settings, note: str = "") -> int:
+    """Replay a trace through the inference and write the outputs (``note``: the report's
+    first paragraph)."""
     trace = read_trace(trace_path)
     tracker = MindTracker(trace.info.scene, settings.model, observer, SharedRevisions())  # for branches
     for state, events in trace:
         tracker.observe(state, events)
-    path = write_results(tracker, trace.info.scenario, out, settings)
+    path = write_results(tracker, trace.info.scenario, out, settings, note)
     print(f"brain: wrote {path} and the report in {out}")
     return 0
 
 
-def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Settings) -> Path:
+def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Settings, note: str = "") -> Path:
     """The outputs, and ``settings.toml``: the settings they were made with."""
-    path = write_outputs(tracker, scenario, out)
+    path = write_outputs(tracker, scenario, out, note)
     (out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
     return path
 
@@ -186,6 +193,7 @@ def plan_main(scene_path: Path, out: Path, settings: Settings) -> int:
         scene = msgspec.json.decode(scene_path.read_bytes(), type=Scene)
     except (OSError, msgspec.ValidationError, msgspec.DecodeError) as err:
         raise BrainError(f"scene {scene_path}: {err}") from err
+    check_model_size(scene, settings.model)  # before the planner allocates anything
     print(f"brain: wrote {write_policy_table(out, scene, settings.model)}")
     return 0
 
@@ -274,7 +282,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if sub == "fit":
             return fit_main(args, settings, ["toyroom", *argv])
         if sub == "infer":
-            return infer_main(args.trace, args.out, Observer(args.observer), settings)
+            return infer_main(args.trace, args.out, Observer(args.observer), settings, args.note)
         if args.print_tree:
             print(RobotTree("robot", (0, 0)).render())
             return 0

@@ -266,20 +266,24 @@ def write_report(
     out: Path,
     *,
     exact: bool = True,
+    recording_note: str = "",
 ) -> None:
     """Write ``beliefs.png``, ``preferences.png`` and ``report.md`` into ``out`` (``exact``:
-    whether the exact model ran, else the report says that smoothing was not available)."""
+    whether the exact model ran, else the report says that smoothing was not available;
+    ``recording_note``: a paragraph saying the recording was not whole, put first)."""
     note = "" if exact else FACTORED_NOTE
+    first = f"\n{recording_note.strip()}\n\n" if recording_note.strip() else ""
     agent = observed_agent(rows, truth)
     if agent is None:
-        text = f"# {scenario}\n\nNo labelled steps to report.\n{truth_note(truth)}{note}"
+        text = f"# {scenario}\n{first}\nNo labelled steps to report.\n{truth_note(truth)}{note}"
         (out / "report.md").write_text(text, encoding="utf-8")
         return
     belief_figure(rows, agent, truth, out / "beliefs.png")
     preference_figure(rows, agent, truth, out / "preferences.png")
     labels = [step.label for step in steps_of(rows, agent)]
+    title, _, body = report_markdown(rows, scenario, agent, observer).partition("\n")
     text = (
-        report_markdown(rows, scenario, agent, observer)
+        f"{title}\n{first}{body}"
         + evidence_note(rows)
         + truth_note(truth, labels)
         + note

@@ -167,13 +167,20 @@ def desire_message(summary: DesireSummary | None, goals: Sequence[str]) -> Desir
     )
 
 
-def write_outputs(tracker: MindTracker, scenario: str, out: Path) -> Path:
-    """Write ``mind.csv``, ``beliefs.png``, ``preferences.png`` and ``report.md`` into ``out``."""
+def write_outputs(tracker: MindTracker, scenario: str, out: Path, recording_note: str = "") -> Path:
+    """Write ``mind.csv``, ``beliefs.png``, ``preferences.png`` and ``report.md`` into ``out``
+    (``recording_note``: the report's first paragraph when the recording was not whole)."""
     out.mkdir(parents=True, exist_ok=True)
     rows = mind_rows(tracker)
     check_rows((r.tick, r.agent, r.quantity, r.item, r.p_online, r.p_smoothed) for r in rows)
     write_csv(rows, out / "mind.csv")
     write_report(
-        rows, scenario, tracker.observer.value, load_ground_truth(scenario), out, exact=tracker.exact
+        rows,
+        scenario,
+        tracker.observer.value,
+        load_ground_truth(scenario),
+        out,
+        exact=tracker.exact,
+        recording_note=recording_note,
     )
     return out / "mind.csv"

@@ -86,6 +86,7 @@ def infer_main(args: argparse.Namespace) -> int:
         print(f"toyroom infer: using the settings recorded with the run ({recorded})", flush=True)
         settings = recorded
     argv = ["infer", str(trace), "--out", str(args.out), "--observer", args.observer]
+    argv += ["--note", recording.cut.note()] if recording.cut is not None else []
     argv += ["--log-level", args.log_level] if args.log_level else []
     argv += settings_argv(settings, args.overrides)
     return exec_node("brain", argv, prog="toyroom infer")

@@ -204,6 +204,10 @@ def test_an_undecodable_message_inside_is_named_and_refused_with_strict(
     assert int(first) == 0 and int(last) > DAMAGED_TICK, (
         f"expected the ticks around the damage kept: {first}-{last}"
     )
+    report = (out / "report.md").read_text()
+    assert "**The recording was damaged**" in report.split("\n## ", 1)[0], (
+        f"expected report.md to say first that the recording was damaged, got:\n{report[:800]}"
+    )
     mind_ticks = {int(line.split(",", 1)[0]) for line in (out / "mind.csv").read_text().splitlines()[1:]}
     assert DAMAGED_TICK not in mind_ticks and DAMAGED_TICK + 1 in mind_ticks, "the dropped tick was inferred"
 
