@@ -55,6 +55,7 @@ STARTERS = frozenset(
         "bench",
         "run_batch",
         "generate_all",
+        "eval_main",
         # browsers and Ray
         "Browser",
         "chromium",
