@@ -150,27 +150,34 @@ def _nearest(sent: list[tuple[int, RobotCommand]], order: int) -> RobotCommand |
     return min(sent, key=lambda c: (abs(c[0] - order), c[0] > order))[1]
 
 
+EVENT, STATUS, MIND = range(3)
+"""Within a tick, the engine's events come first, then its command statuses, then the rows
+read off the brain's minds, each in the order recorded: each has one publisher, whose order
+holds, while the three reach a recorder in any order (so a run's rows are the same each time)."""
+
+
 def event_rows(trace: Path) -> list[EventRow]:
-    """The rows of a trace, in the order things happened (by tick, then as recorded). A
-    status is matched to its command whatever the order the two were recorded in."""
+    """The rows of a trace, in the order things happened: by tick, then (:data:`EVENT`,
+    :data:`STATUS`, :data:`MIND`) as recorded. A status is matched to its command whatever the
+    order the two were recorded in."""
     records = [(order, message) for order, _, message in trace_records(trace, strict=False)]
     commands: dict[tuple[str, str], list[tuple[int, RobotCommand]]] = {}
     for order, message in records:
         if isinstance(message, RobotCommand):
             commands.setdefault((message.robot, message.id), []).append((order, message))
-    rows: list[tuple[int, int, EventRow]] = []
+    rows: list[tuple[int, int, int, EventRow]] = []
     last: dict[str, tuple[str, str]] = {}
     deceived: set[tuple[str, str, str]] = set()
     for order, message in records:
         if isinstance(message, Mind):
-            rows += [(message.tick, order, row) for row in _task_rows(message, last, deceived)]
+            rows += [(message.tick, MIND, order, row) for row in _task_rows(message, last, deceived)]
         elif isinstance(message, Event):
-            rows.append((message.tick, order, _event_row(message)))
+            rows.append((message.tick, EVENT, order, _event_row(message)))
         elif isinstance(message, CommandStatus):
             command = _nearest(commands.get((message.robot, message.command), []), order)
-            rows.append((message.tick, order, _status_row(message, command)))
-    rows.sort(key=lambda r: (r[0], r[1]))
-    return [row for _, _, row in rows]
+            rows.append((message.tick, STATUS, order, _status_row(message, command)))
+    rows.sort(key=lambda r: r[:3])
+    return [row for *_, row in rows]
 
 
 def write_events_csv(trace: Path, out: Path) -> int:

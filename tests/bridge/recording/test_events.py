@@ -6,6 +6,9 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
+import msgspec
+from support import golden_examples
+
 from bridge.recording.events import write_events_csv
 from bridge.recording.trace import trace_line
 from protocol import CommandState, CommandStatus, Keys, Message, Request, RobotCommand
@@ -65,3 +68,24 @@ def test_a_reused_id_matches_the_nearest_command(tmp_path: Path) -> None:
     with (tmp_path / "events.csv").open(newline="") as handle:
         rows = [(r["item"], r["detail"]) for r in csv.DictReader(handle)]
     assert rows == [("skate", "c1 request failed: out of reach"), ("ball", "c1 request accepted")]
+
+
+def test_rows_of_one_tick_come_in_one_order_however_they_were_recorded(tmp_path: Path) -> None:
+    """The engine's events, then its command statuses, then the brain's task rows: the three
+    reach a recorder in any order, and a run's events.csv must be the same each time."""
+    golden = golden_examples()
+    mind = msgspec.structs.replace(golden["mind"], tick=42)
+    event = msgspec.structs.replace(golden["event"], tick=42)
+    records = [(KEYS.mind, mind), (KEYS.events, event), _status("c1", CommandState.ACCEPTED, 42)]
+    written = set()
+    for shift in range(len(records)):
+        trace = tmp_path / f"order-{shift}.jsonl"
+        _write(trace, records[shift:] + records[:shift])
+        write_events_csv(trace, trace.with_suffix(".csv"))
+        with trace.with_suffix(".csv").open(newline="") as handle:
+            kinds = [row["kind"] for row in csv.DictReader(handle)]
+        assert kinds == ["take", "command", "task"], (
+            f"recorded order {shift}: expected take, command, task; got {kinds}"
+        )
+        written.add(trace.with_suffix(".csv").read_bytes())
+    assert len(written) == 1, "the same rows recorded in another order gave another events.csv"
