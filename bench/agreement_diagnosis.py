@@ -52,8 +52,6 @@ from types import ModuleType
 
 import numpy as np
 
-from brain.fitting.correlation import paired_difference, pearson
-from brain.fitting.judged import estimate_at, expected_rank, goal_scale, utility
 from brain.model import desires, lookahead, planner
 from brain.model.arrays import FloatArray
 from brain.model.estimates import Estimate
@@ -63,6 +61,8 @@ from bridge.recording.trace import Trace
 from protocol import ClockMode
 from sim2d.engine import Engine
 from sim2d.people import load_policy_table
+from toyroom.fitting.correlation import paired_difference, pearson
+from toyroom.fitting.judged import estimate_at, expected_rank, goal_scale, utility
 
 DEFAULT_CONFIGS = "qmdp-graded,belief-graded,qmdp-favourite,belief-favourite"
 SURE = 0.95

@@ -22,9 +22,9 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from bridge.evaluation.episodes import cpu_seconds, episode_runs
-from bridge.evaluation.generation import generate, map_of
-from bridge.evaluation.runs import run_once
+from toyroom.evaluation.episodes import cpu_seconds, episode_runs
+from toyroom.evaluation.generation import generate, map_of
+from toyroom.evaluation.runs import run_once
 
 TICK_SECONDS = 1.0 / os.sysconf("SC_CLK_TCK")
 NODES = {"-m brain": "brain", "-m sim2d": "engine"}

@@ -35,9 +35,9 @@ import numpy as np
 
 from brain.model.world import build_world_model
 from brain.robot.benefit import cell_distances
-from bridge.evaluation.generation import generate_all
 from bridge.recording.trace import trace_records
 from protocol import EngineInfo, State, Truth
+from toyroom.evaluation.generation import generate_all
 
 FALSE = 0.1
 """A belief giving the item's true place less than this is false (the evaluation's mass)."""
@@ -111,7 +111,7 @@ def owners(run: Path) -> list[dict[str, object]]:
 
 
 def run(scenario: Path, out: Path, robot: str, extra: list[str]) -> Path:
-    command = [sys.executable, "-m", "bridge", "run", "--scenario", str(scenario), "--robot", robot]
+    command = [sys.executable, "-m", "toyroom", "run", "--scenario", str(scenario), "--robot", robot]
     command += ["--no-live", "--out", str(out), *extra]
     subprocess.run(command, check=True, capture_output=True)
     return out

@@ -34,9 +34,6 @@ from pathlib import Path
 
 import numpy as np
 
-from brain.fitting.fit import fit
-from brain.fitting.grid import parse_grid
-from brain.fitting.optimise import parse_bounds, refine
 from brain.outputs.policytable import write_policy_table
 from brain.settings import ModelSettings, Settings
 from bridge.recording.trace import Trace, trace_line
@@ -45,6 +42,9 @@ from sim2d.engine import Engine
 from sim2d.people import load_policy_table
 from sim2d.scenario import Scenario, load_scenario
 from sim2d.world import World
+from toyroom.fitting.fit import fit
+from toyroom.fitting.grid import parse_grid
+from toyroom.fitting.optimise import parse_bounds, refine
 
 BASE = dataclasses.replace(ModelSettings(), beta=4.0, hazard=0.02, ignorance=1.0)
 """The planner people act by, and the brain's settings the fit starts from."""

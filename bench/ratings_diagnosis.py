@@ -26,12 +26,12 @@ from pathlib import Path
 
 import numpy as np
 
-from brain.fitting.correlation import pearson
-from brain.fitting.judged import goal_scale, predictions
-from brain.fitting.judgments import load_judgments
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from bridge.recording.trace import read_trace
+from toyroom.fitting.correlation import pearson
+from toyroom.fitting.judged import goal_scale, predictions
+from toyroom.fitting.judgments import load_judgments
 
 
 def diagnose(directory: Path) -> dict[str, dict[str, float]]:

@@ -1,7 +1,7 @@
 """How does the brain read a revealed false belief, stretch by stretch? Belief-task episodes
 (``sim2d generate --kind tasks``) are run with ``toyroom run`` (robot observing, default
 perception omniscient so that what the robot cannot see is not the question), and for every
-revealed stretch (:mod:`bridge.evaluation.revealed`) this prints the steps the person takes
+revealed stretch (:mod:`toyroom.evaluation.revealed`) this prints the steps the person takes
 before reaching the wrong place, the observer's highest P(false belief) for that person and
 item before then (detected: above 0.5), its P(the person wants that item) at the stretch's start
 and its highest in the stretch, and whether at the start it was sure (> 0.99) the person knew
@@ -28,10 +28,10 @@ import tempfile
 from collections import defaultdict
 from pathlib import Path
 
-from bridge.evaluation.generation import generate_all
-from bridge.evaluation.revealed import stretches
 from bridge.recording.trace import trace_records
 from protocol import EngineInfo, State, Truth
+from toyroom.evaluation.generation import generate_all
+from toyroom.evaluation.revealed import stretches
 
 PREFERRED, OTHER = 30.0, 1.0
 """The favourite desire model's utilities (``ModelSettings``): P(wants k) from its expected utility."""

@@ -12,10 +12,10 @@ import argparse
 import statistics
 from pathlib import Path
 
-from bridge.evaluation.revealed import stretches
 from protocol.carry import walking_distances
 from sim2d.engine import Engine
 from sim2d.scenario import load_scenario
+from toyroom.evaluation.revealed import stretches
 
 
 def stretch_steps(path: Path, max_ticks: int = 1000) -> list[int | None]:

@@ -188,7 +188,7 @@ def presence_gone(rounds: int) -> list[float]:
 def eval_speed(episodes: int) -> dict[str, Any]:
     """``toyroom eval``'s timing on ``episodes`` episodes with its defaults (2 workers): the
     target is 500 episodes in 10 minutes, 1.2 s per episode."""
-    from bridge.evaluation.episodes import evaluate
+    from toyroom.evaluation.episodes import evaluate
 
     with tempfile.TemporaryDirectory() as folder:
         timing: dict[str, Any] = evaluate(episodes, 1, Path(folder))["timing"]

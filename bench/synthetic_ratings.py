@@ -44,7 +44,6 @@ from pathlib import Path
 
 import numpy as np
 
-from brain.fitting.judged import estimate_at, goal_scale, utility
 from brain.model.planner import solve
 from brain.model.world import build_world_model
 from brain.outputs.policytable import policy_table
@@ -55,9 +54,10 @@ from protocol import ClockMode, Keys, Scene
 from sim2d.engine import Engine
 from sim2d.people import load_policy_table
 from sim2d.scenario import Scenario, load_scenario
+from toyroom.fitting.judged import estimate_at, goal_scale, utility
 
 MODELS = ("graded-desires", "one-favourite")
-"""The two desire models compared (``brain.fitting.search.MODELS``); the first is the reference."""
+"""The two desire models compared (``toyroom.fitting.search.MODELS``); the first is the reference."""
 COLUMNS = ("episode", "tick", "person", "quantity", "target", "value", "estimate", "participant", "question")
 
 

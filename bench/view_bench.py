@@ -17,8 +17,8 @@ from rich.table import Table
 
 from brain.outputs.results import mind_message
 from brain.tracking.tracker import MindTracker
-from bridge.view import SceneView
 from sim2d.engine import Engine
+from toyroom.view import SceneView
 
 
 def main() -> dict[str, float]:

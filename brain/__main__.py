@@ -5,8 +5,6 @@
   (``--episodes S1 S2 ...``: one episode of each scenario in turn, on the same engine).
 - ``python -m brain infer TRACE --out DIR [--observer O]``: the same outputs from a
   recorded ``trace.jsonl``, with no engine.
-- ``python -m brain fit RECORDINGS... --params beta,hazard --out DIR``: parameters fitted to
-  recordings, cross-validated, and models compared (:mod:`brain.fitting`).
 - ``python -m brain check-settings [--settings FILE] [--set NAME=VALUE]...``: exit 0 when
   the settings are allowed, else 2 with one line naming the setting, its value and what is
   allowed (``toyroom run`` asks this before it starts any process).
@@ -39,7 +37,6 @@ from protocol import Error as ProtocolError
 from protocol import Observer, Scene
 
 from .errors import BrainError
-from .fitting.command import fit_main, fit_parser
 from .model.planner import use_store
 from .model.revisions import SharedRevisions
 from .model.size import check_model_size
@@ -261,7 +258,6 @@ def episode_folders(scenarios: Sequence[str]) -> list[tuple[str, str]]:
 
 SUBCOMMANDS = {
     "infer": infer_parser,
-    "fit": fit_parser,
     "plan": plan_parser,
     "check-settings": check_settings_parser,
 }
@@ -279,8 +275,6 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         if sub == "plan":
             return plan_main(args.scene, args.out, settings)
-        if sub == "fit":
-            return fit_main(args, settings, ["toyroom", *argv])
         if sub == "infer":
             return infer_main(args.trace, args.out, Observer(args.observer), settings, args.note)
         if args.print_tree:

@@ -1,6 +1,8 @@
-"""toyroom's bridge: Zenoh sessions, typed messaging, liveliness, lock-step, node processes
-(the core, here), and the tools built on it: ``recording``, ``conformance``, ``view``,
-``evaluation`` and ``app`` (the ``toyroom`` CLI).
+"""toyroom's bridge, the wire: Zenoh sessions, typed messaging, liveliness, lock-step, node
+processes (the core, here), and the tools of the wire built on it: ``recording`` (trace.jsonl,
+MCAP, replay), ``gateway`` (the protocol over a WebSocket) and ``conformance`` (the engine
+checks). The application (the ``toyroom`` command line, evaluation, fitting, the study pages,
+the live view) is the ``toyroom`` package, which bridge never imports.
 
 ``bridge`` depends on ``protocol`` only; it starts engines and brains as processes and
 never imports them.

@@ -1,7 +1,7 @@
 """What every toyroom command line shares, for the ``toyroom`` CLI and the nodes alike:
 the parser, its help format, ``--log-level`` and logging.
 
-A node (``python -m sim2d``, ``python -m brain``, ``python -m bridge.view``) builds its parser
+A node (``python -m sim2d``, ``python -m brain``, ``python -m toyroom.view``) builds its parser
 with :func:`command_parser`, so ``toyroom sim --help`` says ``usage: toyroom sim`` and every
 option shows its default; the network flags live with the session
 (:func:`bridge.session.add_network_args`).

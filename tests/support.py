@@ -80,7 +80,7 @@ def toyroom_run(out: Path, scenario: str, *extra: str) -> Path:
     import sys
 
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "run", "--scenario", scenario, "--out", str(out), *extra],
+        [sys.executable, "-m", "toyroom", "run", "--scenario", scenario, "--out", str(out), *extra],
         capture_output=True,
         text=True,
         timeout=300,
@@ -92,7 +92,7 @@ def toyroom_run(out: Path, scenario: str, *extra: str) -> Path:
 def toyroom_fit(*args: str | Path) -> subprocess.CompletedProcess[str]:
     """``toyroom fit ARGS --no-progress`` as a real process."""
     return subprocess.run(
-        [sys.executable, "-m", "bridge", "fit", *map(str, args), "--no-progress"],
+        [sys.executable, "-m", "toyroom", "fit", *map(str, args), "--no-progress"],
         capture_output=True,
         text=True,
         timeout=600,

@@ -1,7 +1,9 @@
-"""The package direction is the architecture: protocol <- bridge <- sim2d, brain.
+"""The package direction is the architecture: protocol <- bridge <- sim2d, brain <- toyroom.
 
-``brain`` and ``sim2d`` meet only on the wire; ``bridge`` starts them as processes and never
-imports them; ``protocol`` depends on no other package of ours. Also: lint and types.
+``brain`` and ``sim2d`` meet only on the wire; the application (``toyroom``) starts them as
+processes and never imports ``sim2d``, and of ``brain`` only its fitting room does (it replays
+the model in-process); ``bridge`` imports neither; no library imports the application;
+``protocol`` depends on no other package of ours. Also: lint and types.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ ALLOWED = {
     "bridge": {"protocol"},
     "sim2d": {"protocol", "bridge"},
     "brain": {"protocol", "bridge"},
+    "toyroom": {"protocol", "bridge", "brain"},
 }
 
 
@@ -77,9 +80,9 @@ def test_nodes_do_not_import_the_command_line() -> None:
         str(path.relative_to(ROOT))
         for package in ("sim2d", "brain")
         for path in (ROOT / package).rglob("*.py")
-        if any(m == "bridge.app" or m.startswith("bridge.app.") for m in _modules(path))
+        if any(m == "toyroom.cli" or m.startswith("toyroom.cli.") for m in _modules(path))
     )
-    assert offenders == [], f"nodes importing bridge.app: {offenders}"
+    assert offenders == [], f"nodes importing toyroom.cli: {offenders}"
 
 
 ROOMS = {
@@ -87,12 +90,16 @@ ROOMS = {
         "<core>": set(),
         "recording": {"<core>"},
         "conformance": {"<core>"},
-        "view": {"<core>"},
         "gateway": {"<core>"},
-        "rating": {"<core>", "recording", "view"},
-        "evaluation": {"<core>"},
-        "play": {"<core>", "recording"},
-        "app": {"<core>", "recording", "conformance", "evaluation", "gateway"},
+    },
+    "toyroom": {
+        "<core>": set(),
+        "view": set(),
+        "evaluation": set(),
+        "fitting": {"evaluation"},
+        "rating": {"view"},
+        "play": set(),
+        "cli": {"evaluation", "fitting"},
     },
     "brain": {
         "<base>": set(),
@@ -100,15 +107,14 @@ ROOMS = {
         "tracking": {"<base>", "model"},
         "robot": {"<base>", "model", "tracking"},
         "outputs": {"<base>", "model", "tracking"},
-        "fitting": {"<base>", "model", "tracking"},
-        "<shell>": {"<base>", "model", "tracking", "robot", "outputs", "fitting"},
+        "<shell>": {"<base>", "model", "tracking", "robot", "outputs"},
     },
 }
 """Inside a package, the rooms each room may import: the bridge core imports none of its
 tools; the brain's model is pure (settings and errors are its base), the node its only shell."""
 
-ENTRY_POINTS = {"bridge/__main__.py"}
-"""Modules that only start a tool (``python -m bridge`` runs the CLI)."""
+ENTRY_POINTS = {"toyroom/__main__.py"}
+"""Modules that only start a tool (``python -m toyroom`` runs the CLI)."""
 BRAIN_BASE = {"settings", "robotsettings", "errors"}
 
 
@@ -221,3 +227,16 @@ def test_every_package_exports_its_public_names() -> None:
         if not _exported(init)
     ]
     assert empty == [], f"package __init__ files without a non-empty __all__: {empty}"
+
+
+def test_only_the_fitting_room_of_the_application_imports_the_brain() -> None:
+    """``toyroom`` runs the brain and the engine as processes; ``toyroom.fitting`` alone
+    replays the brain's model in-process (a fit scores thousands of parameter points)."""
+    offenders = sorted(
+        f"{path.relative_to(ROOT)} imports {module}"
+        for path in (ROOT / "toyroom").rglob("*.py")
+        if path.relative_to(ROOT / "toyroom").parts[0] != "fitting"
+        for module in _absolute_imports(path)
+        if module.split(".")[0] in {"brain", "sim2d"}
+    )
+    assert offenders == [], f"toyroom outside fitting/ importing brain or sim2d: {offenders}"

@@ -50,7 +50,7 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     import json
 
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "bench", "--quick", "--out", str(tmp_path)],
+        [sys.executable, "-m", "toyroom", "bench", "--quick", "--out", str(tmp_path)],
         capture_output=True,
         text=True,
         timeout=300,

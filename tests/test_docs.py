@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from bridge.app.cli import NODE_HELP, build_parser, global_parser
+from toyroom.cli.cli import NODE_HELP, build_parser, global_parser
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]

@@ -57,7 +57,7 @@ HANDLING_TICKS = 10
 
 MAP_CYCLE = 3
 """An evaluation draws its episodes' maps in turn by seed, three of them
-(``bridge.evaluation.generation.MAPS``); :func:`task_of` steps past that cycle."""
+(``toyroom.evaluation.generation.MAPS``); :func:`task_of` steps past that cycle."""
 
 
 def task_of(seed: int, kinds: Sequence[str] = TASKS) -> str:

@@ -182,7 +182,7 @@ def test_recorded_run_infers_the_same_mind(tmp_path: Path) -> None:
     live = toyroom_run(tmp_path / "live", "paper-2")
     again = tmp_path / "again"
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "infer", str(live / "trace.jsonl"), "--out", str(again)],
+        [sys.executable, "-m", "toyroom", "infer", str(live / "trace.jsonl"), "--out", str(again)],
         capture_output=True,
         text=True,
         timeout=120,

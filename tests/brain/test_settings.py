@@ -65,7 +65,15 @@ def test_infer_takes_settings_and_writes_them(tmp_path: Path) -> None:
     run = toyroom_run(tmp_path / "run", "sally-anne", "--no-live", "--robot", "observe")
     assert 'belief_model = "graded"' in (run / "settings.toml").read_text()
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "infer", str(run / "trace.jsonl"), "--out", str(tmp_path / "graded")]
+        [
+            sys.executable,
+            "-m",
+            "toyroom",
+            "infer",
+            str(run / "trace.jsonl"),
+            "--out",
+            str(tmp_path / "graded"),
+        ]
         + ["--set", "belief_model=point"],
         capture_output=True,
         text=True,
@@ -89,7 +97,7 @@ def test_infer_on_a_recording_reproduces_its_run(tmp_path: Path) -> None:
     run = toyroom_run(tmp_path / "run", "sally-anne", "--no-live", "--set", "beta=3", "--record", str(mcap))
     for source, name in ((mcap, "from-mcap"), (run / "trace.jsonl", "from-trace")):
         result = subprocess.run(
-            [sys.executable, "-m", "bridge", "infer", str(source), "--out", str(tmp_path / name)],
+            [sys.executable, "-m", "toyroom", "infer", str(source), "--out", str(tmp_path / name)],
             capture_output=True,
             text=True,
             timeout=120,

@@ -15,7 +15,7 @@ from protocol import State
 def test_clients_meet_through_the_router(world: str) -> None:
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     router = subprocess.Popen(
-        [sys.executable, "-m", "bridge", "router", "--listen", endpoint],
+        [sys.executable, "-m", "toyroom", "router", "--listen", endpoint],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

@@ -24,7 +24,7 @@ RUN_LIMIT_S = 120.0
 
 
 def toyroom_run(*args: str) -> list[str]:
-    return [sys.executable, "-m", "bridge", "run", "--no-live", *args]
+    return [sys.executable, "-m", "toyroom", "run", "--no-live", *args]
 
 
 def endless_scenario(folder: Path) -> Path:

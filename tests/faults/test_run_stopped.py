@@ -45,7 +45,7 @@ class Run:
         self.out = out
         self.world = world
         self.log = tempfile.TemporaryFile()
-        command = [sys.executable, "-m", "bridge", "run", "--scenario", str(long_scenario(tmp_path))]
+        command = [sys.executable, "-m", "toyroom", "run", "--scenario", str(long_scenario(tmp_path))]
         command += ["--out", str(out), "--no-live", "--world", world]
         self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT)
 
@@ -103,13 +103,13 @@ class Run:
 
 
 def recover(failed: str, out: Path) -> subprocess.CompletedProcess[str]:
-    """Run the ``toyroom infer`` command a ``FAILED`` note gives (as ``python -m bridge``)."""
+    """Run the ``toyroom infer`` command a ``FAILED`` note gives (as ``python -m toyroom``)."""
     lines = [line.strip() for line in failed.splitlines() if line.strip().startswith("toyroom infer ")]
     assert lines, f"FAILED names no toyroom infer command:\n{failed}"
     argv = shlex.split(lines[-1])[1:]
     assert Path(argv[1]) == out / "trace.jsonl", lines[-1]
     return subprocess.run(
-        [sys.executable, "-m", "bridge", *argv], capture_output=True, text=True, timeout=300, check=False
+        [sys.executable, "-m", "toyroom", *argv], capture_output=True, text=True, timeout=300, check=False
     )
 
 

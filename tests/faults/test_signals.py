@@ -29,7 +29,7 @@ def tgkill(pid: int, tid: int, sig: int) -> None:
 @pytest.mark.skipif(not sys.platform.startswith("linux") or os.uname().machine != "x86_64", reason="tgkill")
 @pytest.mark.parametrize(
     "command",
-    [["-m", "sim2d", "--scenario", "paper-1", "--lockstep"], ["-m", "bridge", "router"]],
+    [["-m", "sim2d", "--scenario", "paper-1", "--lockstep"], ["-m", "toyroom", "router"]],
     ids=["sim2d", "router"],
 )
 def test_sigterm_to_a_native_thread_stops_the_node(world: str, command: list[str]) -> None:

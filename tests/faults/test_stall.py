@@ -84,7 +84,7 @@ class Run:
     def __init__(self, out: Path, *args: str) -> None:
         self.out = out
         self.log = tempfile.TemporaryFile()
-        command = [sys.executable, "-m", "bridge", "run", "--scenario", "paper-robot", "--no-live"]
+        command = [sys.executable, "-m", "toyroom", "run", "--scenario", "paper-robot", "--no-live"]
         self.process = subprocess.Popen(
             [*command, "--out", str(out), *args], stdout=self.log, stderr=subprocess.STDOUT
         )

@@ -126,7 +126,7 @@ def test_tls_router_admits_only_certified_sessions(tmp_path: Path, world: str) -
     without_cert = config(tmp_path / "stranger.json5", {**client, "transport": {"link": {"tls": tls}}})
 
     router = subprocess.Popen(
-        [sys.executable, "-m", "bridge", "router", "--zenoh-config", str(router_cfg)],
+        [sys.executable, "-m", "toyroom", "router", "--zenoh-config", str(router_cfg)],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

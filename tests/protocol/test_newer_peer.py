@@ -98,7 +98,7 @@ def test_conform_passes_a_newer_peer() -> None:
     world = f"newer-conform-{uuid.uuid4().hex[:6]}"
     with GridEngineProcess(world, "--scenario", "paper-robot", "--newer"):
         result = subprocess.run(
-            [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "10"],
+            [sys.executable, "-m", "toyroom", "conform", "--world", world, "--timeout", "10"],
             capture_output=True,
             text=True,
             timeout=300,
@@ -148,8 +148,8 @@ def test_the_viewer_draws_an_unknown_shape_as_a_block(
 ) -> None:
     """The newer run's recording (its scene's items all of shape ``cup``) replayed into the
     viewer: the cups are drawn in the block's colour."""
-    from bridge.view import ITEM_COLOURS
-    from tests.bridge.view.test_view import pixels_of, shot_at
+    from tests.toyroom.view.test_view import pixels_of, shot_at
+    from toyroom.view import ITEM_COLOURS
 
     image = shot_at(runs["newer"][0] / "run.mcap", 30, tmp_path / "view.png")
     block = ITEM_COLOURS[ItemShape.BLOCK]

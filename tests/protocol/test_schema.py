@@ -45,7 +45,9 @@ def test_checked_in_schemas_are_current() -> None:
 
 
 def _toyroom(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "bridge", *args], capture_output=True, text=True, timeout=60)
+    return subprocess.run(
+        [sys.executable, "-m", "toyroom", *args], capture_output=True, text=True, timeout=60
+    )
 
 
 def test_schema_check_command(tmp_path: Path) -> None:

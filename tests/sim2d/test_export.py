@@ -27,7 +27,7 @@ def test_the_export_carries_the_engines_own_scene_and_the_scripts() -> None:
 
 def test_the_command_writes_a_file_and_names_a_broken_scenario(tmp_path: Path) -> None:
     out = tmp_path / "paper-1.json"
-    command = [sys.executable, "-m", "bridge", "export-scenario", "--scenario", "paper-1", "--out", str(out)]
+    command = [sys.executable, "-m", "toyroom", "export-scenario", "--scenario", "paper-1", "--out", str(out)]
     assert subprocess.run(command, capture_output=True, text=True, timeout=60).returncode == 0
     assert json.loads(out.read_text())["name"] == "paper-1"
     broken = tmp_path / "broken.toml"

@@ -152,7 +152,7 @@ def test_observing_robot_does_nothing(tmp_path: Path) -> None:
 
 def test_print_tree() -> None:
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "brain", "--print-tree"], capture_output=True, text=True, timeout=60
+        [sys.executable, "-m", "toyroom", "brain", "--print-tree"], capture_output=True, text=True, timeout=60
     )
     assert result.returncode == 0, result.stderr
     for node in ("inform", "swap", "put back", "go home", "ask for a swap"):
@@ -161,7 +161,7 @@ def test_print_tree() -> None:
 
 def test_failing_node_fails_the_run(tmp_path: Path) -> None:
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "run", "--scenario", "no-such-scenario", "--out", str(tmp_path)],
+        [sys.executable, "-m", "toyroom", "run", "--scenario", "no-such-scenario", "--out", str(tmp_path)],
         capture_output=True,
         text=True,
         timeout=120,

@@ -110,7 +110,7 @@ BROKEN = {
 def conform(world: str, timeout: int) -> subprocess.CompletedProcess[str]:
     """``toyroom conform`` against the engine of ``world`` (``timeout``: seconds per check)."""
     return subprocess.run(
-        [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", str(timeout)],
+        [sys.executable, "-m", "toyroom", "conform", "--world", world, "--timeout", str(timeout)],
         capture_output=True,
         text=True,
         timeout=300,

@@ -41,7 +41,7 @@ SUMMARY = re.compile(r"^(\d+) passed, (\d+) skipped, (\d+) failed, (\d+) not app
 
 def conform(world: str, *flags: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
-        [sys.executable, "-m", "bridge", "conform", "--world", world, "--timeout", "10", *flags],
+        [sys.executable, "-m", "toyroom", "conform", "--world", world, "--timeout", "10", *flags],
         capture_output=True,
         text=True,
         timeout=300,

@@ -356,7 +356,7 @@ def test_bad_settings_are_named(world: str, gateway: Gateway) -> None:
 
 def test_the_command_names_a_bad_listen_url(world: str) -> None:
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "gateway", "--world", world, "--listen", "tcp/127.0.0.1:1"],
+        [sys.executable, "-m", "toyroom", "gateway", "--world", world, "--listen", "tcp/127.0.0.1:1"],
         capture_output=True,
         text=True,
         timeout=60,

@@ -20,7 +20,7 @@ from support import golden_examples, toyroom_run
 
 from bridge import Bridge
 from protocol import encode
-from tests.bridge.devtools import wait_until
+from tests.toyroom.devtools import wait_until
 
 WARNING = re.compile(r"unreadable from byte (\d+) of (\d+) \(.+\); kept ticks (\d+)-(\d+) \((\d+) messages")
 
@@ -37,7 +37,7 @@ def recorded(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def toyroom(*args: str | Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
-        [sys.executable, "-m", "bridge", *map(str, args)], capture_output=True, text=True, timeout=240
+        [sys.executable, "-m", "toyroom", *map(str, args)], capture_output=True, text=True, timeout=240
     )
 
 

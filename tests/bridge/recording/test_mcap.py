@@ -35,7 +35,7 @@ def test_recorded_run_opens_and_gives_the_same_mind(tmp_path: Path) -> None:
         assert all(c.message_encoding == "json" for c in summary.channels.values())
     again = tmp_path / "again"
     result = subprocess.run(
-        [sys.executable, "-m", "bridge", "infer", str(recording), "--out", str(again)],
+        [sys.executable, "-m", "toyroom", "infer", str(recording), "--out", str(again)],
         capture_output=True,
         text=True,
         timeout=120,
@@ -49,7 +49,7 @@ def test_killed_recorder_keeps_all_but_the_last_second(world: str, tmp_path: Pat
     with EngineProcess(world, "--scenario", "paper-1"), Bridge(world) as client:
         handshake(client, client="test", timeout=30.0)
         recorder = subprocess.Popen(
-            [sys.executable, "-m", "bridge", "record", "--world", world, str(recording)],
+            [sys.executable, "-m", "toyroom", "record", "--world", world, str(recording)],
             stdout=subprocess.PIPE,
             text=True,
         )

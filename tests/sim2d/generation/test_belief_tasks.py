@@ -9,7 +9,6 @@ from pathlib import Path
 
 import pytest
 
-from bridge.evaluation.revealed import revealed
 from protocol import Pursuit
 from sim2d.engine import Engine
 from sim2d.generation.episodes import write_episode
@@ -17,11 +16,12 @@ from sim2d.generation.tasks import BELIEF_TASKS, TASKS, seed_of, task_of
 from sim2d.people.autonomous import AutonomousPerson
 from sim2d.people.pursuit import Primitive, Reconsider, pursuit_of
 from sim2d.scenario.scenario import load_scenario
+from toyroom.evaluation.revealed import revealed
 
 
 def run(path: Path, ticks: int = 600) -> list[tuple[int, set[tuple[str, str, str]]]]:
     """Per tick, ``(person, item, place)`` of every revealed pursuit (the evaluation's reading:
-    :func:`bridge.evaluation.revealed.revealed`)."""
+    :func:`toyroom.evaluation.revealed.revealed`)."""
     engine = Engine(load_scenario(str(path)), seed=1)
     ticks_seen = []
     while not engine.done and engine.world.tick < ticks:
@@ -112,7 +112,7 @@ def test_a_pointless_walk_is_dropped_after_the_persons_own_lag() -> None:
 
 
 def test_the_evaluation_knows_every_task_kind() -> None:
-    from bridge.evaluation.conditions import TASK_KINDS, Condition
+    from toyroom.evaluation.conditions import TASK_KINDS, Condition
 
     assert TASK_KINDS == TASKS, f"bridge's TASK_KINDS {TASK_KINDS} differ from sim2d's TASKS {TASKS}"
     for kinds in ((), ("told", "overlooked", "stale"), ("moved", "seen")):

@@ -1,7 +1,0 @@
-"""``python -m bridge.rating``: the rating server (``toyroom rate``)."""
-
-import sys
-
-from .node import main
-
-sys.exit(main())

@@ -1,7 +1,0 @@
-"""``python -m bridge.view``: the viewer node (``toyroom view``)."""
-
-import sys
-
-from .viewer import main
-
-sys.exit(main())

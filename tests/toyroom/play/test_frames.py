@@ -1,0 +1,115 @@
+"""A malformed frame on a participant's WebSocket gets an ``error`` frame, and their world runs
+on: the server as a process, its world (sim2d engine and brain over loopback Zenoh), and a
+real WebSocket client in place of the page (no browser needed)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from websockets.exceptions import ConnectionClosed
+from websockets.sync.client import ClientConnection, connect
+
+from bridge.recording.readable import read_recording
+from tests.toyroom.devtools import wait_until
+from toyroom.play import play_metadata
+
+DEEP = "[" * 30000 + "]" * 30000
+"""JSON nested deeper than Python's decoder goes (``json.loads`` raises ``RecursionError``)."""
+BAD_FRAMES = (
+    DEEP,
+    "not json",
+    '{"type": "key", "key": "ArrowRight", "pressed": NaN}',
+    '{"type": "teleport"}',
+)
+STARTUP = 180.0
+"""Seconds a world may take to start (engine and brain processes) on a loaded 2-core machine."""
+
+
+class Server:
+    """``toyroom play`` as a process, one participant, its output lines collected."""
+
+    def __init__(self, out: Path) -> None:
+        command = [sys.executable, "-m", "toyroom", "play", "--scenario", "paper-robot", "--as", "A1",
+                   "--participants", "1", "--listen", "127.0.0.1:0", "--out", str(out), "--rate", "2",
+                   "--grace", "1", "--log-level", "WARNING"]  # fmt: skip
+        self.out = out
+        self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.lines: list[str] = []
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        assert self.process.stdout is not None
+        for line in self.process.stdout:
+            self.lines.append(line.rstrip("\n"))
+
+    def line(self, text: str, timeout: float) -> str:
+        found = wait_until(lambda: next((x for x in self.lines if text in x), None), timeout, text)
+        return str(found)
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    running = Server(tmp_path_factory.mktemp("play-frames"))
+    try:
+        yield running
+    finally:
+        running.process.terminate()
+        try:
+            running.process.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            running.process.kill()
+            running.process.wait(timeout=10)
+
+
+def _next(socket: ClientConnection, want: str, timeout: float) -> dict[str, Any]:
+    """The next frame of type ``want`` (views keep coming meanwhile); fails on an ended world."""
+    while True:
+        try:
+            message = json.loads(socket.recv(timeout=timeout))
+        except ConnectionClosed as closed:
+            raise AssertionError(
+                f"expected a '{want}' frame, but the server closed the link: {closed}"
+            ) from None
+        if message.get("ended"):
+            raise AssertionError(f"expected a '{want}' frame, but the world ended: {message['ended']!r}")
+        if message.get("type") == want or (want == "view" and "tick" in message):
+            return message
+
+
+def test_a_malformed_frame_gets_an_error_and_the_world_runs_on(server: Server) -> None:
+    link = server.line("participant p1: http", 60).split(": ", 2)[-1]
+    url = link.replace("http://", "ws://").replace("/play/", "/ws/")
+    with connect(url, open_timeout=30, max_size=None) as socket:
+        before = _next(socket, "view", STARTUP)["tick"]
+        for frame in BAD_FRAMES:
+            socket.send(frame)
+            error = _next(socket, "error", 30)
+            assert "not a key press" in error["message"] or "'pressed'" in error["message"], (
+                f"expected an error naming the bad frame {frame[:30]!r}, got {error}"
+            )
+        socket.send(json.dumps({"type": "key", "key": "ArrowRight", "pressed": 1.5}))
+        later = _next(socket, "view", 30)
+        while later["tick"] <= before:
+            later = _next(socket, "view", 30)
+    report = server.line("participant p1: recording", 120)
+    assert "incomplete: the page was closed" in report, (
+        f"expected the world to end only for the page: {report}"
+    )
+    meta = play_metadata(server.out / "p1.mcap")
+    assert meta is not None and "could not start" not in meta["reason"], f"p1's play metadata: {meta}"
+    keys = [
+        message.key
+        for key, message in read_recording(server.out / "p1.mcap").messages()
+        if key.endswith("/person/A1/command")
+    ]
+    assert keys == ["ArrowRight"], f"expected the good key press after the bad frames recorded, got {keys}"
+    assert server.process.wait(timeout=60) == 0, "the server did not exit 0 once the world ended"
+    tracebacks = [line for line in server.lines if "Traceback" in line]
+    assert tracebacks == [], f"expected no traceback from the server, got: {server.lines}"

@@ -1,0 +1,274 @@
+"""``toyroom play`` as participants use it: real processes (the server, each participant's
+sim2d engine and brain over loopback Zenoh), a real headless Chromium driven through the
+DevTools protocol, keys pressed on the page.
+
+One server, two participants at the same time: p1 plays ``paper-robot`` as A1 through the
+keyboard (plays with the skate, leaves it in Storage 1, goes out, comes back), hears the
+robot, accepts the skate it brings and plays with it; the recording is complete and
+``toyroom infer`` reads it. p2 opens their page meanwhile, in a world of their own, reloads
+it (the same world, resumed) and closes it: their recording is kept, marked incomplete.
+A wrong token and a foreign origin are refused; OCR reads the room names and the person's
+label on a screenshot of the page.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import threading
+import urllib.error
+import urllib.request
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from PIL import Image
+from websockets.exceptions import InvalidStatus
+from websockets.sync.client import connect
+
+from bridge import Bridge
+from protocol import Event
+from tests.toyroom.devtools import Browser, Tab, wait_until
+from tests.toyroom.view.test_framing import ocr
+from toyroom.play import held_rate, play_metadata
+
+pytestmark = pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium is not installed")
+
+RATE = 2.0
+"""The engines run at twice wall-clock speed (the test's time; people walk as fast, in ticks)."""
+SHOT_VARIABLE = "TOYROOM_PLAY_SHOT"
+"""Set to a path, the test also saves its screenshot of the page there (docs/img/play-page.png)."""
+VIEW = "window.playState && window.playState.view"
+ROOMS = ("Playground 1", "Storage 1", "Storage 2", "Playground 2", "Entrance", "Outside")
+
+
+@dataclass
+class Served:
+    """The server's process, its links, and what the participants' runs left."""
+
+    process: subprocess.Popen[str]
+    out: Path
+    links: dict[str, str]
+    origin: str
+    lines: list[str] = field(default_factory=list)
+    notes: dict[str, Any] = field(default_factory=dict)
+
+    def wait_line(self, pattern: str, timeout: float) -> str:
+        return str(
+            wait_until(lambda: next((x for x in self.lines if re.search(pattern, x)), None), timeout, pattern)
+        )
+
+
+def _read_lines(served: Served) -> None:
+    assert served.process.stdout is not None
+    for line in served.process.stdout:
+        served.lines.append(line.rstrip("\n"))
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
+    out = tmp_path_factory.mktemp("play")
+    command = [sys.executable, "-m", "toyroom", "play", "--scenario", "paper-robot", "--as", "A1",
+               "--participants", "2", "--listen", "127.0.0.1:0", "--out", str(out), "--rate", str(RATE),
+               "--grace", "3", "--log-level", "WARNING"]  # fmt: skip
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    served = Served(process, out, {}, "")
+    threading.Thread(target=_read_lines, args=(served,), daemon=True).start()
+    try:
+        for name in ("p1", "p2"):
+            line = served.wait_line(rf"participant {name}: http", 60)
+            served.links[name] = line.split(": ", 2)[-1]
+        served.origin = re.sub(r"(http://[^/]+).*", r"\1", served.links["p1"])
+        yield served
+    finally:
+        process.terminate()
+        try:
+            process.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait(timeout=10)
+
+
+def _view(tab: Tab) -> dict[str, Any]:
+    return dict(tab.evaluate(f"{VIEW} ? JSON.parse(JSON.stringify({VIEW})) : null") or {})
+
+
+def _at(tab: Tab, xy: tuple[float, float], what: str, timeout: float = 60) -> None:
+    def there() -> bool:
+        me = next((a for a in _view(tab).get("agents", []) if a["you"]), None)
+        return me is not None and abs(me["x"] - xy[0]) < 0.05 and abs(me["y"] - xy[1]) < 0.05
+
+    try:
+        wait_until(there, timeout, what)
+    except AssertionError:
+        mine = [a for a in _view(tab).get("agents", []) if a["you"]]
+        raise AssertionError(f"waited {timeout:g} s for {what} at {xy}; the person is at {mine}") from None
+
+
+def _goto(tab: Tab, key: str, xy: tuple[float, float], what: str) -> None:
+    """Press ``key`` and wait until the person stands at ``xy``; as a participant would, press
+    it again once when the person has not set off after 10 s (on this shared 2-core machine a
+    loaded Zenoh link has been seen to drop a command)."""
+    tab.press(key)
+    try:
+        _at(tab, xy, what, timeout=10)
+    except AssertionError:
+        tab.press(key)
+        _at(tab, xy, what)
+
+
+@pytest.fixture(scope="module")
+def played(served: Served, tmp_path_factory: pytest.TempPathFactory) -> Served:
+    """p1 plays the whole episode; p2 opens, reloads and closes their page meanwhile."""
+    shots = tmp_path_factory.mktemp("shots")
+    with Browser() as browser:
+        p1 = browser.open(served.links["p1"])
+        first = p1.wait_for(f"{VIEW} && {VIEW}.tick >= 0 && window.playState.scene", 120, "p1's first view")
+        assert first, "p1's page shows no view"
+        scene = p1.evaluate("window.playState.scene")
+        served.notes["p1_world"] = scene["world"]
+        swapped = threading.Event()
+        with Bridge(scene["world"]) as bridge:
+            bridge.subscribe(
+                bridge.keys.events,
+                lambda e, _: swapped.set() if e.actor == "A2" and e.label == "swapped" else None,
+                expected=Event,
+            )
+            p2 = _second_participant(browser, served)
+            p1.press("p")
+            start = p1.wait_for(f"{VIEW}.playing && {VIEW}.tick", 30, "A1 playing with the skate")
+            p1.wait_for(f"{VIEW}.tick >= {start + 20}", 30, "20 ticks of play")
+            _goto(p1, "2", (5.5, 10.5), "A1 at the Storage 1 shelf")
+            p1.press("d")
+            p1.wait_for(f"!({VIEW}.holding)", 30, "the skate dropped")
+            _goto(p1, "5", (5.5, 6.5), "A1 in the entrance (its cell nearest Storage 1)")
+            _goto(p1, "6", (7.5, 2.5), "A1 outside (its cell nearest the entrance)")
+            assert swapped.wait(120), "A2 never swapped the ball for the skate (A1's label 4 not completed?)"
+            _goto(p1, "5", (7.5, 4.5), "A1 back in the entrance")
+            _goto(p1, "2", (5.5, 10.5), "A1 back at the Storage 1 shelf")
+            heard = p1.wait_for(
+                f"{VIEW}.speech && {VIEW}.speech.filter(l => l.to_you).length", 120, "the robot"
+            )
+            served.notes["heard"] = _view(p1)["speech"]
+            assert heard
+            question = p1.wait_for(f"{VIEW}.question", 120, "the robot's offer of the skate")
+            served.notes["question"] = question
+            p1.screenshot(shots / "play.png")
+            served.notes["shot"] = shots / "play.png"
+            if os.environ.get(SHOT_VARIABLE):  # the picture in the docs
+                shutil.copyfile(shots / "play.png", os.environ[SHOT_VARIABLE])
+            p1.press("y")
+            try:
+                p1.wait_for(f"{VIEW}.holding === 'skate'", 10, "the skate in A1's hands")
+            except AssertionError:  # as a participant would, once more while the robot still asks
+                p1.wait_for(f"{VIEW}.question", 5, "the robot's offer, still open")
+                p1.press("y")
+                p1.wait_for(f"{VIEW}.holding === 'skate'", 30, "the skate in A1's hands")
+            p1.press("p")
+            p1.wait_for(f"{VIEW}.playing", 30, "A1 playing with the skate")
+            served.notes["ended"] = p1.wait_for(f"{VIEW}.ended", 120, "the end of the episode")
+            browser.close_tab(p2)  # p2's world ran beside p1's all along
+    served.wait_line(r"participant p1: recording .* \(complete;", 60)
+    served.wait_line(r"participant p2: recording .* \(incomplete", 60)
+    return served
+
+
+def _second_participant(browser: Browser, served: Served) -> Tab:
+    """p2, in a world of their own: a key and a reload that resumes (the tab is closed once
+    p1 is done)."""
+    p2 = browser.open(served.links["p2"])
+    p2.wait_for(f"{VIEW} && {VIEW}.tick >= 0 && window.playState.scene", 120, "p2's first view")
+    world = p2.evaluate("window.playState.scene.world")
+    served.notes["p2_world"] = world
+    p2.press("ArrowRight")
+    p2.wait_for(f"{VIEW}.tick > 5", 30, "p2's world running")
+    before = _view(p2)["tick"]
+    p2.call("Page.reload")
+    p2.wait_for(
+        f"{VIEW} && window.playState.scene && {VIEW}.tick >= {before}", 60, "p2's page after a reload"
+    )
+    served.notes["p2_reload"] = (before, _view(p2)["tick"], p2.evaluate("window.playState.scene.world"))
+    return p2
+
+
+def test_a_wrong_token_and_a_foreign_origin_are_refused(served: Served) -> None:
+    """(First: the server exits once every participant's world has ended.)"""
+    wrong = re.sub(r"token=[^&]+", "token=wrong", served.links["p1"])
+    with pytest.raises(urllib.error.HTTPError) as refused:
+        urllib.request.urlopen(wrong, timeout=10)
+    assert refused.value.code == 403, f"a wrong token got HTTP {refused.value.code}, not 403"
+    socket = served.links["p1"].replace("http://", "ws://").replace("/play/", "/ws/")
+    with pytest.raises(InvalidStatus) as foreign:
+        connect(socket, origin="http://elsewhere.example", open_timeout=10)  # type: ignore[arg-type]
+    assert foreign.value.response.status_code == 403, (
+        f"a foreign origin got {foreign.value.response.status_code}"
+    )
+    with pytest.raises(InvalidStatus) as tokenless:
+        connect(socket.split("?")[0], open_timeout=10)
+    assert tokenless.value.response.status_code == 403, "a WebSocket without the token was not refused"
+
+
+def test_the_participant_hears_the_robot_and_accepts_the_skate(played: Served) -> None:
+    lines = [line["text"] for line in played.notes["heard"] if line["to_you"]]
+    assert any("skate" in text for text in lines), f"the robot said nothing of the skate to A1: {lines}"
+    question = played.notes["question"]
+    assert question["kind"] == "give" and "skate" in question["text"], f"the robot's question: {question}"
+    assert played.notes["ended"] == "the episode ended", played.notes["ended"]
+
+
+def test_the_recording_is_complete_with_the_key_presses_and_infers(played: Served, tmp_path: Path) -> None:
+    recording = played.out / "p1.mcap"
+    meta = play_metadata(recording)
+    assert meta is not None and meta["complete"] == "true", f"p1's play metadata: {meta}"
+    from bridge.recording.readable import read_recording
+
+    presses = [m for key, m in read_recording(recording).messages() if key.endswith("/person/A1/command")]
+    keys = [p.key for p in presses]
+    assert keys[:2] == ["p", "2"] and "y" in keys, f"the key presses recorded: {keys}"
+    assert all(a.pressed <= b.pressed for a, b in zip(presses, presses[1:], strict=False)), (
+        "press times go back"
+    )
+    result = subprocess.run(
+        [sys.executable, "-m", "toyroom", "infer", str(recording), "--out", str(tmp_path / "infer")],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
+    mind = (tmp_path / "infer" / "mind.csv").read_text(encoding="utf-8")
+    assert "A1" in mind and "skate" in mind, f"mind.csv has no A1 or skate: {mind[:300]}"
+
+
+def test_the_engine_held_real_time_beside_a_second_world(played: Served) -> None:
+    """p1's engine kept its rate (the ticks per second its states were recorded at) while p2's
+    world and both brains ran on the same machine."""
+    held = held_rate(played.out / "p1.mcap", RATE, 0.1)
+    line = played.wait_line(r"participant p1: recording", 5)
+    assert held is not None and held >= 0.9, f"p1's engine ran at {held} of its rate (want >= 0.9): {line}"
+    assert f"the engine ran at {held:.2f} of its rate" in line, line
+
+
+def test_two_participants_have_worlds_of_their_own_and_a_reload_resumes(played: Served) -> None:
+    assert played.notes["p1_world"] != played.notes["p2_world"], "both participants got the same world"
+    before, after, world = played.notes["p2_reload"]
+    assert world == played.notes["p2_world"], (
+        f"the reload opened world {world}, not {played.notes['p2_world']}"
+    )
+    assert after >= before, f"the reloaded page is at tick {after}, before the reload it was at {before}"
+    meta = play_metadata(played.out / "p2.mcap")
+    assert meta is not None and meta["complete"] == "false", f"p2's play metadata: {meta}"
+    assert "page was closed" in meta["reason"], meta
+
+
+@pytest.mark.skipif(shutil.which("tesseract") is None, reason="tesseract is not installed")
+def test_ocr_reads_the_rooms_and_the_person(played: Served, tmp_path: Path) -> None:
+    picture = np.asarray(Image.open(played.notes["shot"]).convert("RGB"), dtype=float) / 255
+    text = ocr(picture, tmp_path, ink_below=0.15)  # darker than the walls, whose grey reads as ink
+    rooms = [name for name in ROOMS if name in text]
+    assert len(rooms) >= len(ROOMS) - 1, f"OCR read only {rooms} of {ROOMS}; it read: {text!r}"
+    assert re.search(r"\b[Aa][1lI|]\s*\(you\)", text), f"OCR did not read 'A1 (you)'; it read: {text!r}"
+    assert "Agent 1" in text, f"OCR did not read the title 'You are Agent 1'; it read: {text!r}"

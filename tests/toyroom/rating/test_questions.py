@@ -1,0 +1,108 @@
+"""The questions file of ``toyroom rate``: a good one read against the recordings, and each
+kind of mistake an error naming the file, the line of the question's table and the key."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from bridge.recording import Trace, read_trace
+from toyroom.rating import QuestionsError, load_study
+
+GOOD = """
+title = "T"
+consent = "C"
+
+[[questions]]
+recording = "robot"
+tick = 10
+person = "A1"
+ask = "belief"
+item = "skate"
+locations = ["S1", "S2"]
+
+[[questions]]
+id = "later"
+recording = "paper-robot-decline"
+tick = 5
+person = "A2"
+ask = "desire"
+goals = ["ball", "out"]
+retrospective = true
+"""
+
+
+@pytest.fixture(scope="module")
+def traces(recordings: list[Path]) -> tuple[list[Trace], list[str]]:
+    return [read_trace(p) for p in recordings], [p.stem for p in recordings]
+
+
+def load(text: str, tmp_path: Path, traces: tuple[list[Trace], list[str]]) -> object:
+    path = tmp_path / "q.toml"
+    path.write_text(text, encoding="utf-8")
+    return load_study(path, *traces)
+
+
+def test_a_good_file_is_read(tmp_path: Path, traces: tuple[list[Trace], list[str]]) -> None:
+    study = load(GOOD, tmp_path, traces)
+    first, second = study.questions  # type: ignore[attr-defined]
+    assert (first.id, first.targets, first.estimate, first.show_until) == (
+        "q1",
+        ("skate@S1", "skate@S2"),
+        "online",
+        10,
+    ), f"got {first}"
+    last = traces[0][1].ticks[-1][0].tick
+    assert (second.targets, second.labels, second.estimate, second.show_until) == (
+        ("ball", "out"),
+        ("ball", "leave"),
+        "smoothed",
+        last,
+    ), f"a retrospective question is shown to the end (tick {last}): got {second}"
+
+
+@pytest.mark.parametrize(
+    ("change", "expected"),
+    [
+        (("tick = 10", "tik = 10"), "line 5 (questions[0] 'q1'): unknown key 'tik' (did you mean 'tick'?)"),
+        (('person = "A2"', 'person = "B7"'), "line 13 (questions[1] 'later'): person 'B7' is not in"),
+        (("tick = 5", "tick = 99999"), "tick = 99999 is outside the recording"),
+        (('item = "skate"', 'item = "kite"'), "item 'kite' is unknown (items: skate, ball)"),
+        (('"robot"', '"nowhere"'), "recording 'nowhere' is no recording given"),
+        (('ask = "desire"', 'ask = "hope"'), "ask must be one of belief, desire, got 'hope'"),
+        (('"S2"]', '"S9"]'), "locations: 'S9' is unknown"),
+        (('title = "T"', 'titel = "T"'), "unknown key 'titel' (did you mean 'title'?)"),
+        (('title = "T"', "title = "), "not TOML"),
+    ],
+)
+def test_mistakes_are_named(
+    change: tuple[str, str], expected: str, tmp_path: Path, traces: tuple[list[Trace], list[str]]
+) -> None:
+    assert change[0] in GOOD
+    with pytest.raises(QuestionsError) as err:
+        load(GOOD.replace(change[0], change[1], 1), tmp_path, traces)
+    assert expected in str(err.value), f"expected {expected!r} in the error, got {err.value}"
+
+
+def test_the_command_says_what_is_wrong(recordings: list[Path], tmp_path: Path) -> None:
+    (tmp_path / "q.toml").write_text(GOOD.replace("tick = 10", "tik = 10"), encoding="utf-8")
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "bridge",
+            "rate",
+            *map(str, recordings),
+            "--questions",
+            str(tmp_path / "q.toml"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        cwd=tmp_path,
+    )
+    assert done.returncode == 2, f"expected exit 2, got {done.returncode}: {done.stderr}"
+    assert "unknown key 'tik'" in done.stderr and not (tmp_path / "ratings.csv").exists(), done.stderr

@@ -1,0 +1,7 @@
+"""``python -m toyroom`` runs the ``toyroom`` command line."""
+
+import sys
+
+from .cli.cli import main
+
+sys.exit(main())

@@ -1,0 +1,182 @@
+"""From every episode's results to one condition's numbers (pure functions): pooled metrics
+per observer with bootstrap 95% intervals paired by episode, and per robot policy the help
+people got (:mod:`toyroom.evaluation.helpfulness`), paired the same way."""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Mapping, Sequence
+from typing import Any
+
+from protocol import Observer
+
+from .conditions import Condition
+from .intervals import METRICS as INTERVAL_METRICS
+from .intervals import intervals, pooled_means
+from .metrics import Counts, Outcome, majority_counts
+
+BTOM = Observer.BTOM.value
+MAJORITY = "majority"
+"""A majority-class baseline scored on the same ticks: always the most common true preference
+(of the episodes scored: it is fitted on them), never a false belief, no belief."""
+ROBOT = "robot"
+"""An episode's acting runs are keyed ``robot-<policy>``; ``none`` is the observing run's."""
+NONE = "none"
+HELP = (
+    "ticks_to_goal_fb",
+    "ticks_to_goal_any_fb",
+    "ticks_from_false_belief",
+    "wasted_trips",
+    "interruptions",
+)
+
+
+def mistaken(episode: Mapping[str, Any], keys: Sequence[str]) -> set[str]:
+    """The people who had a false belief about what they wanted in any of the runs ``keys``
+    of ``episode``: one population for every policy (:func:`_help_sums`)."""
+    return {a for key in keys for a, h in episode[key].get("help", {}).items() if h["false_belief"]}
+
+
+def _help_sums(run: Mapping[str, Any], anyone: Collection[str] = ()) -> dict[str, tuple[float, int]]:
+    """One run's ``(sum, count)`` of each help measure: ticks to goal over the people who had
+    a false belief in this run (until they first played with the item it was about, from then
+    on; the episode's length when never), counted from the episode's start and from the false
+    belief's first tick (the part a robot can shorten: an errand before it cannot be); ticks to
+    goal over ``anyone``, the people with a false belief in any policy's run of the episode
+    (the same people for every policy, so a robot that spares someone a false belief is
+    credited and one that causes one is charged, which ``ticks_to_goal_fb``, over each run's
+    own people, does not do); and wasted trips and interruptions over every person."""
+    helped = run.get("help", {})
+    fb = [h for h in helped.values() if h["false_belief"]]
+    ticks = [h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"] for h in fb]
+    onsets = [h.get("false_belief_tick") for h in fb]
+    since = [t - onset for t, onset in zip(ticks, onsets, strict=True) if onset is not None]
+    reached = run.get("ticks_to_goal", {})
+    every = [reached.get(a) if reached.get(a) is not None else run["episode_ticks"] for a in sorted(anyone)]
+    return {
+        "ticks_to_goal_fb": (float(sum(ticks)), len(ticks)),
+        "ticks_to_goal_any_fb": (float(sum(every)), len(every)),
+        "ticks_from_false_belief": (float(sum(since)), len(since)),
+        "wasted_trips": (float(sum(h["wasted_trips"] for h in helped.values())), len(helped)),
+        "interruptions": (float(sum(h["interruptions"] for h in helped.values())), len(helped)),
+    }
+
+
+def policies_of(episode: Mapping[str, Any]) -> dict[str, str]:
+    """Robot policy -> the key of the run it is measured on, acting policies first (``tom``
+    first of them), then ``none`` (the robot observing)."""
+    acting = sorted(
+        (k[len(ROBOT) + 1 :] for k in episode if k.startswith(f"{ROBOT}-")), key=lambda p: p != "tom"
+    )
+    return {p: f"{ROBOT}-{p}" for p in acting} | {NONE: BTOM}
+
+
+LOSSES = ("before_false_belief", "before_robot_acted", "after_robot_acted", "robot_acted")
+"""The loss table's columns (:func:`robot_losses`)."""
+
+
+def robot_losses(episodes: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, float | None]]:
+    """Per policy, where the ticks to the goal of the people with a false belief went (means
+    over them, ticks from the episode's start): before the false belief, from it to the robot's
+    first act for them (to the goal when it never acted), from that act to the goal; and the
+    share of them the robot acted for."""
+    table: dict[str, dict[str, float | None]] = {}
+    for policy, key in policies_of(episodes[0]).items():
+        parts: list[tuple[float, float, float, float]] = []
+        for episode in episodes:
+            run = episode[key]
+            for h in run.get("help", {}).values():
+                if not h["false_belief"] or h.get("false_belief_tick") is None:
+                    continue
+                goal = h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"]
+                onset, acted = h["false_belief_tick"], h.get("acted_tick")
+                acted = goal if acted is None else min(acted, goal)
+                parts.append((onset, acted - onset, goal - acted, float(h.get("acted_tick") is not None)))
+        n = len(parts)
+        table[policy] = {name: (sum(p[i] for p in parts) / n if n else None) for i, name in enumerate(LOSSES)}
+    return table
+
+
+def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
+    """``(per policy, the first policy minus each other)``: success rate and each of
+    :data:`HELP` as ``{mean, lo, hi}``."""
+    policies = policies_of(episodes[0])
+    per_policy: dict[str, Any] = {}
+    differences: dict[str, Any] = {p: {} for p in list(policies)[1:]}
+    people = [mistaken(e, list(policies.values())) for e in episodes]
+    sums = {
+        policy: [_help_sums(e[key], p) for e, p in zip(episodes, people, strict=True)]
+        for policy, key in policies.items()
+    }
+    for measure in HELP:
+        bounds, diffs = pooled_means({p: [s[measure] for s in sums[p]] for p in policies}, seed)
+        for policy in policies:
+            per_policy.setdefault(policy, {})[measure] = bounds.get(
+                policy, {"mean": None, "lo": None, "hi": None}
+            )
+        for other, interval in diffs.items():
+            differences[other][measure] = interval
+    for policy, key in policies.items():
+        outcome = Outcome()
+        for episode in episodes:
+            for ok in episode[key]["outcome"].values():
+                outcome.people += 1
+                outcome.successes += bool(ok)
+        per_policy[policy]["success"] = outcome.rate
+    return per_policy, differences
+
+
+def _with_intervals(pooled: Mapping[str, float | None], bounds: Mapping[str, Any]) -> dict[str, Any]:
+    """Each metric of :data:`~toyroom.evaluation.intervals.METRICS` as ``{mean, lo, hi}``, the
+    others (precision, recall) as plain numbers."""
+    return {
+        m: bounds.get(m, {"mean": v, "lo": None, "hi": None}) if m in INTERVAL_METRICS else v
+        for m, v in pooled.items()
+    }
+
+
+def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str]) -> dict[str, Any]:
+    """One condition's numbers from its episodes' results (failed episodes are counted in
+    ``episodes_failed`` and left out of the scores)."""
+    failed = [e for e in episodes if "error" in e]
+    episodes = [e for e in episodes if "error" not in e]
+    totals = {observer: Counts() for observer in observers}
+    per_episode: dict[str, list[Counts]] = {observer: [] for observer in (*observers, MAJORITY)}
+    for episode in episodes:
+        for observer in observers:
+            counts = Counts(**episode[observer]["counts"])
+            totals[observer].add(counts)
+            per_episode[observer].append(counts)
+    goal = max(totals[BTOM].pref_truth, key=lambda g: (totals[BTOM].pref_truth[g], g), default="")
+    per_episode[MAJORITY] = [majority_counts(c, goal) for c in per_episode[BTOM]]
+    pooled = {observer: totals[observer].metrics() for observer in observers}
+    pooled[MAJORITY] = majority_counts(totals[BTOM], goal).metrics()
+    bounds, differences = intervals(per_episode, seed)
+    robot, robot_differences = robot_metrics(episodes, seed) if episodes else ({}, {})
+    losses = robot_losses(episodes) if episodes and robot else {}
+    return {
+        "episodes": len(episodes),
+        "episodes_failed": len(failed),
+        "failed_runs_retried": sum(len(e.get("failed_runs") or []) for e in episodes),
+        "observers": {name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
+        "paired_differences": differences,
+        "revealed_stretches": totals[BTOM].stretches if BTOM in totals else None,
+        "nested_pairs": totals[BTOM].nested_n if BTOM in totals else None,
+        "false_belief_causes": {
+            name: counts.recall_by_cause()
+            for name, counts in {**totals, MAJORITY: majority_counts(totals[BTOM], goal)}.items()
+        },
+        "robot": robot,
+        "robot_differences": robot_differences,
+        "robot_losses": losses,
+    }
+
+
+def by_task(
+    condition: Condition, episodes: Sequence[dict[str, Any]], seed: int, observers: Sequence[str]
+) -> dict[str, Any]:
+    """A ``tasks`` condition's numbers per task kind (episode ``i`` of a sweep has the seed
+    ``1000 seed + i``, which picks its kind: :meth:`Condition.task_of`)."""
+    kinds: dict[str, list[dict[str, Any]]] = {}
+    for result in episodes:
+        kinds.setdefault(condition.task_of(seed * 1000 + int(result["index"])) or "", []).append(result)
+    return {kind: aggregate(results, seed, observers) for kind, results in sorted(kinds.items())}

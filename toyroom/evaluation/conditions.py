@@ -1,0 +1,95 @@
+"""The conditions an evaluation runs under: how the robot perceives, what kind of minds
+the simulated people have, and what kind of episodes they live through.
+
+- ``perception``: ``omniscient`` (the paper's setting: the robot sees every item wherever it
+  is) or ``embodied`` (it sees the item spots the visibility table lists from its own cell,
+  and infers the rest; the brain's ``perception`` setting);
+- ``minds``: ``simple`` (people perceive exactly, remember and keep to themselves, which is
+  what the brain's percept filter assumes: ``perceptonly`` is then an oracle of their
+  beliefs whenever the robot sees everything) or ``rich`` (they forget, overlook, gossip,
+  wander: ``python -m sim2d generate --minds``) or ``model`` (they perceive as simple ones do
+  and act by the brain's planner under the evaluation's settings, so their parameters are
+  known: :mod:`toyroom.evaluation.planned`);
+- ``kind``: ``everyday`` (random episodes) or ``tasks`` (built around the robot's jobs: an item
+  moved while its owner is away, hidden where they will look last, or wanted by both; a wrong
+  place told, overlooked or remembered, which only behaviour shows;
+  ``python -m sim2d generate --kind tasks``), drawn in turn from ``tasks`` (default: all of
+  :data:`TASK_KINDS`).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+PERCEPTIONS = ("omniscient", "embodied")
+MINDS = ("simple", "rich", "model")
+KINDS = ("everyday", "tasks")
+TASK_KINDS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
+"""The kinds of task episodes, in the generator's order (``sim2d.generation.tasks.TASKS``; a test keeps
+the two equal: the bridge never imports the engine)."""
+POLICIES = ("tom", "benefit", "tidy", "announce")
+"""The acting robot's policies an evaluation may run (the brain's ``RobotSettings.policy``;
+``none``, the robot observing, is always run)."""
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One condition of an evaluation."""
+
+    perception: str = "omniscient"
+    minds: str = "simple"
+    kind: str = "everyday"
+    tasks: tuple[str, ...] = ()
+    """The task kinds a ``tasks`` condition draws from, in turn by episode seed (empty: all)."""
+    autonomy: tuple[str, ...] = ()
+    """``NAME=VALUE`` settings of the simulated people's ``[autonomy]`` table, over the ones
+    drawn (``python -m sim2d generate --autonomy``, which checks them): the same episodes with
+    people who behave otherwise in one respect."""
+
+    def __post_init__(self) -> None:
+        malformed = [s for s in self.autonomy if not s.partition("=")[0].strip() or "=" not in s]
+        if malformed:
+            raise ValueError(f"autonomy settings are NAME=VALUE, not {', '.join(map(repr, malformed))}")
+        bad = [task for task in self.tasks if task not in TASK_KINDS]
+        if bad:
+            raise ValueError(f"task kinds are some of {', '.join(TASK_KINDS)}, not {', '.join(bad)}")
+        for name, value, known in (
+            ("perception", self.perception, PERCEPTIONS),
+            ("minds", self.minds, MINDS),
+            ("kind", self.kind, KINDS),
+        ):
+            if value not in known:
+                raise ValueError(f"{name} must be one of {', '.join(known)}, not {value!r}")
+
+    @property
+    def name(self) -> str:
+        """``omniscient-simple-everyday``: the condition's folder and key."""
+        return f"{self.perception}-{self.minds}-{self.kind}"
+
+    def task_of(self, seed: int) -> str | None:
+        """The task kind of the episode of ``seed`` (``None`` unless ``kind`` is ``tasks``), as
+        the generator picks it (``sim2d.generation.tasks.task_of``: in turn, one step further every three
+        seeds, so that the three maps each get every kind)."""
+        kinds = self.tasks or TASK_KINDS
+        return kinds[(seed + seed // 3) % len(kinds)] if self.kind == "tasks" else None
+
+    def brain_args(self) -> tuple[str, ...]:
+        """What every brain of this condition is told (its perception)."""
+        return ("--set", f"perception={self.perception}") if self.perception != "omniscient" else ()
+
+
+def conditions(
+    perceptions: Sequence[str],
+    minds: Sequence[str],
+    kinds: Sequence[str],
+    tasks: Sequence[str] = (),
+    autonomy: Sequence[str] = (),
+) -> list[Condition]:
+    """Every combination, in the order given, each ``tasks`` condition drawing from ``tasks``,
+    all with the people's ``autonomy`` settings (raises ``ValueError`` naming a bad value)."""
+    return [
+        Condition(p, m, k, tuple(tasks) if k == "tasks" else (), tuple(autonomy))
+        for p, m, k in itertools.product(perceptions, minds, kinds)
+    ]

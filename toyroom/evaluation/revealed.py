@@ -1,0 +1,124 @@
+"""False beliefs that behaviour reveals, read off the truth channel (pure functions).
+
+A tick is *revealed* for a person and item when the person is after the item (their
+``pursuit.item``), heading for or searching a place (``pursuit.location``) that their own
+belief gives it, and it is not there: their belief gives its true place less than
+:data:`~toyroom.evaluation.metrics.FALSE_BELIEF_MASS`. Any observer who watches them could
+then tell that they believe it elsewhere; nothing else shows such a belief when it formed out
+of sight (a word the robot did not hear, an item overlooked in view, a belief from before).
+
+A *stretch* is a run of consecutive revealed ticks for one person, item and place in which
+the person takes at least :data:`MIN_MOVES` steps before reaching the place (a pursuit that
+ends before the person has moved, say because a plan is dropped at once, shows nothing to
+anyone). It is detected when the observer's P(false belief) for that person and item passes 0.5 before the
+person reaches the place (stands on or next to it), in time for a robot to help; its lead is
+how many ticks before that.
+
+A false belief is *knowable* at a tick when the robot could know of it: it began with a move
+(cause ``moved``: the robot perceived the move), or a pursuit has revealed it (from the
+stretch's first revealed tick on, for as long as the false belief lasts).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from protocol import Truth
+
+from .metrics import FALSE_BELIEF_MASS
+
+MIN_MOVES = 2
+"""Steps (cells entered) a person must take in a stretch, before reaching its place, for it to
+count: a decision or two is the least any observer of behaviour needs."""
+Cell = tuple[int, int]
+Key = tuple[str, str]
+"""``(person, item)``."""
+
+
+@dataclass(frozen=True)
+class Stretch:
+    """A run of revealed ticks: ``person`` after ``item``, heading for ``location`` where it
+    is not, from tick ``first`` to ``last``; ``deadline``: the tick they reached the place
+    (or ``last + 1`` when they never did); detection counts before it."""
+
+    person: str
+    item: str
+    location: str
+    first: int
+    last: int
+    deadline: int
+
+
+def revealed(truth: Truth) -> dict[Key, str]:
+    """``(person, item)`` -> the place of each revealed pursuit at this tick."""
+    where = {place.item: place.location for place in truth.items}
+    out: dict[Key, str] = {}
+    for mind in truth.agents:
+        pursuit = mind.pursuit
+        if pursuit is None or pursuit.item is None or pursuit.location is None:
+            continue
+        true = where.get(pursuit.item)
+        belief = {p.id: p.p for b in mind.beliefs if b.item == pursuit.item for p in b.locations}
+        if true is None or pursuit.location == true or belief.get(true, 0.0) >= FALSE_BELIEF_MASS:
+            continue
+        if belief.get(pursuit.location, 0.0) > 0.0:
+            out[(mind.agent, pursuit.item)] = pursuit.location
+    return out
+
+
+def stretches(
+    truths: Mapping[int, Truth],
+    cells: Mapping[int, Mapping[str, Cell]],
+    spots: Mapping[str, Cell],
+) -> list[Stretch]:
+    """Every stretch of revealed ticks, in order of their first tick.
+
+    Args:
+        truths: the truth by tick.
+        cells: tick -> person -> cell (from the engine's states), to see when they reach a place.
+        spots: location id -> its cell.
+    """
+    open_: dict[Key, tuple[str, int, int, int | None]] = {}
+    done: list[Stretch] = []
+
+    def close(key: Key) -> None:
+        location, first, last, reached = open_.pop(key)
+        deadline = reached if reached is not None else last + 1
+        walked = {cells[t][key[0]] for t in range(first, deadline) if key[0] in cells.get(t, {})}
+        if len(walked) > MIN_MOVES:
+            done.append(Stretch(key[0], key[1], location, first, last, deadline))
+
+    for tick in sorted(truths):
+        now = revealed(truths[tick])
+        for key in [k for k, (loc, *_) in open_.items() if now.get(k) != loc]:
+            close(key)
+        for key, location in now.items():
+            location_, first, _, reached = open_.get(key, (location, tick, tick, None))
+            cell, spot = cells.get(tick, {}).get(key[0]), spots.get(location)
+            near = (
+                cell is not None and spot is not None and abs(cell[0] - spot[0]) + abs(cell[1] - spot[1]) <= 1
+            )
+            open_[key] = (location, first, tick, reached if reached is not None or not near else tick)
+    for key in list(open_):
+        close(key)
+    return sorted(done, key=lambda s: (s.first, s.person, s.item))
+
+
+def knowable(
+    truths: Mapping[int, Truth], causes: Mapping[int, Mapping[Key, str]], found: list[Stretch]
+) -> dict[int, set[Key]]:
+    """Tick -> the false beliefs the robot could know of then (see the module docstring):
+    ``causes`` by :func:`~toyroom.evaluation.metrics.false_belief_causes`, ``found`` by
+    :func:`stretches`."""
+    starts: dict[Key, list[int]] = {}
+    for stretch in found:
+        starts.setdefault((stretch.person, stretch.item), []).append(stretch.first)
+    out: dict[int, set[Key]] = {}
+    shown: set[Key] = set()
+    for tick in sorted(truths):
+        held = causes.get(tick, {})
+        shown &= set(held)
+        shown |= {key for key in held if tick in starts.get(key, ())}
+        out[tick] = {key for key, cause in held.items() if cause == "moved" or key in shown}
+    return out

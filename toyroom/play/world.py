@@ -1,0 +1,352 @@
+"""One participant's world: the engine (``python -m sim2d --realtime RATE --puppet PERSON``)
+and the brain (``python -m brain``), each its own process, on a world of the participant's
+own, recorded to ``OUT/<participant>.mcap``.
+
+Started when the participant's page first connects: the engine starts and is paused at once,
+the recorder records from its handshake, the brain resets it to the scenario (a fresh
+episode at tick 0), and the world runs while the page is connected (paused while it is not:
+a reload resumes where it was). It ends when the episode does (the brain finishes: the
+recording is complete) or when the page stays away for the grace period, a node fails or
+the server stops (the recording is kept, marked incomplete: the ``toyroom.play`` metadata
+record says so, and why).
+"""
+
+from __future__ import annotations
+
+import logging
+import subprocess
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from mcap.records import Metadata
+from mcap.stream_reader import StreamReader
+
+from bridge.bridge import Bridge
+from bridge.processes import node_command, start_node, stop_nodes, wait_for_engine
+from bridge.pubsub import Received
+from bridge.recording.mcap import McapRecorder
+from bridge.session import SessionSettings
+from protocol import (
+    CommandStatus,
+    ControlReply,
+    EngineInfo,
+    Pause,
+    Resume,
+    RobotCommand,
+    Say,
+    SayTopic,
+    State,
+)
+
+from .keys import command_for
+from .sight import Memory, Sight
+from .speech import Speech
+
+log = logging.getLogger("toyroom.play")
+PLAY_METADATA = "toyroom.play"
+"""The MCAP metadata record of a play recording: participant, person, scenario, world,
+``rate``, ``complete`` (``"true"`` or ``"false"``), ``reason`` and ``last_tick``."""
+EARSHOT_CELLS = 2
+"""A person hears the robot in the same region or within this many cells (as sim2d)."""
+
+Send = Callable[[dict[str, Any]], None]
+
+
+@dataclass(frozen=True)
+class PlayConfig:
+    """What every participant's world runs."""
+
+    scenario: str
+    person: str
+    out: Path
+    rate: float = 1.0
+    seed: int = 0
+    grace: float = 60.0
+    """Seconds a closed page may take to come back before the world ends, incomplete."""
+    log_level: str = "WARNING"
+    settings: SessionSettings = field(default_factory=SessionSettings)
+
+
+def play_metadata(path: Path) -> dict[str, str] | None:
+    """The ``toyroom.play`` metadata of a play recording (``None``: none, as in a file whose
+    server was killed: incomplete too)."""
+    with path.open("rb") as handle:
+        reader = StreamReader(handle, skip_magic=False, emit_chunks=False, validate_crcs=False)
+        try:
+            for record in reader.records:
+                if isinstance(record, Metadata) and record.name == PLAY_METADATA:
+                    return dict(record.metadata)
+        except Exception:  # a file cut off mid-record  # noqa: BLE001
+            return None
+    return None
+
+
+class PlayRecorder(McapRecorder):
+    """An MCAP recorder that ends its file with the ``toyroom.play`` metadata record."""
+
+    def __init__(
+        self, bridge: Bridge, path: Path, info: EngineInfo, meta: Callable[[], dict[str, str]]
+    ) -> None:
+        self._meta = meta
+        super().__init__(bridge, path, info=info)
+
+    def _finish(self) -> None:
+        self._writer.add_metadata(PLAY_METADATA, self._meta())
+        super()._finish()
+
+
+class PlayWorld:
+    """One participant's world (see the module docstring). Thread-safe."""
+
+    def __init__(self, config: PlayConfig, participant: str, world: str) -> None:
+        self.config = config
+        self.participant = participant
+        self.world = world
+        self.folder = config.out / participant
+        self.recording = config.out / f"{participant}.mcap"
+        self.nodes: list[subprocess.Popen[bytes]] = []
+        self.bridge: Bridge | None = None
+        self.recorder: PlayRecorder | None = None
+        self.sight: Sight | None = None
+        self.speech: Speech | None = None
+        self.memory = Memory()
+        self.layout: dict[str, Any] | None = None
+        self.view: dict[str, Any] = {"type": "status", "status": "starting"}
+        self.ended: str | None = None
+        """Why the world ended (``None`` while it runs)."""
+        self.complete = False
+        self.tick_seconds = 0.1
+        """The engine's tick, in seconds (from its handshake)."""
+        self._send: Send | None = None
+        self._lock = threading.RLock()
+        self._seq = 0
+        self._state: State | None = None
+        self._episode = -1
+        self._left_at: float | None = time.monotonic()
+        self._publisher: Any = None
+        self.ready = threading.Event()
+        """The brain has reset the engine to a fresh episode: the world may run."""
+
+    # ----- the page -------------------------------------------------------------------
+
+    def attach(self, send: Send) -> None:
+        """A page connected (a reload replaces the one before): send it the map and the view,
+        and run the world."""
+        with self._lock:
+            self._send, self._left_at = send, None
+            for message in (self.layout, self._heard_view()):
+                if message is not None:
+                    send(message)
+        if self.ready.is_set():
+            self._control(Resume())
+
+    def detach(self, send: Send) -> None:
+        """The page ``send`` went away: pause the world (unless another page took its place)."""
+        with self._lock:
+            if self._send is not send:
+                return
+            self._send, self._left_at = None, time.monotonic()
+        self._control(Pause())
+
+    def abandoned(self) -> bool:
+        """Whether the page has been away longer than the grace period."""
+        left = self._left_at
+        return left is not None and self.ended is None and time.monotonic() - left > self.config.grace
+
+    def _push(self, message: dict[str, Any]) -> None:
+        send = self._send
+        if send is not None:
+            try:
+                send(message)
+            except Exception:  # a page closing as we send: detach() follows  # noqa: BLE001
+                log.debug("sending to %s's page failed", self.participant, exc_info=True)
+
+    def key(self, key: str, pressed: float) -> bool:
+        """The participant pressed ``key`` at ``pressed`` s (page time): publish its command;
+        whether the key meant one."""
+        layout = self.layout or {}
+        with self._lock:
+            command = command_for(
+                key, self.config.person, self._seq, layout.get("goto_keys", {}), pressed, self.participant
+            )
+            if command is None or self._publisher is None or self.ended is not None:
+                return False
+            self._seq += 1
+            self._publisher.put(command)
+        return True
+
+    # ----- the world --------------------------------------------------------------------
+
+    def start(self) -> None:
+        """Start the engine (paused), the recorder and the brain.
+
+        Raises:
+            BridgeError: the engine did not answer its handshake.
+        """
+        config = self.config
+        self.folder.mkdir(parents=True, exist_ok=True)
+        engine_args = [
+            "--scenario",
+            config.scenario,
+            "--realtime",
+            str(config.rate),
+            "--puppet",
+            config.person,
+        ]
+        engine_args += ["--seed", str(config.seed), "--log-level", config.log_level]
+        engine = start_node(
+            node_command("sim2d", self.world, config.settings, *engine_args),
+            self.folder / "engine.log",
+            group=True,
+        )
+        self.nodes.append(engine)
+        self.bridge = bridge = Bridge(self.world, config.settings)
+        info = wait_for_engine(bridge, engine)
+        if info is None:
+            raise RuntimeError(
+                f"the engine exited (status {engine.returncode}); see {self.folder / 'engine.log'}"
+            )
+        self._control(Pause())
+        self._setup(bridge, info)
+        brain_args = ["--scenario", config.scenario, "--seed", str(config.seed), "--out", str(self.folder)]
+        brain_args += ["--timeout", "0", "--log-level", config.log_level]
+        brain = node_command("brain", self.world, config.settings, *brain_args)
+        self.nodes.append(start_node(brain, self.folder / "brain.log", group=True))
+        deadline = time.monotonic() + 120.0
+        while not self.ready.wait(0.2):
+            problem = self.failed()
+            if problem is not None or time.monotonic() > deadline:
+                raise RuntimeError(problem or "the brain did not reset the engine within 120 s")
+        if self._send is not None:
+            self._control(Resume())
+
+    def _setup(self, bridge: Bridge, info: EngineInfo) -> None:
+        person = self.config.person
+        self.tick_seconds = info.tick_seconds
+        self.sight = sight = Sight(info.scene, person)
+        if person not in {a.id for a in info.scene.agents}:
+            raise RuntimeError(f"scenario '{info.scenario}' has no person '{person}'")
+        regions = {r.id: r.name or r.id for r in info.scene.regions}
+        places = {loc.id: regions.get(loc.region, loc.region) for loc in info.scene.locations}
+        self.speech = Speech(person, sight.names, places)
+        with self._lock:
+            self.layout = sight.layout(self.participant) | {"world": self.world, "scenario": info.scenario}
+            if self._send is not None:
+                self._send(self.layout)
+        self.recorder = PlayRecorder(bridge, self.recording, info, self._metadata)
+        self._publisher = bridge.publisher(bridge.keys.person_command(person))
+        bridge.subscribe(bridge.keys.state, self._on_state, expected=State)
+        bridge.subscribe(bridge.keys.command(), self._on_command, expected=RobotCommand)
+        bridge.subscribe(bridge.keys.status(), self._on_status, expected=CommandStatus)
+
+    def _control(self, request: Pause | Resume) -> None:
+        bridge = self.bridge
+        if bridge is None or self.ended is not None:
+            return
+        try:
+            bridge.query(bridge.keys.control, request, ControlReply, timeout=5.0)
+        except Exception as err:  # noqa: BLE001 - the engine is gone: the monitor ends the world
+            log.warning("%s: %s failed: %s", self.participant, type(request).__name__.lower(), err)
+
+    def _on_state(self, state: State, _: Received) -> None:
+        sight = self.sight
+        if sight is None or state.episode < self._episode:
+            return
+        with self._lock:
+            if state.episode > self._episode:  # the brain's reset: a fresh episode, a fresh memory
+                self._episode, self.memory = state.episode, Memory()
+                if state.episode >= 1:
+                    self.ready.set()
+            self._state = state
+            self.view = sight.look(state, self.memory)
+            self._push(self._heard_view())
+
+    def _heard_view(self) -> dict[str, Any]:
+        heard = self.speech.heard if self.speech is not None else None
+        view = dict(self.view)
+        if heard is not None:
+            view["speech"] = heard.lines[-6:]
+            view["question"] = heard.question
+        view["ended"] = self.ended
+        return view
+
+    def _on_command(self, command: RobotCommand, _: Received) -> None:
+        if self.speech is not None:
+            with self._lock:
+                self.speech.on_command(command)
+
+    def _on_status(self, status: CommandStatus, _: Received) -> None:
+        speech, state = self.speech, self._state
+        if speech is None or state is None:
+            return
+        with self._lock:
+            command = speech.commands.get(status.command)
+            changed = speech.on_status(
+                status, state.tick, self._hears(state, status.robot), self._holds(status.robot)
+            )
+            action = command.action if command is not None else None
+            told = (
+                isinstance(action, Say)
+                and action.topic is SayTopic.LOCATION
+                and action.person == self.config.person
+            )
+            if changed and told and isinstance(action, Say) and action.location is not None:
+                self.memory.note(action.item, action.location, state.tick)
+            if changed:
+                self._push(self._heard_view())
+
+    def _hears(self, state: State, robot: str) -> bool:
+        agents = {a.id: a for a in state.agents}
+        me, it = agents.get(self.config.person), agents.get(robot)
+        if me is None or it is None:
+            return False
+        near = abs(me.cell.col - it.cell.col) + abs(me.cell.row - it.cell.row) <= EARSHOT_CELLS
+        return near or me.region == it.region
+
+    def _holds(self, robot: str) -> str | None:
+        state = self._state
+        agent = next((a for a in state.agents if a.id == robot), None) if state is not None else None
+        return agent.holding if agent is not None else None
+
+    def _metadata(self) -> dict[str, str]:
+        state = self._state
+        return {
+            "participant": self.participant,
+            "person": self.config.person,
+            "scenario": self.config.scenario,
+            "world": self.world,
+            "rate": str(self.config.rate),
+            "complete": "true" if self.complete else "false",
+            "reason": self.ended or "",
+            "last_tick": str(state.tick if state is not None else -1),
+        }
+
+    def brain_finished(self) -> bool:
+        """Whether the brain has exited with success (the episode is over)."""
+        return len(self.nodes) > 1 and self.nodes[1].poll() == 0
+
+    def failed(self) -> str | None:
+        """Why a node has failed, if one has."""
+        for name, node in zip(("engine", "brain"), self.nodes, strict=False):
+            status = node.poll()
+            if status is not None and not (name == "brain" and status == 0):
+                return f"the {name} exited with status {status} (see {self.folder / (name + '.log')})"
+        return None
+
+    def end(self, reason: str, complete: bool = False) -> None:
+        """Stop the nodes and finish the recording (``complete`` or marked incomplete with
+        ``reason``); the page is told. Safe to call twice."""
+        with self._lock:
+            if self.ended is not None:
+                return
+            self.ended, self.complete = reason, complete
+        if self.recorder is not None:
+            self.recorder.close()
+        stop_nodes(list(reversed(self.nodes)))
+        if self.bridge is not None:
+            self.bridge.close()
+        self._push(self._heard_view() | {"type": "view"})

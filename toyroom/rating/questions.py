@@ -1,0 +1,259 @@
+"""A rating study's questions file (``toyroom rate --questions FILE.toml``), read and checked
+against the recordings it is about.
+
+The file holds the study's texts and its questions::
+
+    title = "What do they think?"
+    instructions = "Watch each clip, then move the sliders."
+    consent = "By taking part you agree that ..."
+    shuffle = false          # true: each participant gets the questions in an order of their own
+
+    [[questions]]
+    id = "skate-before"      # optional: q1, q2... by position
+    recording = "paper-robot" # a recording given on the command line, by file name without
+                              # extension or by scenario name (optional with one recording:
+                              # then its file name)
+    tick = 120               # the engine tick asked about
+    person = "A1"
+    ask = "belief"           # belief: where the person thinks ``item`` is (a slider per location);
+                             # desire: how much they want each item (a slider per goal)
+    item = "skate"           # belief only
+    locations = ["S1", "P2"] # belief only, optional: the sliders' locations (default: all)
+    goals = ["skate", "ball", "out"]  # desire only, optional (default: every item)
+    retrospective = false    # true: the rater first watches up to ``show_until`` (default:
+                             # the recording's end), then says what the person thought at ``tick``
+    text = "..."             # optional: the question's wording (default: made from the above)
+
+Every table is strict: an unknown key is an error naming it, the closest known key, the
+question and the line of its ``[[questions]]`` header.
+"""
+
+from __future__ import annotations
+
+import difflib
+import tomllib
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from bridge.errors import BridgeError
+from bridge.recording import Trace
+from protocol import AgentKind
+
+ASKS = ("belief", "desire")
+"""What a question asks for: ``belief`` (over locations, for an item) or ``desire`` (over goals)."""
+OUT = "out"
+"""The goal of leaving (the planner's ``out``), as ``toyroom fit --judgments`` names it."""
+STUDY_KEYS = ("title", "instructions", "consent", "shuffle", "questions")
+QUESTION_KEYS = (
+    "id", "recording", "tick", "person", "ask", "item", "locations", "goals",
+    "retrospective", "show_until", "text",
+)  # fmt: skip
+
+
+class QuestionsError(BridgeError):
+    """A questions file that cannot be read or names what the recordings do not have; says
+    the file, the line or key, and what is wrong."""
+
+
+@dataclass(frozen=True)
+class Question:
+    """One question, resolved against its recording.
+
+    Attributes:
+        id: the question's name (the ``question`` column of the answers).
+        episode: the recording's name as the file gave it (the ``episode`` column).
+        recording: the index of the recording among those given.
+        tick: the engine tick asked about.
+        person: the person asked about.
+        ask: ``belief`` or ``desire``.
+        targets: the sliders' ``target`` column values: ``ITEM@LOCATION`` for a belief, a
+            goal (an item or ``out``) for a desire.
+        labels: each slider's label, in the order of ``targets``.
+        retrospective: whether the rater first sees the episode past ``tick`` (``smoothed``).
+        show_until: the last tick the rater watches.
+        text: the question as the page asks it.
+    """
+
+    id: str
+    episode: str
+    recording: int
+    tick: int
+    person: str
+    ask: str
+    targets: tuple[str, ...]
+    labels: tuple[str, ...]
+    retrospective: bool
+    show_until: int
+    text: str
+
+    @property
+    def estimate(self) -> str:
+        """``smoothed`` for a retrospective question, else ``online``."""
+        return "smoothed" if self.retrospective else "online"
+
+
+@dataclass(frozen=True)
+class Study:
+    """A questions file: the texts the page shows and the questions, in the file's order."""
+
+    path: Path
+    title: str
+    instructions: str
+    consent: str
+    shuffle: bool
+    questions: tuple[Question, ...]
+
+
+def episode_names(traces: Sequence[Trace], names: Sequence[str]) -> dict[str, int]:
+    """Each recording by file name (without extension) and by scenario name, where the name
+    is one recording's only (as ``toyroom fit --judgments`` resolves the ``episode`` column)."""
+    found: dict[str, set[int]] = {}
+    for e, (trace, name) in enumerate(zip(traces, names, strict=True)):
+        found.setdefault(trace.info.scenario, set()).add(e)
+        found.setdefault(name, set()).add(e)
+    return {name: next(iter(e)) for name, e in found.items() if len(e) == 1}
+
+
+def _header_lines(text: str) -> list[int]:
+    """The line number of each ``[[questions]]`` header, in order."""
+    lines = text.splitlines()
+    return [n for n, line in enumerate(lines, start=1) if line.strip().startswith("[[questions]]")]
+
+
+def _unknown(keys: Sequence[str], known: Sequence[str]) -> str | None:
+    """The first key not in ``known``, said with the closest known one, or ``None``."""
+    for key in keys:
+        if key not in known:
+            close = difflib.get_close_matches(key, known, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            return f"unknown key {key!r}{hint}; known keys: {', '.join(known)}"
+    return None
+
+
+def _text(table: dict[str, Any], key: str, where: str, default: str = "") -> str:
+    value = table.get(key, default)
+    if not isinstance(value, str):
+        raise QuestionsError(f"{where}: {key} must be a string, got {value!r}")
+    return value.strip()
+
+
+def load_study(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> Study:
+    """Read and check ``path`` against the recordings (``names``: each one's file name
+    without extension).
+
+    Raises:
+        QuestionsError: naming the file, the line and key, and what is wrong.
+    """
+    try:
+        text = path.read_text(encoding="utf-8")
+        data = tomllib.loads(text)
+    except OSError as err:
+        raise QuestionsError(f"{path}: cannot read the questions ({err.strerror or err})") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise QuestionsError(f"{path}: not TOML: {err}") from None
+    if (problem := _unknown(list(data), STUDY_KEYS)) is not None:
+        raise QuestionsError(f"{path}: {problem}")
+    tables = data.get("questions")
+    if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
+        raise QuestionsError(f"{path}: expected one or more [[questions]] tables")
+    shuffle = data.get("shuffle", False)
+    if not isinstance(shuffle, bool):
+        raise QuestionsError(f"{path}: shuffle must be true or false, got {shuffle!r}")
+    lines = _header_lines(text)
+    episodes = episode_names(traces, names)
+    questions = []
+    for n, table in enumerate(tables):
+        line = f" line {lines[n]}" if n < len(lines) else ""
+        questions.append(_question(table, n, f"{path}{line}", traces, episodes))
+    ids = [q.id for q in questions]
+    if dupes := sorted({i for i in ids if ids.count(i) > 1}):
+        raise QuestionsError(f"{path}: question ids must differ; repeated: {', '.join(dupes)}")
+    return Study(
+        path,
+        _text(data, "title", str(path), "Rating study"),
+        _text(data, "instructions", str(path)),
+        _text(data, "consent", str(path)),
+        shuffle,
+        tuple(questions),
+    )
+
+
+def _integer(table: dict[str, Any], key: str, where: str, low: int, high: int) -> int:
+    value = table.get(key)
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise QuestionsError(f"{where}: {key} must be an integer tick, got {value!r}")
+    if not low <= value <= high:
+        raise QuestionsError(f"{where}: {key} = {value} is outside the recording (ticks {low} to {high})")
+    return value
+
+
+def _names(table: dict[str, Any], key: str, where: str, known: Sequence[str]) -> tuple[str, ...]:
+    value = table.get(key, list(known))
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise QuestionsError(f"{where}: {key} must be a non-empty list of names, got {value!r}")
+    if bad := [v for v in value if v not in known]:
+        raise QuestionsError(f"{where}: {key}: {bad[0]!r} is unknown (known: {', '.join(known)})")
+    if len(set(value)) != len(value):
+        raise QuestionsError(f"{where}: {key} names one twice: {value!r}")
+    return tuple(value)
+
+
+def _question(
+    table: dict[str, Any], n: int, where: str, traces: Sequence[Trace], episodes: dict[str, int]
+) -> Question:
+    """The ``n``-th ``[[questions]]`` table, checked (``where``: the file and the table's
+    line, for errors)."""
+    qid = _text(table, "id", f"{where} (questions[{n}])", f"q{n + 1}")
+    where = f"{where} (questions[{n}] '{qid}')"
+    if (problem := _unknown(list(table), QUESTION_KEYS)) is not None:
+        raise QuestionsError(f"{where}: {problem}")
+    default = list(episodes)[-1] if len(traces) == 1 else ""  # the file's name (set after the scenario's)
+    episode = _text(table, "recording", where, default)
+    if episode not in episodes:
+        known = ", ".join(sorted(episodes)) or "none"
+        raise QuestionsError(f"{where}: recording {episode!r} is no recording given (known: {known})")
+    e = episodes[episode]
+    scene, last = traces[e].info.scene, traces[e].ticks[-1][0].tick
+    tick = _integer(table, "tick", where, traces[e].ticks[0][0].tick, last)
+    people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
+    person = _text(table, "person", where)
+    if person not in people:
+        raise QuestionsError(f"{where}: person {person!r} is not in {episode} (people: {', '.join(people)})")
+    ask = _text(table, "ask", where)
+    if ask not in ASKS:
+        raise QuestionsError(f"{where}: ask must be one of {', '.join(ASKS)}, got {ask!r}")
+    items = [i.id for i in scene.items]
+    names = {i.id: i.name or i.id for i in scene.items}
+    if ask == "belief":
+        if "goals" in table:
+            raise QuestionsError(f"{where}: goals is for ask = 'desire'; a belief question takes locations")
+        item = _text(table, "item", where)
+        if item not in items:
+            raise QuestionsError(f"{where}: item {item!r} is unknown (items: {', '.join(items)})")
+        places = _names(table, "locations", where, [loc.id for loc in scene.locations])
+        rooms = {r.id: r.name or r.id for r in scene.regions}
+        region = {loc.id: rooms.get(loc.region, loc.region) for loc in scene.locations}
+        targets = tuple(f"{item}@{p}" for p in places)
+        labels = tuple(f"{p} ({region[p]})" for p in places)
+        prompt = f"Where does {person} think the {names[item]} is?"
+    else:
+        if "item" in table or "locations" in table:
+            raise QuestionsError(f"{where}: item and locations are for ask = 'belief'; a desire takes goals")
+        targets = _names(table, "goals", where, [*items, OUT]) if "goals" in table else tuple(items)
+        labels = tuple("leave" if g == OUT else names[g] for g in targets)
+        prompt = f"How much does {person} want each of these?"
+    retrospective = table.get("retrospective", False)
+    if not isinstance(retrospective, bool):
+        raise QuestionsError(f"{where}: retrospective must be true or false, got {retrospective!r}")
+    if "show_until" in table:
+        show = _integer(table, "show_until", where, tick, last)
+    else:
+        show = last if retrospective else tick
+    if show != tick and not retrospective:
+        raise QuestionsError(f"{where}: show_until is for retrospective questions (retrospective = true)")
+    if retrospective:
+        prompt = prompt.replace("does", "did").replace("is?", "was?") + f" (at tick {tick})"
+    text = _text(table, "text", where, prompt)
+    return Question(qid, episode, e, tick, person, ask, targets, labels, retrospective, show, text)

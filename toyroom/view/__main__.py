@@ -1,0 +1,7 @@
+"""``python -m toyroom.view``: the viewer node (``toyroom view``)."""
+
+import sys
+
+from .viewer import main
+
+sys.exit(main())
