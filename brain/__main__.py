@@ -211,7 +211,7 @@ def run_node(
             )
             if args.record
             else nullcontext()
-        ),
+        ) as recorder,
     ):
         node = BrainNode(
             bridge,
@@ -239,6 +239,8 @@ def run_node(
                 out = args.out / folder if folder is not None else args.out
                 path = write_results(tracker, scenario, out, settings)
                 print(f"brain: wrote {path} and the report in {out}", flush=True)
+    if recorder is not None and recorder.error is not None:  # a full disk: the rest is lost
+        raise BrainError(f"--record: {recorder.error}")
 
 
 def episode_folders(scenarios: Sequence[str]) -> list[tuple[str, str]]:

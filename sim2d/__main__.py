@@ -261,6 +261,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if recorder is not None:
         recorder.close()
     node.close()
+    if recorder is not None and recorder.error is not None:  # a full disk: the rest is lost
+        print(f"sim2d: --record: {recorder.error}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -88,16 +88,23 @@ class McapRecorder(Recorder):
     def _flush_every(self) -> None:
         while not self._stop.wait(FLUSH_SECONDS):
             with self._lock:
-                if self._open:
-                    self._file.flush()
+                if self._open and self.error is None:
+                    try:
+                        self._file.flush()
+                    except OSError as err:
+                        self._failed(err)
 
     def _finish(self) -> None:
         self._stop.set()
         text = self._settings() if self._settings is not None else None
-        if text:  # the brain's settings, so that ``toyroom infer`` on the file reproduces its run
-            self._writer.add_metadata(SETTINGS_METADATA, {"toml": text})
-        self._writer.finish()
-        self._file.close()
+        try:
+            # the brain's settings, so that ``toyroom infer`` on the file reproduces its run
+            if text and self.error is None:
+                self._writer.add_metadata(SETTINGS_METADATA, {"toml": text})
+            if self.error is None:
+                self._writer.finish()
+        finally:
+            self._file.close()
 
 
 def read_mcap(path: Path) -> Iterator[Recorded]:

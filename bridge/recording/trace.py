@@ -50,7 +50,9 @@ def write_trace(messages: Iterable[tuple[str, Message]], target: Path) -> int:
 class Recorder:
     """Records every message of ``bridge``'s world, the engine's handshake first. A context
     manager; subclasses say how a message is stored (:meth:`_store`) and how the file ends
-    (:meth:`_finish`).
+    (:meth:`_finish`), in :attr:`path`. A write that fails (a full disk) ends the recording:
+    :attr:`error` says why, in one line, and the messages after it are dropped (not one
+    traceback per message); the caller says so.
 
     Args:
         bridge: an open bridge on the world.
@@ -58,8 +60,13 @@ class Recorder:
         timeout: seconds to wait for the engine's handshake.
     """
 
+    path: Path
+    """The file written."""
+
     def __init__(self, bridge: Bridge, *, info: EngineInfo | None = None, timeout: float = 30.0) -> None:
         self.count = 0
+        self.error: str | None = None
+        """Why the recording stopped being written (``None``: it did not)."""
         self._lock = threading.Lock()
         self._open = True
         self._subscriber = bridge.subscribe(bridge.keys.all, self._write)
@@ -75,9 +82,19 @@ class Recorder:
 
     def _write(self, message: Message, received: Received) -> None:
         with self._lock:
-            if self._open:
-                self._store(received.key, message)
+            if self._open and self.error is None:
+                try:
+                    self._store(received.key, message)
+                except OSError as err:
+                    self._failed(err)
+                    return
                 self.count += 1
+
+    def _failed(self, err: OSError) -> None:
+        """A write failed: the recording ends here (the first failure is the one said)."""
+        if self.error is None:
+            self.error = write_error(err, self.path)
+            log.debug("%s: the recording stops here", self.error)  # the caller reports it
 
     def close(self) -> None:
         """Stop recording and finish the file; safe to call twice."""
@@ -85,7 +102,10 @@ class Recorder:
         with self._lock:
             if self._open:
                 self._open = False
-                self._finish()
+                try:
+                    self._finish()
+                except OSError as err:  # its last records could not be written
+                    self._failed(err)
 
     def __enter__(self) -> Recorder:
         return self
@@ -101,34 +121,21 @@ def write_error(err: OSError, path: Path) -> str:
 
 
 class TraceRecorder(Recorder):
-    """Writes every message of a world to a ``trace.jsonl`` (flushed line by line). A write
-    that fails (a full disk) ends the recording: :attr:`error` says why, in one line, and
-    the messages after it are dropped (not one traceback per message); the caller says so."""
+    """Writes every message of a world to a ``trace.jsonl`` (flushed line by line)."""
 
     def __init__(
         self, bridge: Bridge, path: Path, *, info: EngineInfo | None = None, timeout: float = 30.0
     ) -> None:
         self.path = path
-        self.error: str | None = None
-        """Why the trace stopped being written (``None``: it did not)."""
         self._file: IO[str] = path.open("w", encoding="utf-8")
         super().__init__(bridge, info=info, timeout=timeout)
 
     def _store(self, key: str, message: Message) -> None:
-        if self.error is not None:
-            return
-        try:
-            self._file.write(trace_line(key, message) + "\n")
-            self._file.flush()
-        except OSError as err:
-            self.error = write_error(err, self.path)
-            log.debug("%s: the trace stops here", self.error)  # the caller reports it
+        self._file.write(trace_line(key, message) + "\n")
+        self._file.flush()
 
     def _finish(self) -> None:
-        try:
-            self._file.close()
-        except OSError as err:  # its last lines could not be written
-            self.error = self.error or write_error(err, self.path)
+        self._file.close()
 
 
 @dataclass(frozen=True)

@@ -176,6 +176,9 @@ def record_main(world: str, settings: SessionSettings, path: Path) -> int:
         print(f"toyroom record: world '{world}' to {path}", flush=True)
         wait_for_stop(stop)
         count = recorder.count
+    if recorder.error is not None:  # a full disk: what came after the failure is lost
+        print(f"toyroom record: {recorder.error}; kept the first {count} messages in {path}", file=sys.stderr)
+        return 1
     print(f"toyroom record: {count} messages in {path}")
     return 0
 

@@ -272,16 +272,16 @@ class Episode:
             brain = self._node(node_command("brain", self.world, self.settings, *brain_args), "brain.log")
             while brain.poll() is None:
                 self.stop.check()
-                if trace.error is not None:  # a full disk: nothing the run makes can be kept
-                    return Outcome(1, trace.error)
+                if (error := _write_error(trace, mcap)) is not None:  # a full disk: nothing can be kept
+                    return Outcome(1, error)
                 # after the last state the brain needs the engine no more: it finishes alone
                 if engine.poll() is not None and not ended.wait(0.5):
                     reason = f"the engine {exit_text(engine.returncode)} before the episode ended"
                     return Outcome(1, reason, infer=True, node=("engine", engine.returncode))
                 view.refresh(0.1)
             self.stop.event.wait(0.2)  # let the last messages reach the recorder
-        if trace.error is not None:
-            return Outcome(1, trace.error)
+        if (error := _write_error(trace, mcap)) is not None:
+            return Outcome(1, error)
         if brain.returncode != 0:
             reason = f"the brain {exit_text(brain.returncode)}{_last_line(out / 'brain.log')}"
             return Outcome(1, reason, node=("brain", brain.returncode))
@@ -294,6 +294,15 @@ class Episode:
                 file=sys.stderr,
             )
         return Outcome(0)
+
+
+def _write_error(*recorders: object) -> str | None:
+    """Why one of the run's recordings stopped being written (a full disk), or ``None``."""
+    for recorder in recorders:
+        error = getattr(recorder, "error", None)  # a recorder (nullcontext when not recording)
+        if error is not None:
+            return str(error)
+    return None
 
 
 def _brain_args(config: RunConfig, out: Path) -> list[str]:
