@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .arrays import FloatArray
-from .world import ABSENT, WorldModel
+from .world import ABSENT, WorldModel, is_held, location_of, value_of
 
 NOT_IN_VIEW = -1
 UNNOTICED = -2
@@ -36,7 +36,7 @@ about it, and the person's belief about it stays as it was."""
 @dataclass(frozen=True)
 class Percept:
     """What a person perceives at cell index ``cell``: per item, the value it shows
-    (``2 * location + held``), ``NOT_IN_VIEW`` or ``UNNOTICED``."""
+    (:func:`~brain.model.world.value_of`), ``NOT_IN_VIEW`` or ``UNNOTICED``."""
 
     cell: int
     seen: tuple[int, ...]
@@ -57,11 +57,11 @@ def true_values(
     for item in model.items:
         holder_cell = holders.get(item)
         if holder_cell is not None:
-            values.append(2 * int(model.nearest[holder_cell]) + 1)
+            values.append(value_of(int(model.nearest[holder_cell]), held=True))
         elif resting.get(item) is None and ABSENT in model.locations:
-            values.append(2 * model.locations.index(ABSENT))
+            values.append(value_of(model.locations.index(ABSENT)))
         else:
-            values.append(2 * model.locations.index(resting.get(item) or ""))
+            values.append(value_of(model.locations.index(resting.get(item) or "")))
     return tuple(values)
 
 
@@ -100,10 +100,10 @@ def _percept(
     for k, value in enumerate(truth):
         carrier = carriers[k] if k < len(carriers) else -1
         if own == k:
-            seen.append(2 * int(model.nearest[cell]) + 1)
-        elif value % 2 == 1 and carrier >= 0:
+            seen.append(value_of(int(model.nearest[cell]), held=True))
+        elif is_held(value) and carrier >= 0:
             seen.append(value if bool(model.sees_carrier(cell, np.array(carrier))) else NOT_IN_VIEW)
-        elif model.sees[cell, value // 2]:
+        elif model.sees[cell, location_of(value)]:
             seen.append(value)
         else:
             seen.append(NOT_IN_VIEW)
@@ -175,9 +175,9 @@ class BeliefModel:
         place), never a view of ``beliefs``."""
         model = self.model
         K, V = model.n_items, model.n_values
-        values = np.arange(V)
         seen = np.array(p.seen)[:, None]
-        may_change = (seen >= 0) | (model.sees[p.cell][values // 2][None, :] & (seen != UNNOTICED))  # (K, V)
+        visible = model.sees[p.cell][location_of(np.arange(V))][None, :]  # (1, V)
+        may_change = (seen >= 0) | (visible & (seen != UNNOTICED))  # (K, V)
         x = beliefs
         if predict:  # column j of g sums to 1 + r (|PW(j)| - 1)
             reach = np.where(may_change[np.arange(K)[None, :], model.worlds], float(V), 1.0).prod(axis=1)
@@ -226,7 +226,7 @@ class BeliefModel:
     def true_target(self, truth: tuple[int, ...], p: Percept) -> int:
         """The world an observer who assumes people know the true world puts them in."""
         values = np.array(truth)
-        own = [k for k, v in enumerate(p.seen) if v >= 0 and v % 2 == 1 and v != values[k]]
+        own = [k for k, v in enumerate(p.seen) if v >= 0 and is_held(v) and v != values[k]]
         for k in own:  # the person's own carried item counts at the person's location
             values[k] = p.seen[k]
         return int(self.model.world_index(values))

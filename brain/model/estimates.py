@@ -12,7 +12,7 @@ import numpy as np
 
 from .arrays import TIE, FloatArray, IntArray, first_max
 from .desires import Desires, DesireSummary
-from .world import WorldModel
+from .world import WorldModel, is_held, location_of
 
 OUT = "out"
 """The preference for leaving rather than playing."""
@@ -108,8 +108,8 @@ def estimate(
 
 def point_false_belief(beliefs: FloatArray, truth: tuple[int, ...]) -> FloatArray:
     """``(K,)`` for people each certain of one world: ``1 - P(believed at the true location)``
-    (``beliefs`` is ``(K, L)``; ``truth`` holds item values ``2 * location + held``)."""
-    true = np.array([value // 2 for value in truth], dtype=np.int64)
+    (``beliefs`` is ``(K, L)``; ``truth`` holds item values, :func:`~brain.model.world.value_of`)."""
+    true = location_of(np.array(truth, dtype=np.int64))
     return 1.0 - beliefs[np.arange(len(true)), true]
 
 
@@ -121,7 +121,7 @@ def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float)
     places false). With point beliefs this is ``1 - P(believed at the true location)``."""
     if est.hypotheses is None:
         return point_false_belief(est.beliefs, truth)
-    true = np.array([value // 2 for value in truth], dtype=np.int64)
+    true = location_of(np.array(truth, dtype=np.int64))
     weights, beliefs = est.hypotheses
     if weights.ndim == 2:  # per item (the factored model): (K, P) weights, (K, P, L) beliefs
         at_true = beliefs[np.arange(len(true)), :, true]  # (K, P)
@@ -138,7 +138,7 @@ def reread(est: Estimate, truth: tuple[int, ...], mass: float) -> Estimate:
 def world_text(model: WorldModel, world: int) -> str:
     """A world as text: ``skate@S1;ball@P2`` (``+held``: carried by someone near there)."""
     return ";".join(
-        f"{item}@{model.locations[value // 2]}{'+held' if value % 2 else ''}"
+        f"{item}@{model.locations[location_of(value)]}{'+held' if is_held(value) else ''}"
         for item, value in zip(model.items, model.worlds[world], strict=True)
     )
 

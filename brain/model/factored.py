@@ -49,7 +49,7 @@ from .planner import (
     play_action,
     value_iteration,
 )
-from .world import WorldModel, build_world_model
+from .world import HELD, RESTING, WorldModel, build_world_model, is_held, location_of, value_of
 
 NOTHING, WANTED, OTHER = 0, 1, 2
 """What a person holds, seen from one preference's MDP."""
@@ -74,7 +74,7 @@ def focus_transitions(model: WorldModel, focus: int | None) -> Transitions:
 
     def moved(cells: IntArray) -> IntArray:
         """The wanted item, when carried, follows its carrier to ``cells``."""
-        carried = 2 * model.nearest[cells] + 1 if focus is not None else v
+        carried = value_of(model.nearest[cells], held=True) if focus is not None else v
         return index(cells, h, np.where(h == WANTED, carried, v))
 
     fill_moves(model, c, nxt, kind, moved)
@@ -83,13 +83,13 @@ def focus_transitions(model: WorldModel, focus: int | None) -> Transitions:
     spot = model.spot_at[c]
     on_spot = spot >= 0
     if focus is not None and model.portable[focus]:  # a fixed item is never taken
-        ok = (h == NOTHING) & on_spot & (v == 2 * spot)
-        nxt[ok, TAKE + focus] = index(c[ok], np.full(ok.sum(), WANTED), 2 * spot[ok] + 1)
+        ok = (h == NOTHING) & on_spot & (v == value_of(spot))
+        nxt[ok, TAKE + focus] = index(c[ok], np.full(ok.sum(), WANTED), value_of(spot[ok], held=True))
         if model.have_goals:  # taking it is the goal: "have it"
             nxt[ok, TAKE + focus] = TERMINAL
             kind[ok, TAKE + focus] = HAVE
     drop = (h != NOTHING) & on_spot
-    dropped = np.where(h == WANTED, 2 * spot, v) if focus is not None else v
+    dropped = np.where(h == WANTED, value_of(spot), v) if focus is not None else v
     nxt[drop, drop_action(K)] = index(c[drop], np.zeros(drop.sum(), dtype=np.int64), dropped[drop])
     play = (h != NOTHING) & model.play_at[c]
     nxt[play, play_action(K)] = TERMINAL
@@ -173,7 +173,7 @@ class FactoredBeliefs:
         self.r = r
         self.delta = delta
         values = np.arange(model.n_values)
-        self.place = values // 2
+        self.place = location_of(values)
         self.same = values[:, None] == values[None, :]
 
     def transition(self, p: Percept) -> FloatArray:
@@ -216,7 +216,7 @@ class FactoredBeliefs:
         t = np.zeros((K, V, V))
         for k, value in enumerate(truth):
             seen = p.seen[k]
-            own = seen >= 0 and seen % 2 == 1 and seen != value  # the person's own carried item
+            own = seen >= 0 and is_held(seen) and seen != value  # the person's own carried item
             t[k, seen if own else value, :] = 1.0
         return t
 
@@ -303,7 +303,7 @@ def factored_intention(alpha: FloatArray, per_item: FloatArray) -> tuple[int | N
 def factored_estimate(model: WorldModel, posterior: FactoredPosterior, truth: tuple[int, ...]) -> Estimate:
     """The estimate (same fields as the exact model's) of a factored posterior."""
     alpha, b = posterior.alpha, posterior.beliefs
-    by_location = b[..., 0::2] + b[..., 1::2]  # (D, K, L): resting at l, or held near it
+    by_location = b[..., RESTING] + b[..., HELD]  # (D, K, L): resting at l, or held near it
     beliefs = np.einsum("d,dkl->kl", alpha, by_location)
     return Estimate(
         beliefs=beliefs,

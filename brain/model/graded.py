@@ -36,7 +36,7 @@ from .arrays import FloatArray
 from .belief import BeliefModel, Percept
 from .mixture import Beliefs, Mixture
 from .planner import Move
-from .world import WorldModel
+from .world import RESTING, VALUES_PER_LOCATION, WorldModel, location_of
 
 UPDATES = ("predict", "paper")
 """The person's own belief update: predict-then-correct (default), or the paper's literal
@@ -117,8 +117,8 @@ def prior_beliefs(
         ignorance: the prior weight, per item, of the uniform belief.
     """
     points, point_weights = initial_points(n_locations, resolution, ignorance)  # (P, L), (P,)
-    per_value = np.zeros((len(points), 2 * n_locations))
-    per_value[:, 0::2] = points  # resting at l has value 2 l
+    per_value = np.zeros((len(points), VALUES_PER_LOCATION * n_locations))
+    per_value[:, RESTING] = points
     n_items = worlds.shape[1]
     combos = hypothesis_combos(n_items, len(points))
     beliefs = np.ones((len(combos), len(worlds)))
@@ -157,7 +157,7 @@ class InitialBeliefs:
     def given(self, truth: tuple[int, ...]) -> FloatArray:
         """``(G,)`` the prior weights when the items' true values (``2 l + held``) are
         ``truth`` at the person's first sight: per item :func:`informed_weights`, multiplied."""
-        places = tuple(value // 2 for value in truth)
+        places = tuple(location_of(value) for value in truth)
         if places not in self._given:
             weights = np.ones(len(self.combos))
             for k, place in enumerate(places):
@@ -197,7 +197,7 @@ def drift(beliefs: FloatArray, n_items: int, n_values: int, mass: float) -> Floa
     if mass <= 0:
         return beliefs
     V, K = n_values, n_items
-    resting = np.arange(0, V, 2)
+    resting = np.arange(V)[RESTING]
     move = np.eye(V)
     move[:, resting] *= 1.0 - mass
     move[np.ix_(resting, resting)] += mass / len(resting)  # move[i, j]: from value j to i

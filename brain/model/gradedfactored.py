@@ -37,6 +37,7 @@ from .graded import choice_likelihood, informed_weights, initial_points
 from .inference import hazard_matrix, log_of
 from .personinterface import StepRecord
 from .planner import Move
+from .world import HELD, RESTING, location_of
 
 
 class GradedFactoredModel:
@@ -55,13 +56,14 @@ class GradedFactoredModel:
             self.model.n_locations, settings.prior_resolution, settings.ignorance
         )  # (P, L), (P,)
         self.initial = np.zeros((len(self.points), self.model.n_values))
-        self.initial[:, 0::2] = self.points  # resting at l has value 2 l
+        self.initial[:, RESTING] = self.points
 
     def prior(self, truth: tuple[int, ...]) -> FloatArray:
         """``(K, P)`` each item's hypotheses' prior weights given the true item values at the
         person's first sight (:func:`brain.model.graded.informed_weights`)."""
         ignorance, stale = self.settings.ignorance, self.settings.stale_share
-        return np.stack([informed_weights(self.points, ignorance, stale, value // 2) for value in truth])
+        places = [location_of(value) for value in truth]
+        return np.stack([informed_weights(self.points, ignorance, stale, place) for place in places])
 
     def new_filter(self) -> GradedFactoredFilter:
         K, P = self.model.n_items, len(self.initial)
@@ -128,7 +130,7 @@ class GradedFactoredModel:
         hypotheses whose own beliefs are ``beliefs`` ``(K, P, V)``."""
         model = self.model
         K = model.n_items
-        own = beliefs[..., 0::2] + beliefs[..., 1::2]  # (K, P, L) each hypothesis's own: resting + held
+        own = beliefs[..., RESTING] + beliefs[..., HELD]  # (K, P, L) each hypothesis's own: resting + held
         per_item = (weights.transpose(1, 0, 2) @ own).transpose(1, 0, 2)  # (D, K, L), batched over k
         est = Estimate(
             beliefs=np.tensordot(alpha, per_item, axes=1),

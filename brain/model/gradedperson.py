@@ -32,6 +32,7 @@ from .mixture import Beliefs, Mixture, certain, mixture_of, revised
 from .personinterface import StepRecord
 from .planner import Policy, cached_policy
 from .revisions import SharedRevisions
+from .world import value_of
 
 
 class GradedModel:
@@ -59,7 +60,7 @@ class GradedModel:
         ).astype(np.float64)
         """``(W, K, L)`` one where world ``w`` puts item ``k`` at location ``l``."""
         self.rest_of = (
-            (self.model.worlds[:, :, None] == 2 * np.arange(self.model.n_locations)[None, None, :])
+            (self.model.worlds[:, :, None] == value_of(np.arange(self.model.n_locations))[None, None, :])
             .reshape(self.model.n_worlds, -1)
             .astype(np.float64)
         )

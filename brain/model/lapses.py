@@ -37,7 +37,7 @@ from .arrays import TIE, first_max
 from .belief import UNNOTICED, Percept
 from .estimates import Estimate, mix
 from .personinterface import PersonFilter, PersonModel, StepRecord
-from .world import WorldModel
+from .world import WorldModel, is_held, location_of
 
 LAPSE_ROWS = 8
 """The heaviest rows a person's mixture keeps whatever the evidence (:func:`_merged`)."""
@@ -135,11 +135,11 @@ class LapseFilter:
         out = []
         assert row.beliefs is not None
         for k, value in enumerate(p.seen):
-            if value < 0 or value % 2 == 1 or k in row.missed:
+            if value < 0 or is_held(value) or k in row.missed:
                 continue
             if self.last is not None and self.last.seen[k] == value:
                 continue
-            if row.beliefs[k, value // 2] < 0.5 - TIE:  # (an even chance, to rounding, is not less)
+            if row.beliefs[k, location_of(value)] < 0.5 - TIE:  # (an even chance, to rounding, is not less)
                 out.append(k)
         return out
 
@@ -148,7 +148,7 @@ class LapseFilter:
         out = []
         assert row.beliefs is not None
         for k, value, chance in record.rumours:
-            if chance <= 0 or first_max(row.beliefs[k]) == value // 2:
+            if chance <= 0 or first_max(row.beliefs[k]) == location_of(value):
                 continue
             told_row = Row(
                 row.log_weight + float(np.log(chance)),

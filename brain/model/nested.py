@@ -26,7 +26,7 @@ import numpy as np
 
 from .arrays import FloatArray
 from .belief import UNNOTICED, Percept
-from .world import WorldModel
+from .world import RESTING, VALUES_PER_LOCATION, WorldModel, location_of
 
 
 def item_transitions(model: WorldModel, p: Percept, r: float, delta: float) -> FloatArray:
@@ -36,7 +36,7 @@ def item_transitions(model: WorldModel, p: Percept, r: float, delta: float) -> F
     V = model.n_values
     values = np.arange(V)
     seen = np.array(p.seen)[:, None]  # (K, 1)
-    visible = model.sees[p.cell][values // 2][None, :]  # (1, V): the value's place is in view
+    visible = model.sees[p.cell][location_of(values)][None, :]  # (1, V): the value's place is in view
     match = np.where(seen >= 0, values[None, :] == seen, (seen == UNNOTICED) | ~visible)  # (K, V)
     likelihood = np.where(match, 1.0 - delta, delta)
     may_change = (seen >= 0) | (visible & (seen != UNNOTICED))  # (K, V) by the old value j
@@ -132,10 +132,11 @@ class NestedBeliefs:
         if self.values is None:
             raise ValueError("no tick observed yet")
         model = self.model
-        return self.values.reshape(len(self.pairs), model.n_items, model.n_locations, 2).sum(axis=3)
+        shape = (len(self.pairs), model.n_items, model.n_locations, VALUES_PER_LOCATION)
+        return self.values.reshape(shape).sum(axis=3)
 
     def _resting(self, beliefs: FloatArray) -> FloatArray:
         """``(K, V)``: a ``(K, L)`` belief over locations as values, each at rest there."""
         out = np.zeros((self.model.n_items, self.model.n_values))
-        out[:, 0::2] = beliefs
+        out[:, RESTING] = beliefs
         return out

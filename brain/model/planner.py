@@ -31,7 +31,7 @@ from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
 from .desires import utilities
 from .goalvalues import solve_goals
-from .world import WorldModel, build_world_model
+from .world import WorldModel, build_world_model, value_of
 
 log = logging.getLogger(__name__)
 
@@ -123,7 +123,7 @@ def transitions(model: WorldModel) -> Transitions:
         out = worlds.copy()
         for k in range(K):
             mask = h == k + 1
-            out[mask] = model.with_value(worlds[mask], k, 2 * model.nearest[cells[mask]] + 1)
+            out[mask] = model.with_value(worlds[mask], k, value_of(model.nearest[cells[mask]], held=True))
         return out
 
     nxt = np.full((S, A), INFEASIBLE, dtype=np.int64)
@@ -134,27 +134,27 @@ def transitions(model: WorldModel) -> Transitions:
     spot = model.spot_at[c]
     on_spot = spot >= 0
     for k in [int(i) for i in np.flatnonzero(model.portable)]:  # a fixed item is never taken
-        ok = (h == 0) & on_spot & (model.worlds[w, k] == 2 * spot)
+        ok = (h == 0) & on_spot & (model.worlds[w, k] == value_of(spot))
         if model.have_goals:  # taking it is the goal: "have it"
             nxt[ok, TAKE + k] = TERMINAL
             kind[ok, TAKE + k] = HAVE
             continue
         nxt[ok, TAKE + k] = index(
-            c[ok], np.full(ok.sum(), k + 1), model.with_value(w[ok], k, 2 * spot[ok] + 1)
+            c[ok], np.full(ok.sum(), k + 1), model.with_value(w[ok], k, value_of(spot[ok], held=True))
         )
     allowed = model.allowed
     for k in range(K):
         ok = (h == k + 1) & on_spot
-        after = model.with_value(w[ok], k, 2 * spot[ok])
+        after = model.with_value(w[ok], k, value_of(spot[ok]))
         ok[ok] = allowed[after]  # a drop on a full spot is impossible
         nxt[ok, drop_action(K)] = index(
-            c[ok], np.zeros(ok.sum(), dtype=np.int64), model.with_value(w[ok], k, 2 * spot[ok])
+            c[ok], np.zeros(ok.sum(), dtype=np.int64), model.with_value(w[ok], k, value_of(spot[ok]))
         )
     play = (h > 0) & model.play_at[c]
     nxt[play, play_action(K)] = TERMINAL
     kind[play, play_action(K)] = 2
     for k in range(K):
-        use = model.use_at[c] & on_spot & (model.worlds[w, k] == 2 * spot)
+        use = model.use_at[c] & on_spot & (model.worlds[w, k] == value_of(spot))
         nxt[use, use_action(K, k)] = TERMINAL
         kind[use, use_action(K, k)] = 3
     return Transitions(next_state=nxt, terminal_kind=kind, held=h)

@@ -20,6 +20,7 @@ from protocol import RegionKind, Scene
 from ..errors import ModelTooLarge
 from ..settings import ModelSettings
 from .planner import n_actions
+from .world import VALUES_PER_LOCATION
 
 MAX_MODEL_BYTES = 2 * 2**30
 """2 GiB: the most the model's arrays of one scene may take. ``toyroom bench``'s largest
@@ -55,7 +56,7 @@ def model_size(scene: Scene, settings: ModelSettings) -> ModelSize:
     """The memory the model of ``scene`` under ``settings`` takes (see the module's note)."""
     C = len(scene.walkable())
     L = len(scene.locations) + any(item.absent for item in scene.items)
-    K, V = len(scene.items), 2 * L
+    K, V = len(scene.items), VALUES_PER_LOCATION * L
     A, W = n_actions(K), V**K
     graded = settings.belief_model == "graded"
     P = grid_points(L, settings.prior_resolution, settings.ignorance) if graded else 0

@@ -2,14 +2,16 @@
 what each cell sees.
 
 Shapes: ``C`` walkable cells, ``L`` item locations, ``K`` items, ``V = 2L`` values per item
-(``v = 2*l + held``: resting at location ``l``, or held by someone else near ``l``), and
-``W = V**K`` possible worlds. Everything is numpy arrays indexed by these integers.
+(``v = 2*l + held``: resting at location ``l``, or held by someone else near ``l``; named by
+:func:`value_of`, :func:`location_of`, :func:`is_held` and their kin), and ``W = V**K``
+possible worlds. Everything is numpy arrays indexed by these integers.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import overload
 
 import numpy as np
 
@@ -25,6 +27,68 @@ MOVE_STEPS = ((0, 1), (0, -1), (-1, 0), (1, 0))
 """The cell step of each move action, in action-index order (``Move.UP``, ``DOWN``, ``LEFT``,
 ``RIGHT``) as (d col, d row); rows grow upwards. The planner's alphabet, not the
 4-neighbourhood (:data:`protocol.NEIGHBOURS`)."""
+
+
+VALUES_PER_LOCATION = 2
+"""Item values per location: resting there, or held by someone near it (``V = 2L``)."""
+
+RESTING = slice(0, None, VALUES_PER_LOCATION)
+"""On an axis of ``V`` item values, the ``L`` resting ones in location order: a slice, so
+``beliefs[..., RESTING]`` is ``(..., L)`` (a view)."""
+
+HELD = slice(1, None, VALUES_PER_LOCATION)
+"""On an axis of ``V`` item values, the ``L`` held ones in location order (``(..., L)``)."""
+
+
+@overload
+def value_of(location: int, held: bool = False) -> int: ...
+@overload
+def value_of(location: IntArray, held: bool | BoolArray = False) -> IntArray: ...
+def value_of(location: int | IntArray, held: bool | BoolArray = False) -> int | IntArray:
+    """The value of an item resting at location index ``location`` (``held`` false) or held
+    by someone near it (true): ``2 l + held``. Elementwise on int64 arrays (``held`` a bool
+    or a bool array broadcasting with ``location``)."""
+    return VALUES_PER_LOCATION * location + held
+
+
+@overload
+def location_of(value: int) -> int: ...
+@overload
+def location_of(value: IntArray) -> IntArray: ...
+def location_of(value: int | IntArray) -> int | IntArray:
+    """The location index of item value(s) ``value`` (``v // 2``), held or not; elementwise
+    on int64 arrays (same shape)."""
+    return value // VALUES_PER_LOCATION
+
+
+@overload
+def is_held(value: int) -> bool: ...
+@overload
+def is_held(value: IntArray) -> BoolArray: ...
+def is_held(value: int | IntArray) -> bool | BoolArray:
+    """Whether item value(s) ``value`` are held by someone (``v`` odd); elementwise on int64
+    arrays (a bool array of the same shape)."""
+    return value % VALUES_PER_LOCATION == 1
+
+
+@overload
+def is_resting(value: int) -> bool: ...
+@overload
+def is_resting(value: IntArray) -> BoolArray: ...
+def is_resting(value: int | IntArray) -> bool | BoolArray:
+    """Whether item value(s) ``value`` rest at their location (``v`` even); elementwise on
+    int64 arrays (a bool array of the same shape)."""
+    return value % VALUES_PER_LOCATION == 0
+
+
+@overload
+def held_value(value: int) -> int: ...
+@overload
+def held_value(value: IntArray) -> IntArray: ...
+def held_value(value: int | IntArray) -> int | IntArray:
+    """The value of the same location as ``value``, held (``v | 1``); elementwise on int64
+    arrays (same shape)."""
+    return value | 1
 
 
 @dataclass(frozen=True)
@@ -84,7 +148,7 @@ class WorldModel:
 
     @property
     def n_values(self) -> int:
-        return 2 * len(self.locations)
+        return VALUES_PER_LOCATION * len(self.locations)
 
     @property
     def have_goals(self) -> bool:
@@ -110,7 +174,7 @@ class WorldModel:
     @cached_property
     def place(self) -> IntArray:
         """``(W, K)`` location index of every item in every world."""
-        return self.worlds // 2
+        return location_of(self.worlds)
 
     @cached_property
     def strides(self) -> IntArray:
@@ -124,17 +188,16 @@ class WorldModel:
         """``(K, V)`` the values each item may take on its own: every value, less "held" for a
         fixed item (``portable`` false) and "held at :data:`ABSENT`" for every item."""
         values = np.arange(self.n_values)
-        held = values % 2 == 1
-        ok = np.broadcast_to(~held, (self.n_items, self.n_values)) | self.portable[:, None]
+        ok = np.broadcast_to(is_resting(values), (self.n_items, self.n_values)) | self.portable[:, None]
         if self.locations and self.locations[-1] == ABSENT:
-            ok = ok & (values != 2 * (self.n_locations - 1) + 1)[None, :]
+            ok = ok & (values != value_of(self.n_locations - 1, held=True))[None, :]
         return np.ascontiguousarray(ok)
 
     @cached_property
     def allowed(self) -> BoolArray:
         """``(W,)`` the worlds no location's ``capacity`` rules out, with every item at a value
         :attr:`value_ok` allows (no fixed item held, no item held "at" :data:`ABSENT`)."""
-        resting = self.worlds % 2 == 0
+        resting = is_resting(self.worlds)
         ok = np.ones(len(self.worlds), dtype=bool)
         for loc in np.flatnonzero(self.capacity > 0):
             ok &= ((self.place == loc) & resting).sum(axis=1) <= self.capacity[loc]

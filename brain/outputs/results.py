@@ -30,7 +30,7 @@ from protocol import (
 from ..model.desires import DesireSummary
 from ..model.estimates import OUT, Estimate
 from ..model.nested import NestedBeliefs
-from ..model.world import WorldModel
+from ..model.world import WorldModel, is_held, location_of
 from ..tracking.tracker import MindTracker
 from .finite import check_estimate, check_rows
 from .groundtruth import load_ground_truth
@@ -134,7 +134,7 @@ def agent_mind(
         worlds=tuple(
             WorldBelief(
                 items=tuple(
-                    Placement(item, model.locations[v // 2], bool(v % 2))
+                    Placement(item, model.locations[location_of(v)], bool(is_held(v)))
                     for item, v in zip(model.items, model.worlds[w], strict=True)
                 ),
                 p=round(min(max(p, 0.0), 1.0), 6),

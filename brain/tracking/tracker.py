@@ -29,6 +29,7 @@ from ..model.personinterface import StepRecord
 from ..model.personmodel import person_model
 from ..model.planner import Move, play_action
 from ..model.revisions import SharedRevisions
+from ..model.world import held_value, value_of
 from ..settings import ModelSettings
 from .decisions import decided_action
 from .statecheck import check_items
@@ -182,9 +183,9 @@ class MindTracker:
             if event.kind is EventKind.SAY and event.target == agent and event.item in model.items:
                 k = model.items.index(event.item)
                 if event.location in model.locations:
-                    seen = told(seen, k, 2 * model.locations.index(event.location))
+                    seen = told(seen, k, value_of(model.locations.index(event.location)))
                 elif event.detail.startswith("occupied by "):
-                    seen = told(seen, k, truth[k] | 1)
+                    seen = told(seen, k, held_value(truth[k]))
         return seen
 
     def _observe_person(
@@ -263,7 +264,7 @@ class MindTracker:
             if est is not None:
                 places = np.argmax(est.beliefs, axis=1)
                 heard += [
-                    (k, 2 * int(places[k]))
+                    (k, value_of(int(places[k])))
                     for k in range(self.model.n_items)
                     if est.beliefs[k, places[k]] > 0.5
                 ]

@@ -22,7 +22,7 @@ import numpy as np
 from protocol import Event, EventKind, State
 
 from ..model.arrays import IntArray
-from ..model.world import ABSENT, WorldModel
+from ..model.world import ABSENT, WorldModel, is_resting, location_of, value_of
 
 CARRIED = -1
 
@@ -38,7 +38,7 @@ class WorldView:
 
     def __init__(self, model: WorldModel, absent: Sequence[int] = ()) -> None:
         self.model = model
-        resting = model.worlds[(model.worlds % 2 == 0).all(axis=1) & model.allowed] // 2  # (H, K)
+        resting = location_of(model.worlds[is_resting(model.worlds).all(axis=1) & model.allowed])  # (H, K)
         for k in absent:
             resting = resting[resting[:, k] == model.locations.index(ABSENT)]
         self.rows: IntArray = resting.astype(np.int64)
@@ -83,7 +83,7 @@ class WorldView:
         for k, item in enumerate(self.model.items):
             cell = holders.get(item)
             if cell is not None:
-                values.append(2 * int(self.model.nearest[cell]) + 1)
+                values.append(value_of(int(self.model.nearest[cell]), held=True))
             else:
-                values.append(2 * int(max(self.rows[row, k], 0)))
+                values.append(value_of(int(max(self.rows[row, k], 0))))
         return tuple(values)
