@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -91,9 +92,10 @@ class ModelSettings:
         hearsay: the rate (per second) at which someone in a person's region tells them where
             they believe an item is, unheard by the robot (rows of who was told what, like
             ``miss``); 0 (the default) turns it off.
-        forget: the rate (per second) at which a person's belief about each item drifts
-            toward uniform over the locations (graded beliefs in the exact model; what is in
-            view is put right by the next percept); 0 (the default): people never forget.
+        forget_per_s: the rate (per second) at which a person's belief about each item
+            drifts toward uniform over the locations (graded beliefs in the exact model; what
+            is in view is put right by the next percept); 0 (the default): people never
+            forget. Formerly ``forget`` (:data:`RENAMED`).
         nested_peek: the rate (per second) at which a person thinks another, out of their
             sight, may have come back and looked unseen (nested beliefs,
             :mod:`brain.model.nested`: their model of the other drifts toward their own
@@ -130,7 +132,7 @@ class ModelSettings:
     perception: str = "omniscient"
     miss: float = 0.0
     hearsay: float = 0.0
-    forget: float = 0.0
+    forget_per_s: float = 0.0
     nested_peek: float = 0.002
 
     def __post_init__(self) -> None:
@@ -156,7 +158,7 @@ class ModelSettings:
             "perception": self.perception in ("omniscient", "embodied"),
             "miss": 0.0 <= self.miss < 1.0,
             "hearsay": self.hearsay >= 0.0,
-            "forget": self.forget >= 0.0,
+            "forget_per_s": self.forget_per_s >= 0.0,
             "nested_peek": self.nested_peek >= 0.0,
             "vi_tolerance": self.vi_tolerance >= 0.0,
         }
@@ -186,7 +188,7 @@ ALLOWED = {
     "perception": "one of omniscient, embodied",
     "miss": "0 <= miss < 1",
     "hearsay": "hearsay >= 0",
-    "forget": "forget >= 0",
+    "forget_per_s": "forget_per_s >= 0",
     "nested_peek": "nested_peek >= 0",
     "vi_tolerance": "vi_tolerance >= 0",
 }
@@ -207,6 +209,22 @@ SECTIONS = {"model": ModelSettings, "robot": RobotSettings}
 them, so ``--set beta=3`` needs no table name; ``--set model.beta=3`` works too)."""
 
 
+RENAMED = {"forget": "forget_per_s"}
+"""Former names of settings, each read as its new name with a warning, so settings files
+and ``--set`` lines written before a rename keep working."""
+
+log = logging.getLogger(__name__)
+
+
+def current_name(name: str) -> str:
+    """``name``, or the new name of a setting :data:`RENAMED` (with a one-line warning)."""
+    new = RENAMED.get(name)
+    if new is None:
+        return name
+    log.warning("setting %r is now called %r: please use the new name", name, new)
+    return new
+
+
 def _field_types(cls: type) -> dict[str, type]:
     return {f.name: type(f.default) for f in dataclasses.fields(cls)}
 
@@ -222,12 +240,14 @@ def _value(section: str, name: str, value: object) -> object:
 
 
 def _section_of(name: str) -> tuple[str, str]:
-    """``(table, field)`` for ``name`` or ``table.name``."""
+    """``(table, field)`` for ``name`` or ``table.name`` (a former name read as the new one)."""
     if "." in name:
         section, _, field = name.partition(".")
+        field = current_name(field) if section in SECTIONS else field
         if section in SECTIONS and field in _field_types(SECTIONS[section]):
             return section, field
     else:
+        name = current_name(name)
         for section, cls in SECTIONS.items():
             if name in _field_types(cls):
                 return section, name
@@ -280,6 +300,8 @@ def load_settings(path: Path | None = None, overrides: Sequence[str] = ()) -> Se
             for name, value in table.items():
                 try:
                     section_, field = _section_of(f"{section}.{name}")
+                    if field in values[section_]:  # TOML refuses a key twice: a former name
+                        raise SettingsError(f"{section_}.{field} is set twice (once by a former name)")
                     values[section_][field] = _value(section_, field, value)
                 except SettingsError as err:
                     raise SettingsError(f"{path}: {err}") from None

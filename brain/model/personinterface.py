@@ -42,8 +42,9 @@ class StepRecord:
     switch: float
     decision: tuple[int, int, int] | None = None
     forget: float = 0.0
-    """The mass of each item's belief that drifted to uniform since the person's last step
-    (``ModelSettings.forget``; graded beliefs only)."""
+    """The mass (a probability) of each item's belief that drifted to uniform since the
+    person's last step: ``1 - exp(-forget_per_s * seconds)`` (``ModelSettings.forget_per_s``;
+    graded beliefs only)."""
     rumours: tuple[tuple[int, int, float], ...] = ()
     """``(item, value, probability)``: what someone in the person's region believes of an
     item, and the chance they told it since the last step (``ModelSettings.hearsay``)."""

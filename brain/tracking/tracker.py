@@ -244,7 +244,7 @@ class MindTracker:
     def _forgetting_due(self, track: PersonTrack, now: float) -> bool:
         """Whether a person who forgets has gone a decision time without a step (a percept
         step then lets their beliefs drift, so a long game of play is not a frozen mind)."""
-        if self.settings.forget <= 0 or track.last_step is None:
+        if self.settings.forget_per_s <= 0 or track.last_step is None:
             return False
         return now - track.last_step >= self.settings.decision_seconds
 
@@ -311,7 +311,7 @@ class MindTracker:
         if self.observer is Observer.PERCEPTONLY:
             likelihood, decision = None, None
         seconds = 0.0 if now is None or track.last_step is None else max(now - track.last_step, 0.0)
-        forget = float(1.0 - np.exp(-self.settings.forget * seconds))
+        forget = float(1.0 - np.exp(-self.settings.forget_per_s * seconds))
         track.last_step = now if now is not None else track.last_step
         for chain, percept_, truth in zip(track.chains, seen, truths, strict=True):
             record = StepRecord(

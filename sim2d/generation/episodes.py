@@ -174,7 +174,7 @@ def rich_autonomy(seed: int) -> list[str]:
     simple one of its seed)."""
     rng = np.random.default_rng([seed, 1])
     return [
-        f"forget = {rng.uniform(0.0002, 0.001):.5f}",
+        f"forget_per_tick = {rng.uniform(0.0002, 0.001):.5f}",
         f"miss = {rng.uniform(0.1, 0.4):.3f}",
         f"hearsay = {rng.uniform(0.01, 0.05):.4f}",
         f'search = "{("likely", "nearest")[int(rng.integers(2))]}"',

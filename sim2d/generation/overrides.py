@@ -10,14 +10,14 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ..errors import ScenarioError
-from ..scenario.autonomy import AUTONOMY_KEYS, parse_autonomy
+from ..scenario.autonomy import AUTONOMY_KEYS, current_key, parse_autonomy
 
 
 def parse_override(text: str) -> tuple[str, str]:
     """``NAME=VALUE`` as ``(name, value)``, the value a TOML value (``0.1``, ``[2, 8]``,
     ``"nearest"``). Raises ``ValueError`` naming an unknown key or a value TOML cannot read."""
     name, sep, value = text.partition("=")
-    name, value = name.strip(), value.strip()
+    name, value = current_key(name.strip()), value.strip()
     if not sep or not name or not value:
         raise ValueError(f"an autonomy override is NAME=VALUE, not {text!r}")
     if name not in AUTONOMY_KEYS:

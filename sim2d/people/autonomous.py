@@ -19,7 +19,7 @@ Their preference may change with a small probability per tick. They answer the r
 offered is worth more to them than the one they hold.
 
 Rich minds (:class:`~sim2d.scenario.autonomy.Autonomy`) are less tidy than the brain's model of them:
-they forget (``forget``), overlook items in view (``miss``: drawn once when an item comes
+they forget (``forget_per_tick``), overlook items in view (``miss``: drawn once when an item comes
 into view at a place, kept while it stays there), tell each other things (``hearsay``,
 :mod:`sim2d.people.hearsay`), look first where it is near (``search = "nearest"``), wander off
 (``wander``) and change their minds on the way (``replan``). With every knob at its default
@@ -144,7 +144,7 @@ class AutonomousPerson:
         return overlooked | {item for item, (_, noticed) in attention.items() if not noticed}
 
     def update(self, world: World) -> None:
-        self.belief.forget(self.autonomy.forget)
+        self.belief.forget(self.autonomy.forget_per_tick)
         self.perceive(world)
         busy = self.current is not None and (self.current.errand or self.current.do not in ("goto", "take"))
         if not busy and self.reconsider.check(pointless(self.pursuit, self.belief), world.tick, self.rng):

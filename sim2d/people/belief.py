@@ -7,7 +7,7 @@ carrier's location, as the brain reads it); an item not in view is not at any vi
 location, so the probability there moves to the locations out of view, in proportion to
 what they had. Speech replaces the belief about the item it names.
 
-Rich minds (``Autonomy.forget``, ``Autonomy.miss``) add two imperfections: an item the person
+Rich minds (``Autonomy.forget_per_tick``, ``Autonomy.miss``) add two imperfections: an item the person
 failed to notice is left out of the percept (its belief stays as it was), and beliefs drift
 toward uniform over the locations, which perception then corrects for what is in view.
 They may also start knowing where things are, or sure of a place an item has left

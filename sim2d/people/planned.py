@@ -93,7 +93,7 @@ class PlannedPerson(AutonomousPerson):
             if self.cell is not None:
                 self._seen(world, world.tick - 1)
             self.cell = cell
-        self.belief.forget(self.autonomy.forget)
+        self.belief.forget(self.autonomy.forget_per_tick)
         self.perceive(world)
         if self.doing is not None and not self._continue(world):
             return

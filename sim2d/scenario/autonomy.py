@@ -3,6 +3,7 @@ people themselves are :mod:`sim2d.people.autonomous` and :mod:`sim2d.people.plan
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -10,8 +11,22 @@ from typing import Any
 from ..errors import ScenarioError
 from .tables import check_keys
 
-RATES = ("switch", "mischief", "put_away", "forget", "miss", "hearsay", "wander", "replan", "knows", "stale")
+RATES = (
+    "switch",
+    "mischief",
+    "put_away",
+    "forget_per_tick",
+    "miss",
+    "hearsay",
+    "wander",
+    "replan",
+    "knows",
+    "stale",
+)
 """The probabilities of :class:`Autonomy`."""
+RENAMED = {"forget": "forget_per_tick"}
+"""Former keys of ``[autonomy]``, each read as its new key with a warning, so episodes
+written before a rename keep working."""
 SEARCH_ORDERS = ("likely", "nearest")
 PLANNERS = ("own", "model")
 AUTONOMY_KEYS = frozenset({*RATES, "play_ticks", "wait_ticks", "replan_lag", "search", "planner"})
@@ -30,9 +45,10 @@ class Autonomy:
     """Chance of putting an item away (and wanting something else) after playing with it."""
     play_ticks: tuple[int, int] = (60, 200)
     wait_ticks: tuple[int, int] = (20, 60)
-    forget: float = 0.0
+    forget_per_tick: float = 0.0
     """Rate per tick at which the belief about an item out of view drifts toward uniform
-    over the locations: ``p <- (1 - forget) p + forget / L``."""
+    over the locations: ``p <- (1 - forget_per_tick) p + forget_per_tick / L`` each tick
+    (formerly ``forget``)."""
     miss: float = 0.0
     """Chance that an item coming into view (at a location, not carried by the person) goes
     unnoticed for as long as it stays in view there: its belief is left as it was."""
@@ -88,13 +104,42 @@ def _rate(table: dict[str, Any], name: str) -> float:
     return float(value)
 
 
+log = logging.getLogger(__name__)
+
+
+def current_key(name: str) -> str:
+    """``name``, or the new key of an ``[autonomy]`` key :data:`RENAMED` (with a one-line
+    warning)."""
+    new = RENAMED.get(name)
+    if new is None:
+        return name
+    log.warning("autonomy setting %r is now called %r: please use the new name", name, new)
+    return new
+
+
+def _renamed(table: Any, path: Path) -> Any:
+    """``table`` (an ``[autonomy]`` table, when it is one) with former keys read as new ones.
+
+    Raises:
+        ScenarioError: a key set twice, by its name and a former one."""
+    if not isinstance(table, dict) or not RENAMED.keys() & table.keys():
+        return table
+    out: dict[str, Any] = {}
+    for name, value in table.items():
+        key = current_key(name)
+        if key in out:
+            raise ScenarioError(path, "autonomy", f"{key} is set twice (once by its former name)")
+        out[key] = value
+    return out
+
+
 def parse_autonomy(data: dict[str, Any], path: Path) -> Autonomy:
     """How autonomous people behave (a scenario's ``[autonomy]``; defaults when absent).
 
     Raises:
         ScenarioError: an unknown key, a probability outside [0, 1], a malformed tick pair...
     """
-    table = check_keys(data.get("autonomy", {}), AUTONOMY_KEYS, path, "autonomy")
+    table = check_keys(_renamed(data.get("autonomy", {}), path), AUTONOMY_KEYS, path, "autonomy")
     try:
         return Autonomy(
             **{name: _rate(table, name) for name in RATES if name in table},

@@ -167,3 +167,30 @@ def test_check_settings_refuses_a_beta_that_overflows(tmp_path: Path) -> None:
         f"expected exit 2 and one line, got {result.returncode}: {result.stderr!r}"
     )
     assert "beta=1e+308" in lines[0] and "1e6" in lines[0], f"expected the bound named, got {lines[0]!r}"
+
+
+def test_a_former_name_is_read_as_the_new_one_with_a_warning(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    path = tmp_path / "old.toml"
+    path.write_text("[model]\nforget = 0.01\n")
+    for settings in (
+        load_settings(path),
+        load_settings(None, ["forget=0.01"]),
+        load_settings(None, ["model.forget=0.01"]),
+    ):
+        assert settings.model == ModelSettings(forget_per_s=0.01), (
+            f"expected forget read as forget_per_s=0.01, got forget_per_s={settings.model.forget_per_s}"
+        )
+    warnings = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    assert len(warnings) == 3, f"expected one warning per use of the former name, got {warnings}"
+    assert all("'forget_per_s'" in w and "\n" not in w for w in warnings), (
+        f"expected one line naming forget_per_s, got {warnings}"
+    )
+
+
+def test_a_setting_given_by_both_its_names_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "both.toml"
+    path.write_text("[model]\nforget = 0.01\nforget_per_s = 0.02\n")
+    with pytest.raises(SettingsError, match=r"both\.toml: model\.forget_per_s is set twice"):
+        load_settings(path)

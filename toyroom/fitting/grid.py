@@ -12,7 +12,7 @@ import itertools
 from collections.abc import Mapping, Sequence
 
 from brain.errors import SettingsError
-from brain.settings import ModelSettings
+from brain.settings import ModelSettings, current_name
 
 GRIDS: dict[str, tuple[float, ...]] = {
     "beta": (0.5, 1.0, 2.0, 4.0),
@@ -24,7 +24,7 @@ GRIDS: dict[str, tuple[float, ...]] = {
     "step_cost": (0.1, 1.0, 3.0),
     "miss": (0.0, 0.1, 0.3),
     "hearsay": (0.0, 0.1, 0.3),
-    "forget": (0.0, 0.003, 0.01),
+    "forget_per_s": (0.0, 0.003, 0.01),
 }
 """The default grid of each parameter ``toyroom fit --params`` may name."""
 
@@ -40,7 +40,7 @@ def parse_grid(params: str, overrides: Sequence[str] = ()) -> dict[str, tuple[fl
         SettingsError: naming a parameter that cannot be fitted or a value that is not a
             number, or an override of a parameter not in ``params``.
     """
-    names = [n.strip() for n in params.split(",") if n.strip()]
+    names = [current_name(n.strip()) for n in params.split(",") if n.strip()]
     unknown = [n for n in names if n not in GRIDS]
     if unknown or not names:
         raise SettingsError(
@@ -49,7 +49,7 @@ def parse_grid(params: str, overrides: Sequence[str] = ()) -> dict[str, tuple[fl
     grid = {n: GRIDS[n] for n in names}
     for text in overrides:
         name, sep, values = text.partition("=")
-        name = name.strip()
+        name = current_name(name.strip())
         if not sep or name not in grid:
             raise SettingsError(
                 f"--grid {text!r}: expected NAME=V1,V2,... with NAME one of {', '.join(grid)}"

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from brain.errors import SettingsError
-from brain.settings import ModelSettings
+from brain.settings import ModelSettings, current_name
 
 from .grid import Point
 from .replay import CHEAP
@@ -75,7 +75,7 @@ BOUNDS: dict[str, Bound] = {
     "miss": Bound(1e-3, 0.5),  # 0 <= miss < 1 (per item coming into view); above 0.5 a lapse
     # would be likelier than a sight, and its row would outweigh the noticed one from birth
     "hearsay": Bound(1e-3, 10.0),  # >= 0 (per second per pair)
-    "forget": Bound(1e-5, 0.1),  # >= 0 (per second)
+    "forget_per_s": Bound(1e-5, 0.1),  # >= 0 (per second)
 }
 """Each fittable parameter's range for the optimiser (see the module docstring); every
 parameter of :data:`toyroom.fitting.grid.GRIDS` has one. ``--bounds NAME=LO,HI`` replaces one."""
@@ -91,7 +91,7 @@ def parse_bounds(names: Sequence[str], overrides: Sequence[str] = ()) -> dict[st
     bounds = {n: BOUNDS[n] for n in names}
     for text in overrides:
         name, sep, values = text.partition("=")
-        name = name.strip()
+        name = current_name(name.strip())
         parts = values.split(",")
         if not sep or name not in bounds or len(parts) != 2:
             raise SettingsError(

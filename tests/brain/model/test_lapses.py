@@ -154,11 +154,11 @@ def test_rumours_come_from_the_others_in_the_region() -> None:
 
 
 def test_a_forgetful_person_standing_still_still_steps() -> None:
-    """With ``forget`` a person who stands still gets a percept step every decision time,
+    """With ``forget_per_s`` a person who stands still gets a percept step every decision time,
     so their beliefs drift while they play or wait (not only when they next move)."""
     counts = {}
     for rate in (0.0, 0.1):
-        tracker = MindTracker(corridor_scene(), ModelSettings(forget=rate))
+        tracker = MindTracker(corridor_scene(), ModelSettings(forget_per_s=rate))
         for tick in range(12):  # 0.7 s a tick: 7.7 s standing at the same cell
             tracker.observe(corridor_state(tick, 5, robot=3, ball_at="B"), [])
         counts[rate] = len(tracker.tracks["p"].steps)

@@ -1,4 +1,4 @@
-"""Rich simulated minds (``Autonomy.forget / miss / hearsay / search / wander / replan /
+"""Rich simulated minds (``Autonomy.forget_per_tick / miss / hearsay / search / wander / replan /
 knows / stale``), each
 knob on a hand-built case, and the guarantee that simple minds are unchanged."""
 
@@ -46,7 +46,7 @@ def test_forgetting_drifts_toward_uniform_and_perception_puts_it_right() -> None
 
 
 def test_a_forgetful_person_grows_unsure_of_what_is_out_of_view() -> None:
-    engine = engine_with(forget=0.01, mischief=0.0)
+    engine = engine_with(forget_per_tick=0.01, mischief=0.0)
     for _ in range(200):
         engine.step()
     world = engine.world
@@ -203,7 +203,7 @@ def test_simple_minds_are_the_same_draw_for_draw() -> None:
     explicit = dataclasses.replace(
         scenario,
         autonomy=dataclasses.replace(
-            scenario.autonomy, forget=0.0, miss=0.0, hearsay=0.0, wander=0.0, replan=0.0
+            scenario.autonomy, forget_per_tick=0.0, miss=0.0, hearsay=0.0, wander=0.0, replan=0.0
         ),
     )
     assert story(Engine(scenario, seed=2)) == story(Engine(explicit, seed=2))

@@ -7,7 +7,7 @@ import pytest
 
 from brain.errors import SettingsError
 from brain.settings import ModelSettings
-from toyroom.fitting.grid import GRIDS
+from toyroom.fitting.grid import GRIDS, parse_grid
 from toyroom.fitting.optimise import BOUNDS, Bound, parse_bounds, refinement_lines
 
 
@@ -67,3 +67,12 @@ def test_the_report_section_gives_both_points_and_the_count() -> None:
     text = "\n".join(lines)
     assert "| grid | miss=0.2 | -100.000 |" in text and "| optimiser | miss=0.1234 | -98.500 |" in text
     assert "17 points evaluated" in text and "converged: yes" in text
+
+
+def test_a_former_name_fits_the_renamed_parameter() -> None:
+    grid = parse_grid("beta,forget", ["forget=0,0.01"])
+    assert grid == {"beta": GRIDS["beta"], "forget_per_s": (0.0, 0.01)}, (
+        f"expected forget read as forget_per_s, got {grid}"
+    )
+    bounds = parse_bounds(["forget_per_s"], ["forget=0.001,0.01"])
+    assert bounds["forget_per_s"] == Bound(0.001, 0.01), f"expected Bound(0.001, 0.01), got {bounds}"
