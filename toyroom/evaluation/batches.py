@@ -107,6 +107,7 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
                 finished = _run_kind(specs, world, settings, folder, engine)
                 result.seconds.append((time.monotonic() - started) / len(specs))
                 for i, spec in enumerate(specs):
+                    NODES.check()  # stopped: no more scoring (seconds a run, under load)
                     scored = _scored(spec, folder / spec.scenario.stem, truths) if i < finished else None
                     current = result.scores[i]
                     if scored is None or current is None:

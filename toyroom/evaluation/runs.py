@@ -230,6 +230,7 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
         }
         results[MOTION] = _score(guessed, truth, outcome)
     for observer in spec.shadows:
+        NODES.check()  # stopped: no more scoring
         shadow = read_minds(shadow_dir, observer)
         check_complete(tag, observer, shadow, record.truths)
         results[observer] = _score(shadow, truth, outcome)
