@@ -131,7 +131,7 @@ def _network_args(settings: SessionSettings) -> list[str]:
 
 CHECKOUT = Path(__file__).resolve().parents[1]
 """The source checkout this package runs from (when it does: an installed wheel has no
-``bench/`` or ``examples/`` beside it)."""
+``examples/`` or the C# SDK beside it)."""
 
 
 def source_file(relative: str, what: str = "") -> Path:

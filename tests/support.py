@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import importlib.util
 import socket
 import subprocess
 import sys
 from pathlib import Path
+from types import ModuleType
 
 from protocol import BY_TAG, Message, decode
 from protocol.examples import example_paths
@@ -212,3 +214,18 @@ class CSharpEngineProcess(EngineProcess):
 
         csharp.export_scenario(scenario, folder)
         self._start(csharp.engine_command(url, folder, "--scenario", scenario, *args))
+
+
+STUDIES = Path(__file__).resolve().parents[1] / "studies"
+
+
+def study(name: str) -> ModuleType:
+    """``studies/NAME.py`` imported as the module ``NAME`` (a script, not a package; it is
+    registered in ``sys.modules`` first, as its dataclasses look their module up)."""
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, STUDIES / f"{name}.py")
+        assert spec is not None and spec.loader is not None, f"no study {STUDIES / name}.py"
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]

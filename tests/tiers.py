@@ -51,7 +51,7 @@ STARTERS = frozenset(
         "evaluate",
         "run_doctor",
         "run_and_read",
-        "eval_cpu",
+        "study",
         "bench",
         "run_batch",
         "generate_all",

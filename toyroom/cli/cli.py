@@ -176,7 +176,7 @@ def _infer_command(command: Command) -> None:
 
 def _bench_command(command: Command) -> None:
     """``toyroom bench``'s options."""
-    bench = command("bench", "measure the transport, lock-step and brain speeds in one run (source checkout)")
+    bench = command("bench", "measure the transport, lock-step and brain speeds in one run")
     bench.add_argument("--quick", action="store_true", help="fewer repeats and houses (under 3 minutes)")
     bench.add_argument(
         "--out", type=Path, default=Path("out/bench"), help="directory for bench.json and plots"

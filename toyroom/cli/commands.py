@@ -274,11 +274,8 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from bridge.processes import source_file
-
-    suite = source_file("bench/suite.py")
     quick = ["--quick"] if args.quick else []
-    os.execv(sys.executable, [sys.executable, str(suite), *quick, "--out", str(args.out)])
+    os.execv(sys.executable, [sys.executable, "-m", "toyroom.bench", *quick, "--out", str(args.out)])
     return 0  # pragma: no cover - execv does not return
 
 

@@ -1,36 +1,21 @@
-"""``bench/agreement_diagnosis.py`` on a tiny case: simulated people rated from their true
+"""``studies/diagnose_agreement.py`` on a tiny case: simulated people rated from their true
 beliefs and utilities, the observer's configurations read on the same episodes and paired.
 The study's numbers (24 episodes) are in docs/fitting.md, "Why graded desires and the
 belief-space planner lower agreement"."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[3]
-
-
-def bench() -> object:
-    spec = importlib.util.spec_from_file_location(
-        "agreement_diagnosis", ROOT / "bench" / "agreement_diagnosis.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
+from support import study
 
 
 @pytest.mark.timeout(120)
 def test_configurations_read_on_the_same_episodes() -> None:
-    module = bench()
+    module = study("diagnose_agreement")
     configs = "qmdp-graded,belief-graded,qmdp-favourite"
-    numbers = module.main(["--episodes", "2", "--ticks", "300", "--raters", "3", "--configs", configs])  # type: ignore[attr-defined]
+    numbers = module.main(["--episodes", "2", "--ticks", "300", "--raters", "3", "--configs", configs])
     ratings = numbers["ratings"]
     assert set(ratings) == {*configs.split(","), "differences"}, list(ratings)
     assert set(ratings["differences"]) == {
@@ -48,7 +33,7 @@ def test_configurations_read_on_the_same_episodes() -> None:
 
 
 def test_a_configuration_names_a_planner_and_desires() -> None:
-    config = bench().Config  # type: ignore[attr-defined]
+    config = study("diagnose_agreement").Config
     assert config.parse("belief-graded-5-unique") == config(
         "belief-graded-5-unique", "belief", "graded", 5, True
     )

@@ -1,39 +1,26 @@
-"""The synthetic-ratings study (``bench/synthetic_ratings.py``) on a tiny case: people who act
+"""The synthetic-ratings study (``studies/rate_synthetic_people.py``) on a tiny case: people who act
 by the brain's planner with graded desires on the paper map, raters whose 1-7 ratings are a
 noisy monotone function of the generating model's smoothed beliefs at the start and
 utilities, then ``toyroom fit --judgments`` comparing graded desires with one favourite.
 
 Four short episodes keep this to seconds; the study's numbers (16 episodes, beta recovered
 within 25%, the paired interval of graded minus one favourite) are in docs/fitting.md, from
-``python bench/synthetic_ratings.py``."""
+``python studies/rate_synthetic_people.py``."""
 
 from __future__ import annotations
 
 import csv
-import importlib.util
-import sys
 from collections import Counter
 from pathlib import Path
-from types import ModuleType
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[3]
-
-
-def bench(name: str = "synthetic_ratings") -> ModuleType:
-    spec = importlib.util.spec_from_file_location(name, ROOT / "bench" / f"{name}.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
+from support import study
 
 
 @pytest.mark.timeout(120)
 def test_graded_people_rated_by_the_generating_model(tmp_path: Path) -> None:
     args = ["--episodes", "4", "--ticks", "300", "--raters", "3", "--grid", "2,4", "--folds", "2"]
-    numbers = bench().main([*args, "--workers", "1", "--out", str(tmp_path)])
+    numbers = study("rate_synthetic_people").main([*args, "--workers", "1", "--out", str(tmp_path)])
     with (tmp_path / "ratings.csv").open(newline="") as handle:
         rows = list(csv.DictReader(handle))
     assert rows and set(rows[0]) == {
@@ -62,7 +49,7 @@ def test_graded_people_rated_by_the_generating_model(tmp_path: Path) -> None:
         f"graded desires should agree better with ratings of graded people's utilities: {difference} "
         f"(graded {graded['r']['smoothed utility']}, one favourite {favourite['r']['smoothed utility']})"
     )
-    diagnosis = bench("ratings_diagnosis").main([str(tmp_path)])
+    diagnosis = study("diagnose_ratings").main([str(tmp_path)])
     for model in ("graded", "favourite"):
         rows = diagnosis[model]
         assert 0.0 <= rows["favourite found"] <= 1.0 and rows["rating ~ utility"] > 0.5, f"{model}: {rows}"

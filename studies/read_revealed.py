@@ -11,7 +11,7 @@ A walk to an empty place says that the person believes *something they want* is 
 which item: with the desire unknown, P(false belief about item k) cannot pass P(wants k), so the
 last column bounds what behaviour alone could show in the stretch.
 
-    python bench/revealed_reading.py [--seed 5] [--episodes 18] [--set miss=0.2 ...] [--out DIR]
+    python studies/read_revealed.py [--seed 5] [--episodes 18] [--set miss=0.2 ...] [--out DIR]
 
 The default seed (5) is not the one the evaluation reports (1): read settings off this, report
 them on that.

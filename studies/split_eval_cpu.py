@@ -7,7 +7,7 @@ A node's CPU is its last sample before it exits, taken every 20 ms, so it may mi
 much. With ``toyroom eval``'s two workers on a 2-core machine, the wall seconds per episode can
 be no lower than about half the episode's CPU seconds printed here.
 
-    python bench/eval_cpu.py [--seed 1] [--episodes 3]
+    python studies/split_eval_cpu.py [--seed 1] [--episodes 3]
 """
 
 from __future__ import annotations

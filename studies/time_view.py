@@ -4,7 +4,7 @@ and p99 time of one frame (moving every body) and of one redraw of the brain's e
 moves bodies at most 30 times a second (33 ms each) and redraws estimates at most 5 times a
 second (200 ms), so it keeps up while each takes less.
 
-    python bench/view_bench.py
+    python studies/time_view.py
 """
 
 from __future__ import annotations

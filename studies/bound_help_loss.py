@@ -13,7 +13,7 @@ item they wanted, read off the truth and ``events.csv``:
   from where it stood (what an omniscient, instant decider could do);
 - ``begin``: the tick the acting robot began a task about the item (``-``: none).
 
-    python bench/help_loss.py [--seed 303] [--episodes 14] [--tasks moved,...] [--perception embodied]
+    python studies/bound_help_loss.py [--seed 303] [--episodes 14] [--tasks moved,...] [--perception embodied]
 
 The summary splits the mean ticks to the goal (counted from tick 0, as the evaluation's
 ``ticks_to_goal_fb``) of ``none`` into: before the false belief, the walk no telling saves

@@ -1,5 +1,5 @@
 """Why graded desires and the belief-space planner agree with ratings as they do: on episodes
-of simulated people (``bench/synthetic_ratings.py``'s: the paper map, two people who act by
+of simulated people (``studies/rate_synthetic_people.py``'s: the paper map, two people who act by
 the planner, graded desires by default), ratings made from the people's TRUE beliefs and
 utilities, and several observer configurations read on the same episodes, paired.
 
@@ -32,7 +32,7 @@ squared difference per item and location; mean entropy in bits per person and it
 share of person-items the estimate is sure of (max above 0.95) where the truth is not, and
 the reverse); and the episodes that carry the largest paired differences.
 
-    python bench/agreement_diagnosis.py [--episodes 24] [--seed 0] [--ticks 1000]
+    python studies/diagnose_agreement.py [--episodes 24] [--seed 0] [--ticks 1000]
         [--people graded] [--configs qmdp-graded,belief-graded,qmdp-favourite,belief-favourite]
         [--json FILE]
 """
@@ -70,8 +70,8 @@ SURE = 0.95
 
 
 def _synthetic() -> ModuleType:
-    """``bench/synthetic_ratings.py`` (a sibling script, not a package)."""
-    name = "synthetic_ratings"
+    """``studies/rate_synthetic_people.py`` (a sibling script, not a package)."""
+    name = "rate_synthetic_people"
     if name not in sys.modules:
         spec = importlib.util.spec_from_file_location(name, Path(__file__).with_name(f"{name}.py"))
         assert spec is not None and spec.loader is not None

@@ -1,24 +1,22 @@
-"""A lock-step engine's reply path without the engine, for ``bench/lockstep_bench.py``:
+"""A lock-step engine's reply path without the engine, for :mod:`toyroom.bench.lockstep`:
 answers every ``Step`` on the world's control key through the bridge's typed queryable (in
 Zenoh's callback thread, as sim2d's lock-step engine does) with one fixed reply carrying a
 ``paper-auto`` state. What a tick costs beyond this is the engine's own work.
 
-    python bench/typed_echo.py WORLD     (stops when stdin closes)
+    python -m toyroom.bench.typed_echo WORLD     (stops when stdin closes)
 """
 
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from bridge import Bridge  # noqa: E402
-from protocol import ControlReply, Message, Step  # noqa: E402
-from sim2d.engine import Engine  # noqa: E402
+from bridge import Bridge
+from protocol import ControlReply, Message, Step
+from sim2d.engine import Engine
 
 
 def main(world: str) -> None:
+    """Answer on ``world`` until stdin closes."""
     engine = Engine("paper-auto")
     for _ in range(50):
         engine.step()

@@ -6,14 +6,15 @@
   processes (as the brain and the engine are); a raw query between two processes and the
   bridge's typed query answered with a fixed state and no engine (``typed_query_us``), both
   interleaved with the lock-step tick (``interleaved``: the ratios to the raw query per
-  round of blocks, and the CPU each side spends per round trip; ``bench/lockstep_bench.py``);
+  round of blocks, and the CPU each side spends per round trip; :mod:`.lockstep`);
   and the engine core's tick alone (``engine_step_vs_review``: against the review's commit,
-  interleaved);
+  interleaved, :mod:`.engine_ab`; in a source checkout only);
 - ``bridge_rtt_us``: the same through the bridge's typed messages (encode, decode);
 - ``lockstep_tick_us`` / ``lockstep_ticks_per_s``: a lock-step client asks a sim2d engine
   process for one tick and gets its state back;
 - ``gateway``: a query answered through ``toyroom gateway``, and a lock-step tick of the grid
-  engine over Zenoh, through the gateway, and of the C# engine (``bench/gateway_bench.py``);
+  engine over Zenoh, through the gateway, and of the C# engine (:mod:`.gateway`; the engines'
+  ticks need a source checkout);
 - ``eval_seconds_per_episode``: ``toyroom eval``'s wall seconds per episode with its defaults
   (2 workers; 20 episodes, two batches of 10 as a long sweep runs them, 2 with ``--quick``),
   ``eval_timing`` how they split into runs;
@@ -24,19 +25,17 @@
 - ``scaling``: the brain on a family of generated houses from 4 rooms and 2 items to 10 (12)
   rooms and 6 items, exact or factored as it runs by default, with ``tv_vs_exact`` wherever
   the exact model fits; ``paper_tv_vs_exact`` the same on the paper map's scenarios
-  (``bench/scaling.py``).
+  (:mod:`.scaling`).
 
 It prints tables and writes ``DIR/bench.json``, ``DIR/perf.md`` and ``DIR/scaling.png``
-(``bench/perfreport.py``: docs/performance.md).
+(:mod:`.perfreport`: docs/performance.md).
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import subprocess
-import sys
 import tempfile
 import threading
 import time
@@ -45,29 +44,19 @@ from pathlib import Path
 from typing import Any
 
 import zenoh
-from rich.console import Console
-from rich.table import Table
 
-sys.path.insert(0, str(Path(__file__).parent))
+from bridge import Bridge
+from bridge.processes import CHECKOUT
+from bridge.session import SessionSettings, build_config
+from protocol import State, encode
+from sim2d.engine import Engine
 
-import brain_bench  # noqa: E402
-import engine_ab  # noqa: E402
-import gateway_bench  # noqa: E402
-import lockstep_bench  # noqa: E402
-import perfreport  # noqa: E402
-import scaling  # noqa: E402
-
-from bridge import Bridge  # noqa: E402
-from bridge.session import SessionSettings, build_config  # noqa: E402
-from protocol import State, encode  # noqa: E402
+from . import brainstep, engine_ab, gateway, lockstep, perfreport, scaling, summary
 
 
-def percentile(values: list[float], q: float) -> float:
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(q * (len(ordered) - 1)))]
-
-
-def ping_pong(send: Any, wait: threading.Event, payload: bytes, rounds: int) -> list[float]:
+def ping_pong(send: Any, wait: threading.Event, payload: Any, rounds: int) -> list[float]:
+    """Seconds of each of ``rounds`` round trips: ``send(payload)``, then ``wait`` set (a
+    round trip not back within 2 s is left out)."""
     times = []
     for _ in range(rounds):
         wait.clear()
@@ -101,9 +90,9 @@ def zenoh_rtt(rounds: int, payload: bytes) -> list[float]:
 def cross_process(rounds: int, payload: bytes) -> list[float]:
     """Raw zenoh-python publication ping-pong with an echo peer in another process (as the
     brain and the engine are); the raw query is measured interleaved with the lock-step tick
-    (:mod:`lockstep_bench`)."""
+    (:mod:`.lockstep`)."""
     world = f"bench{uuid.uuid4().hex[:6]}"
-    echo = lockstep_bench.start_echo("echo.py", world)
+    echo = lockstep.start_echo("echo", world)
     session = zenoh.open(build_config(world, SessionSettings()))
     try:
         back = threading.Event()
@@ -116,13 +105,12 @@ def cross_process(rounds: int, payload: bytes) -> list[float]:
         return ping_pong(ping.put, back, payload, rounds)
     finally:
         session.close()
-        lockstep_bench.stop(echo)
+        lockstep.stop(echo)
 
 
 def engine_step(rounds: int) -> list[float]:
-    """The engine core's tick on ``paper-auto`` in this process (no network)."""
-    from sim2d.engine import Engine
-
+    """Seconds of each of ``rounds`` ticks of the engine core on ``paper-auto`` in this
+    process (no network)."""
     engine = Engine("paper-auto")
     for _ in range(50):
         engine.step()
@@ -136,16 +124,21 @@ def engine_step(rounds: int) -> list[float]:
 
 REVIEW_COMMIT = "83c38ee"
 """The commit the review measured (``../shared/REVIEW.md``): the engine's tick is compared
-with its, interleaved in this run (``bench/engine_ab.py``)."""
+with its, interleaved in this run (:mod:`.engine_ab`)."""
 
 
 def engine_against_review() -> dict[str, Any] | None:
     """The engine's tick on ``paper-auto`` now and at :data:`REVIEW_COMMIT`, interleaved
-    (``None`` where git or that commit is missing, as in an exported tree)."""
+    (``None``, said in one line, where there is no git checkout, as in an installed wheel,
+    or that commit is missing, as in an exported tree)."""
+    if not (CHECKOUT / ".git").exists():
+        print(
+            "engine against the review's commit: skipped (needs a source checkout: "
+            f"{CHECKOUT} is not a git checkout)"
+        )
+        return None
     try:
         with tempfile.TemporaryDirectory(prefix="toyroom-ab-") as folder:
-            from sim2d.engine import Engine
-
             then = engine_ab.other_engine(REVIEW_COMMIT, Path(folder))
             return {"commit": REVIEW_COMMIT, **engine_ab.compare(then, Engine, "paper-auto")}
     except (OSError, subprocess.CalledProcessError) as err:
@@ -196,21 +189,32 @@ def eval_speed(episodes: int) -> dict[str, Any]:
 
 
 def main(quick: bool, out: Path) -> dict[str, Any]:
-    rounds = 300 if quick else 2000
-    from sim2d.engine import Engine  # only to make a state of the paper map's size
+    """Every number (``quick``: fewer rounds, repeats and houses), printed as a table and
+    written to ``out``: ``bench.json``, ``perf.md`` and ``scaling.png``."""
+    numbers = measure(quick)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "bench.json").write_text(json.dumps(numbers, indent=2) + "\n")
+    summary.show(numbers)
+    perfreport.write(out / "bench.json")
+    print(f"wrote {out / 'bench.json'}, {out / 'perf.md'} and {out / 'scaling.png'}")
+    return numbers
 
+
+def measure(quick: bool) -> dict[str, Any]:
+    """Every number of ``bench.json`` (times in the units their names say)."""
+    rounds = 300 if quick else 2000
     state = Engine("paper-robot").state()
     payload = encode(state)
     zenoh_times = zenoh_rtt(rounds, payload)
     bridge_times = bridge_rtt(rounds, state)
     pubsub_times = cross_process(rounds, payload)
     gone_times = presence_gone(5 if quick else 20)
-    ticks = lockstep_bench.measure(payload, blocks=10 if quick else 30, rounds=100 if quick else 200)
+    ticks = lockstep.measure(payload, blocks=10 if quick else 30, rounds=100 if quick else 200)
     engine_times = engine_step(rounds)
     engine_then = engine_against_review()
-    gateway = gateway_bench.main(rounds // 2, state)
+    through = gateway.main(rounds // 2, state)
     evaluation = eval_speed(2 if quick else 20)
-    brain = brain_bench.main(repeats=1 if quick else 5)
+    brain = brainstep.main(repeats=1 if quick else 5)
     scaled = scaling.main(quick)
     numbers: dict[str, Any] = {
         "quick": quick,
@@ -231,7 +235,7 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
             "engine_step_us": statistics.median(engine_times) * 1e6,
             "engine_step_vs_review": engine_then,
         },
-        "gateway": gateway,
+        "gateway": through,
         "eval_seconds_per_episode": evaluation["seconds_per_episode"],
         "eval_timing": evaluation,
         "brain_step_us": {"median": brain["brain_step_us_median"], "p99": brain["brain_step_us_p99"]},
@@ -246,82 +250,4 @@ def main(quick: bool, out: Path) -> dict[str, Any]:
         "scaling": scaled["scaling"],
         "paper_tv_vs_exact": scaled["paper_tv_vs_exact"],
     }
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "bench.json").write_text(json.dumps(numbers, indent=2) + "\n")
-    table = Table(title=f"toyroom bench{' --quick' if quick else ''} (state payload {len(payload)} bytes)")
-    table.add_column("measure")
-    table.add_column("value", justify="right")
-    table.add_column("target", justify="right")
-    table.add_row("zenoh_rtt_us (raw, median)", f"{numbers['zenoh_rtt_us']:.0f}", "")
-    table.add_row("bridge_rtt_us (typed, median)", f"{numbers['bridge_rtt_us']:.0f}", "")
-    profile = numbers["lockstep_profile"]
-    mixed = profile["interleaved"]
-    table.add_row(
-        "lockstep_tick_us (median)",
-        f"{numbers['lockstep_tick_us']:.0f}",
-        f"<= 1.5 x raw query: {mixed['ratio']:.2f} x [{mixed['ratio_lo']:.2f}, {mixed['ratio_hi']:.2f}]",
-    )
-    table.add_row("lockstep_ticks_per_s", f"{numbers['lockstep_ticks_per_s']:.0f}", "")
-    gone = numbers["presence_gone_ms"]
-    table.add_row(
-        "presence_gone_ms (closed peer, median / max)", f"{gone['median']:.0f} / {gone['max']:.0f}", "< 1000"
-    )
-    table.add_row("  raw ping-pong, two processes", f"{profile['zenoh_rtt_two_processes_us']:.0f}", "")
-    table.add_row(
-        "  raw query, two processes (interleaved)", f"{profile['zenoh_query_two_processes_us']:.0f}", ""
-    )
-    table.add_row(
-        "  typed query, fixed state, no engine (interleaved)",
-        f"{profile['typed_query_us']:.0f}",
-        f"{mixed['typed_query_ratio']:.2f} x raw [{mixed['typed_query_ratio_lo']:.2f}, "
-        f"{mixed['typed_query_ratio_hi']:.2f}]",
-    )
-    low, high = perfreport.REVIEW_ENGINE_STEP_US
-    step = f"{profile['engine_step_us']:.0f}"
-    table.add_row("  engine tick alone (paper-auto)", step, f"half of {low}-{high}")
-    if engine_then is not None:
-        table.add_row(
-            f"  the same against {REVIEW_COMMIT} (interleaved, CPU time)",
-            f"{engine_then['now_us']:.0f} / {engine_then['then_us']:.0f}",
-            f"<= 0.5 x: {engine_then['ratio']:.2f} x",
-        )
-    ticks = gateway["lockstep_tick_us"]
-    table.add_row("gateway: query answered over WebSocket", f"{gateway['query_rtt_us']:.0f}", "")
-    table.add_row("grid engine tick, Zenoh", f"{ticks['direct']:.0f}", "")
-    table.add_row(
-        "grid engine tick, through the gateway",
-        f"{ticks['gateway']:.0f}",
-        f"<= {2 * ticks['direct']:.0f} (2 x)",
-    )
-    if "csharp" in ticks:
-        table.add_row("C# grid engine tick (Mono), gateway", f"{ticks['csharp']:.0f}", "")
-    table.add_row(
-        f"eval_seconds_per_episode ({evaluation['episodes']} episodes, {evaluation['workers']} workers)",
-        f"{evaluation['seconds_per_episode']:.2f}",
-        "<= 1.2 (500 in 10 min)",
-    )
-    table.add_row(
-        "point beliefs: brain_step_us median / p99",
-        f"{brain['brain_step_us_median']:.0f} / {brain['brain_step_us_p99']:.0f}",
-        "<= 1000",
-    )
-    table.add_row("point beliefs: planner_cold_s", f"{numbers['planner_cold_s']:.3f}", "<= 0.5")
-    graded = numbers["graded"]
-    table.add_row(
-        "graded beliefs (the default): brain_step_us median / p99",
-        f"{graded['brain_step_us']['median']:.0f} / {graded['brain_step_us']['p99']:.0f}",
-        "<= 1000",
-    )
-    table.add_row("graded beliefs (the default): planner_cold_s", f"{graded['planner_cold_s']:.3f}", "<= 2")
-    Console().print(table)
-    perfreport.write(out / "bench.json")
-    print(f"wrote {out / 'bench.json'}, {out / 'perf.md'} and {out / 'scaling.png'}")
     return numbers
-
-
-if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description="toyroom's performance numbers, measured in one run.")
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--out", type=Path, default=Path(tempfile.gettempdir()) / "toyroom-bench")
-    arguments = parser.parse_args()
-    main(arguments.quick, arguments.out)

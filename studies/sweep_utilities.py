@@ -4,7 +4,7 @@ Runs paper-1..3 through the engine core and the brain in one process for each
 (leave_utility_item, other_utility) pair and prints which Section V statements fail
 (smoothed estimates). This is the sweep behind docs/model.md's choice of defaults.
 
-    python bench/sweep_utilities.py
+    python studies/sweep_utilities.py
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ between their item beliefs per person, item and tick (``preference_tv_vs_exact``
 for preferences); elsewhere those are ``null``. ``paper`` does the same on the paper map's
 scenarios.
 
-    python bench/scaling.py [--quick]
+    python -m toyroom.bench.scaling [--quick]
 """
 
 from __future__ import annotations
@@ -26,7 +26,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from brain_bench import timed_observe
 from rich.console import Console
 from rich.table import Table
 
@@ -38,6 +37,8 @@ from protocol import Event, State
 from sim2d.engine import Engine
 from sim2d.generation import write_house_episode
 from sim2d.scenario import load_scenario
+
+from .brainstep import timed_observe
 
 FAMILY = ((4, 2, 2), (5, 3, 2), (6, 3, 2), (8, 4, 2), (10, 6, 2), (12, 6, 2), (16, 8, 6), (20, 10, 8))
 """(rooms, items, people) of the generated houses, smallest first: the last, households of
@@ -154,6 +155,7 @@ def divergence(engine: Engine, ticks: Ticks, belief_model: str = "point") -> dic
 
 
 def percentile(values: list[float], q: float) -> float:
+    """The ``q`` quantile of ``values`` (the nearest rank below)."""
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, int(q * (len(ordered) - 1)))]
 
@@ -221,18 +223,19 @@ def paper(ticks: int) -> dict[str, dict[str, float]]:
         recorded = record(engine, ticks)
         numbers = divergence(engine, recorded)
         graded = divergence(engine, recorded, "graded")
-        kept = ("tv_vs_exact", "preference_tv_vs_exact")
+        kept: tuple[str, ...] = ("tv_vs_exact", "preference_tv_vs_exact")
         kept += tuple(f"smoothed_{k}" for k in kept)
         out[name] = {k: numbers[k] for k in kept} | {f"graded_{k}": graded[k] for k in kept}
     return out
 
 
 def main(quick: bool = False) -> dict[str, Any]:
+    """The family's rows and the paper map's TVs, printed as a table."""
     ticks = 400 if quick else 1000
     family = QUICK_FAMILY if quick else FAMILY
     with tempfile.TemporaryDirectory(prefix="toyroom-scaling-") as tmp:
         rows = [house(rooms, items, people, ticks, Path(tmp)) for rooms, items, people in family]
-    numbers = {"scaling": rows, "paper_tv_vs_exact": paper(ticks)}
+    numbers: dict[str, Any] = {"scaling": rows, "paper_tv_vs_exact": paper(ticks)}
     table = Table(
         title=f"the brain on generated houses ({ticks} ticks each; factored above W = "
         f"{ModelSettings().exact_max_worlds})"

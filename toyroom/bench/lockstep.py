@@ -2,7 +2,7 @@
 
 This machine's speed drifts by up to 2x over seconds, so a tick timed after the raw query
 compares poorly with it (two ``toyroom bench`` runs gave 2.1 x and 3.3 x). Here a sim2d
-engine process (``paper-auto``) and a raw zenoh-python echo process (``bench/echo.py``)
+engine process (``paper-auto``) and a raw zenoh-python echo process (:mod:`.echo`)
 run side by side, and the client alternates blocks of raw queries (a state-sized payload
 each way, answered in Zenoh's callback thread) with blocks of lock-step ticks (``Step``,
 the engine's reply with the state, decoded): the ratio is taken per pair of neighbouring
@@ -12,7 +12,7 @@ It also reads the CPU time each side spends per round trip (``/proc``; the clien
 this process's): the engine's against the raw echo's says what of a tick is the engine's
 own work and what is Zenoh's.
 
-    python bench/lockstep_bench.py [--blocks 30] [--rounds 200]
+    python -m toyroom.bench.lockstep [--blocks 30] [--rounds 200]
 """
 
 from __future__ import annotations
@@ -31,12 +31,10 @@ from typing import Any
 
 import zenoh
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-
-from bridge import Bridge, LockstepClient, handshake  # noqa: E402
-from bridge.session import SessionSettings, build_config  # noqa: E402
-from protocol import ControlReply, Step  # noqa: E402
+from bridge import Bridge, LockstepClient, handshake
+from bridge.session import SessionSettings, build_config
+from protocol import ControlReply, Step, encode
+from sim2d.engine import Engine
 
 
 def cpu_seconds(pid: int) -> float:
@@ -61,15 +59,16 @@ def _summary(samples: list[float]) -> float:
     return statistics.median(samples) * 1e6
 
 
-def start_echo(script: str, world: str) -> subprocess.Popen[str]:
-    """An echo peer (``bench/echo.py`` or ``bench/typed_echo.py``) on ``world``, once ready."""
+def start_echo(name: str, world: str) -> subprocess.Popen[str]:
+    """An echo peer (``echo``: :mod:`.echo`, or ``typed_echo``: :mod:`.typed_echo`) on
+    ``world``, once ready."""
     echo = subprocess.Popen(
-        [sys.executable, str(Path(__file__).parent / script), world],
+        [sys.executable, "-m", f"toyroom.bench.{name}", world],
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         text=True,
     )
-    assert echo.stdout is not None and echo.stdout.readline().strip() == "ready", f"{script} did not start"
+    assert echo.stdout is not None and echo.stdout.readline().strip() == "ready", f"{name} did not start"
     return echo
 
 
@@ -87,7 +86,7 @@ def measure(payload: bytes, blocks: int = 30, rounds: int = 200) -> dict[str, An
     ``typed_query_us`` (medians over every round trip), each ratio to the raw query with its
     range, and the CPU per round trip of each peer and of the client."""
     world = f"bench{uuid.uuid4().hex[:6]}"
-    processes = [start_echo("echo.py", world + "-raw"), start_echo("typed_echo.py", world + "-typed")]
+    processes = [start_echo("echo", world + "-raw"), start_echo("typed_echo", world + "-typed")]
     engine = subprocess.Popen(
         [
             sys.executable,
@@ -174,13 +173,11 @@ def _interleave(
 
 
 def main() -> None:
+    """Print the comparison as JSON."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--blocks", type=int, default=30)
     parser.add_argument("--rounds", type=int, default=200)
     args = parser.parse_args()
-    from protocol import encode
-    from sim2d.engine import Engine
-
     payload = encode(Engine("paper-robot").state())
     print(json.dumps(measure(payload, args.blocks, args.rounds), indent=2))
 

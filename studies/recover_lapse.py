@@ -17,7 +17,7 @@ is a chance per tick per pair of people in one region, and only a teller surer t
 listener tells; the model's is a rate per second per pair (``-ln(1 - h) / tick_seconds``
 is the matching value, printed as the truth) and any belief more likely than not is told.
 
-    python bench/lapse_recovery.py [--miss 0.2] [--hearsay 0.0] [--episodes 40] [--ticks 2000]
+    python studies/recover_lapse.py [--miss 0.2] [--hearsay 0.0] [--episodes 40] [--ticks 2000]
         [--workers 2] [--params miss] [--json FILE]
 """
 

@@ -5,7 +5,7 @@ Each scenario is played by the engine core (the robot only observes) and followe
 tracker of each model (``belief_model = graded | point``, every other setting the default,
 or ``--set NAME=VALUE`` for both). Smoothed estimates unless a row says ``online``.
 
-    python bench/compare_models.py [--set NAME=VALUE ...] [--json FILE]
+    python studies/compare_models.py [--set NAME=VALUE ...] [--json FILE]
 """
 
 from __future__ import annotations

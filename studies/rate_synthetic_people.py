@@ -26,7 +26,7 @@ ratings better than one favourite?
    with its fitted ``beta`` against the generating one (recovered: within 25%), and each
    kind of judgment's held-out r, graded desires minus one favourite paired by episode.
 
-    python bench/synthetic_ratings.py [--episodes 24] [--ticks 1000] [--raters 8]
+    python studies/rate_synthetic_people.py [--episodes 24] [--ticks 1000] [--raters 8]
         [--people graded] [--grid 1,2,3,4,5,6,8,12] [--json FILE] [--out DIR]
 """
 

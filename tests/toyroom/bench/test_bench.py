@@ -1,4 +1,5 @@
-"""The benchmark scripts run (their numbers are for people; no timing is asserted here)."""
+"""``toyroom bench`` and its measurements run (their numbers are for people; no timing is
+asserted here)."""
 
 from __future__ import annotations
 
@@ -6,12 +7,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
 
-
-def test_brain_bench_runs() -> None:
+def test_the_brain_step_measurement_runs_alone() -> None:
     result = subprocess.run(
-        [sys.executable, str(ROOT / "bench" / "brain_bench.py"), "--repeats", "1"],
+        [sys.executable, "-m", "toyroom.bench.brainstep", "--repeats", "1"],
         capture_output=True,
         text=True,
         timeout=300,
@@ -19,31 +18,6 @@ def test_brain_bench_runs() -> None:
     assert result.returncode == 0, result.stderr
     assert "planner, cold (s)" in result.stdout and "online step per person" in result.stdout
     assert "graded" in result.stdout, "the graded belief model should be measured beside the point one"
-
-
-def test_compare_models_runs(tmp_path: Path) -> None:
-    import json
-
-    out = tmp_path / "compare.json"
-    result = subprocess.run(
-        [sys.executable, str(ROOT / "bench" / "compare_models.py"), "--json", str(out)],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert result.returncode == 0, result.stderr
-    numbers = json.loads(out.read_text())
-    assert numbers["models"] == ["graded", "point"], numbers["models"]
-    early = numbers["rows"]["S1 steps 0-2: P(false belief about the ball), online, max"]
-    assert early[0] < early[1], f"graded should flag ignorance less than point does: {early}"
-
-
-def test_view_bench_runs() -> None:
-    result = subprocess.run(
-        [sys.executable, str(ROOT / "bench" / "view_bench.py")], capture_output=True, text=True, timeout=300
-    )
-    assert result.returncode == 0, result.stderr
-    assert "frame, median" in result.stdout
 
 
 def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
@@ -111,17 +85,3 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     big = [r for r in rows if r["worlds"] > 10**6]
     assert big and not any(r["exact"] for r in big), f"large houses should run factored: {big}"
     assert (tmp_path / "perf.md").exists() and (tmp_path / "scaling.png").stat().st_size > 0
-
-
-def test_eval_cpu_splits_a_runs_cpu_by_process() -> None:
-    sys.path.insert(0, str(ROOT / "bench"))
-    import eval_cpu
-
-    rows = eval_cpu.main(seed=1, episodes=1)
-    assert [row["run"] for row in rows] == ["btom-observe", "btom-act-tom"], rows
-    for row in rows:
-        for part in ("engine_cpu_s", "brain_cpu_s", "evaluator_cpu_s"):
-            assert float(row[part]) > 0.05, f"{row['run']}: {part} should be measured, got {row[part]}"
-        assert float(row["brain_cpu_s"]) > float(row["engine_cpu_s"]), (
-            f"the brain infers, the engine steps: {row}"
-        )

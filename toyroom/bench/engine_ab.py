@@ -6,7 +6,9 @@ files from git, imported under another name) side by side, in alternating blocks
 and prints the ratio of thread CPU time per tick (median over blocks, with the range of the
 middle ones).
 
-    python bench/engine_ab.py --against REV [SCENARIO ...]   (default: paper-auto)
+    python -m toyroom.bench.engine_ab --against REV [SCENARIO ...]   (default: paper-auto)
+
+It needs a source checkout (git and the project's history).
 """
 
 from __future__ import annotations
@@ -23,13 +25,14 @@ import time
 from pathlib import Path
 from typing import Any
 
-ROOT = Path(__file__).resolve().parent.parent
+from bridge.processes import CHECKOUT
+from sim2d.engine import Engine
 
 
 def other_engine(revision: str, folder: Path) -> Any:
     """``sim2d.engine.Engine`` as it was at ``revision`` (imported as ``sim2d_then``)."""
     archive = subprocess.run(
-        ["git", "-C", str(ROOT), "archive", revision, "sim2d"], capture_output=True, check=True
+        ["git", "-C", str(CHECKOUT), "archive", revision, "sim2d"], capture_output=True, check=True
     ).stdout
     with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
         tar.extractall(folder, filter="data")
@@ -52,7 +55,8 @@ def compare(then: Any, now: Any, scenario: str, blocks: int = 20, ticks: int = 2
     for _ in range(50):
         a.step()
         b.step()
-    old, new = [], []
+    old: list[float] = []
+    new: list[float] = []
     for block in range(blocks):
         order = ((a, old), (b, new)) if block % 2 else ((b, new), (a, old))
         for engine, times in order:
@@ -68,12 +72,11 @@ def compare(then: Any, now: Any, scenario: str, blocks: int = 20, ticks: int = 2
 
 
 def main() -> None:
+    """Print the comparison of each scenario asked for."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--against", required=True, help="a git revision (commit, tag, branch)")
     parser.add_argument("scenarios", nargs="*", default=["paper-auto"])
     args = parser.parse_args()
-    from sim2d.engine import Engine
-
     with tempfile.TemporaryDirectory(prefix="toyroom-ab-") as folder:
         then = other_engine(args.against, Path(folder))
         for scenario in args.scenarios:

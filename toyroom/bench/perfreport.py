@@ -1,7 +1,8 @@
 """docs/performance.md, generated from ``bench.json``: a table of the numbers
 against their targets, the scaling table and ``scaling.png``.
 
-    python bench/perfreport.py DIR/bench.json [--readme docs/performance.md --figure docs/perf/scaling.png]
+    python -m toyroom.bench.perfreport DIR/bench.json \
+        [--readme docs/performance.md --figure docs/perf/scaling.png]
 
 Writes ``DIR/perf.md`` and ``DIR/scaling.png``; with ``--readme``, replaces the text between
 ``<!-- perf:start -->`` and ``<!-- perf:end -->`` in the README and copies the figure to
@@ -77,7 +78,8 @@ def _graded_rows(numbers: dict[str, Any]) -> list[str]:
 
 
 def _gateway_rows(numbers: dict[str, Any]) -> list[str]:
-    """The gateway's rows (``bench/gateway_bench.py``), when the run measured them."""
+    """The gateway's rows (:mod:`.gateway`), when the run measured them (the grid engines'
+    ticks need a source checkout)."""
     if "gateway" not in numbers:
         return []
     gateway, profile = numbers["gateway"], numbers["lockstep_profile"]
@@ -85,10 +87,13 @@ def _gateway_rows(numbers: dict[str, Any]) -> list[str]:
     rows = [
         f"| gateway: a query answered by a WebSocket client | {gateway['query_rtt_us']:.0f} "
         f"| (a Zenoh process: {profile['zenoh_query_two_processes_us']:.0f}) |",
-        f"| grid engine lock-step tick over Zenoh | {ticks['direct']:.0f} | |",
-        f"| the same engine through the gateway | {ticks['gateway']:.0f} "
-        f"| <= {2 * ticks['direct']:.0f} (2 x direct): {ticks['ratio']:.2f} x |",
     ]
+    if "direct" in ticks:
+        rows += [
+            f"| grid engine lock-step tick over Zenoh | {ticks['direct']:.0f} | |",
+            f"| the same engine through the gateway | {ticks['gateway']:.0f} "
+            f"| <= {2 * ticks['direct']:.0f} (2 x direct): {ticks['ratio']:.2f} x |",
+        ]
     if "csharp" in ticks:
         rows.append(f"| the C# SDK's grid engine (Mono) through the gateway | {ticks['csharp']:.0f} | |")
     return rows
@@ -123,7 +128,7 @@ def _eval_cpu_row(timing: dict[str, Any]) -> list[str]:
 
 def _lockstep_rows(numbers: dict[str, Any]) -> list[str]:
     """The lock-step tick against the raw query: interleaved in the same run where it was
-    (``bench/lockstep_bench.py``), else one after the other (runs made before)."""
+    (:mod:`.lockstep`), else one after the other (runs made before)."""
     tick, profile = numbers["lockstep_tick_us"], numbers["lockstep_profile"]
     query = profile["zenoh_query_two_processes_us"]
     mixed = profile.get("interleaved")
@@ -153,7 +158,7 @@ def _lockstep_profile_rows(profile: dict[str, Any]) -> list[str]:
     return [
         *rows,
         f"| of which: the bridge's typed query answered with a fixed state, no engine "
-        f"(`bench/typed_echo.py`) | {profile['typed_query_us']:.0f} "
+        f"(`toyroom/toyroom/bench/typed_echo.py`) | {profile['typed_query_us']:.0f} "
         f"| {mixed['typed_query_ratio']:.2f} x the raw query "
         f"[{mixed['typed_query_ratio_lo']:.2f}, {mixed['typed_query_ratio_hi']:.2f}] |",
         f"| CPU per round trip, answering side / asking side, us: raw query {cpu['query_peer']:.0f} / "
@@ -170,7 +175,7 @@ def _engine_against_review(profile: dict[str, Any]) -> list[str]:
         return []
     return [
         f"| the same, CPU time per tick now / at the review's `{then['commit']}`, interleaved "
-        f"(`bench/engine_ab.py`) | {then['now_us']:.0f} / {then['then_us']:.0f} "
+        f"(`toyroom/toyroom/bench/engine_ab.py`) | {then['now_us']:.0f} / {then['then_us']:.0f} "
         f"| <= 0.5 x: {then['ratio']:.2f} x [{then['ratio_lo']:.2f}, {then['ratio_hi']:.2f}] |"
     ]
 

@@ -2,7 +2,7 @@
 every ``bench/ping`` sample on ``bench/pong`` and answers every query on ``bench/query``
 with the query's payload, in Zenoh's callback thread (the fastest Python can do).
 
-    python bench/echo.py WORLD     (stops on SIGTERM or when stdin closes)
+    python -m toyroom.bench.echo WORLD     (stops on SIGTERM or when stdin closes)
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from bridge.session import SessionSettings, build_config
 
 
 def main(world: str) -> None:
+    """Echo on ``world`` until stdin closes."""
     session = zenoh.open(build_config(world, SessionSettings(listen=("tcp/127.0.0.1:0",))))
     pong = session.declare_publisher("bench/pong")
     session.declare_subscriber("bench/ping", lambda sample: pong.put(sample.payload))

@@ -1,5 +1,5 @@
 """Why graded desires agree with desire ratings as they do: on a synthetic-ratings study kept
-with ``python bench/synthetic_ratings.py --out DIR``, each desire model's smoothed estimates
+with ``python studies/rate_synthetic_people.py --out DIR``, each desire model's smoothed estimates
 at the generating settings against the ratings and against the people's true utilities,
 broken down by how the estimate is read and by which goals are rated.
 
@@ -13,7 +13,7 @@ question (the mean rating of each):
   rows only, and over the other goals' rows only (are the levels below the top read?);
 - ``favourite found``: how often the goal the estimate wants most is the true favourite.
 
-    python bench/ratings_diagnosis.py DIR [--json FILE]
+    python studies/diagnose_ratings.py DIR [--json FILE]
 """
 
 from __future__ import annotations
