@@ -256,10 +256,9 @@ def fit_ratings(
     paths: Sequence[Path], ratings: Path, study: Study, grid: str, out: Path, folds: int, workers: int
 ) -> dict:
     """``toyroom fit`` of ``beta`` over ``paths`` with the ratings (in this process); its ``fit.json``."""
-    from brain.__main__ import main as brain_main
+    from toyroom.fitting.__main__ import main as fit_main
 
     argv = [
-        "fit",
         *map(str, paths),
         "--params",
         "beta",
@@ -279,7 +278,7 @@ def fit_ratings(
         str(out),
         "--no-progress",
     ]
-    code = brain_main(argv)
+    code = fit_main(argv)
     if code != 0:
         raise SystemExit(f"toyroom fit failed ({code})")
     return json.loads((out / "fit.json").read_text(encoding="utf-8"))
