@@ -43,7 +43,7 @@ def run(scenario: Path, folder: Path, sets: list[str]) -> Path:
     command = [
         sys.executable,
         "-m",
-        "bridge",
+        "toyroom",
         "run",
         "--scenario",
         str(scenario),
