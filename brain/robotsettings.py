@@ -9,6 +9,8 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from protocol import Policy
+
 MAGNITUDE = 1e6
 """The largest size of any float setting (model's and robot's). The model's numbers are
 sums and products of them: ``beta`` times Q-values (at most a utility over ``1 - discount``,
@@ -139,7 +141,7 @@ class RobotSettings:
     attempts: int = 2
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0
-    policy: str = "tom"
+    policy: str = Policy.TOM.value
     deception_threshold: float = 0.5
     on_deception: str = "tell"
     interruption_cost: float = 1.0
@@ -165,8 +167,8 @@ class RobotSettings:
         check_values("robot", self, checks, ROBOT_ALLOWED)
 
 
-ROBOT_POLICIES = ("tom", "benefit", "tidy", "announce")
-""":attr:`RobotSettings.policy`'s values (:data:`brain.robot.branches.POLICIES`)."""
+ROBOT_POLICIES = Policy.names()
+""":attr:`RobotSettings.policy`'s values (:class:`protocol.Policy`; :data:`brain.robot.branches.POLICIES`)."""
 ROBOT_SHARES = (
     "preference_threshold",
     "intention_threshold",

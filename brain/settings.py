@@ -11,6 +11,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from protocol import Perception
+
 from .errors import SettingsError
 from .robotsettings import (
     ROBOT_ALLOWED,
@@ -129,7 +131,7 @@ class ModelSettings:
     desire_model: str = "favourite"
     person_planner: str = "qmdp"
     desire_levels: int = 3
-    perception: str = "omniscient"
+    perception: str = Perception.OMNISCIENT.value
     miss: float = 0.0
     hearsay: float = 0.0
     forget_per_s: float = 0.0
@@ -155,7 +157,7 @@ class ModelSettings:
             "desire_levels": self.desire_levels >= 2,
             "person_planner": self.person_planner in ("qmdp", "belief"),
             "top_worlds": self.top_worlds >= 0,
-            "perception": self.perception in ("omniscient", "embodied"),
+            "perception": self.perception in Perception.names(),
             "miss": 0.0 <= self.miss < 1.0,
             "hearsay": self.hearsay >= 0.0,
             "forget_per_s": self.forget_per_s >= 0.0,
@@ -185,7 +187,7 @@ ALLOWED = {
     "desire_levels": "an int >= 2",
     "person_planner": "one of qmdp, belief",
     "top_worlds": "an int >= 0",
-    "perception": "one of omniscient, embodied",
+    "perception": f"one of {', '.join(Perception.names())}",
     "miss": "0 <= miss < 1",
     "hearsay": "hearsay >= 0",
     "forget_per_s": "forget_per_s >= 0",

@@ -4,6 +4,17 @@ Everything an engine (sim2d, or a Unity client) and a brain say to each other is
 defined here. See ``protocol/README.md`` for the wire-level description.
 """
 
+from .choices import (
+    MAP_CYCLE,
+    OBSERVING,
+    Choice,
+    EpisodeKind,
+    Minds,
+    Perception,
+    Policy,
+    TaskKind,
+    task_of,
+)
 from .codec import Encoding, decode, encode, read_header, to_builtins
 from .control import Pause, Reset, Resume, Step
 from .errors import Error, ProtocolError, VersionMismatch
@@ -80,6 +91,15 @@ from .version import PROTOCOL_VERSION, Version, check_version
 from .vocabulary import known, note_unknown, unknown_values
 
 __all__ = [
+    "MAP_CYCLE",
+    "OBSERVING",
+    "Choice",
+    "EpisodeKind",
+    "Minds",
+    "Perception",
+    "Policy",
+    "TaskKind",
+    "task_of",
     "COMMAND_KINDS",
     "NEIGHBOURS",
     "GridCell",

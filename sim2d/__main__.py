@@ -110,6 +110,7 @@ def export_main(argv: Sequence[str]) -> int:
 def generate_parser() -> argparse.ArgumentParser:
     """``python -m sim2d generate``'s options."""
     from .generation.episodes import ITEM_SHAPES, KINDS, MAPS, MINDS
+    from .generation.tasks import TASKS
 
     parser = command_parser(
         "python -m sim2d generate",
@@ -149,7 +150,7 @@ def generate_parser() -> argparse.ArgumentParser:
         type=_task_kinds,
         default=None,
         help="with --kind tasks: the task kinds to draw from in turn by seed, comma-separated "
-        "(moved, hidden, contested, seen, told, overlooked, stale; default: all)",
+        f"({', '.join(TASKS)}; default: all)",
     )
     parser.add_argument(
         "--autonomy",

@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 import py_trees
 
-from protocol import Cell, Give, GridCell, Navigate, Pick, Place, Request, Say, SayTopic
+from protocol import Cell, Give, GridCell, Navigate, Pick, Place, Policy, Request, Say, SayTopic
 
 from ..robotsettings import ROBOT_POLICIES, RobotSettings
 from .behaviours import Act, FindTask, GoHome, TaskBranch
@@ -256,11 +256,11 @@ where it was) and ``announce`` (tell everyone about every move)."""
 
 def build_tree(namespace: str, policy: str = "tom") -> py_trees.behaviour.Behaviour:
     """The robot's tree for ``policy``; its behaviours use the context at ``<namespace>/context``."""
-    if policy == "tidy":
+    if policy == Policy.TIDY.value:
         branches = [put_back_branch(namespace, tidy_tasks)]
-    elif policy == "announce":
+    elif policy == Policy.ANNOUNCE.value:
         branches = [inform_branch(namespace, announce_tasks)]
-    elif policy == "benefit":
+    elif policy == Policy.BENEFIT.value:
         branches = [
             inform_branch(namespace, benefit_inform),
             swap_branch(namespace),

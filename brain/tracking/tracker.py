@@ -17,7 +17,7 @@ from collections.abc import Sequence
 import msgspec
 import numpy as np
 
-from protocol import Activity, AgentKind, Event, EventKind, Observer, Scene, State
+from protocol import Activity, AgentKind, Event, EventKind, Observer, Perception, Scene, State
 
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, percept, told, true_values
@@ -69,7 +69,7 @@ class MindTracker:
         self.view: WorldView | None = None
         """The robot's own knowledge of where items rest (``None``: it sees everything)."""
         self.robot = next((a.id for a in scene.agents if a.kind is AgentKind.ROBOT), None)
-        if self.settings.perception == "embodied":
+        if self.settings.perception == Perception.EMBODIED.value:
             if self.robot is None:
                 raise ValueError(
                     f"perception = embodied needs a robot in scene '{scene.name}', which has none"

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from protocol import EpisodeKind, Minds
+
 from ..scenario.maps import SCENARIO_DIR, load_map
 from .overrides import with_autonomy
 from .tasks import TASKS, check_kinds, person_lines, task_agents
@@ -160,12 +162,12 @@ def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
     return "\n".join(lines + _visibility_lines(rng, rooms, doors))
 
 
-MINDS = ("simple", "rich", "model")
-"""Kinds of simulated minds: ``simple`` people perceive exactly, remember, keep to themselves
-and go where they believe their item most likely is (what the brain's percept filter
-assumes); ``rich`` ones get the knobs :func:`rich_autonomy` draws; ``model`` ones perceive as
-simple ones do and act by the brain's planner (``planner = "model"``: the engine needs the
-table ``python -m brain plan`` writes)."""
+MINDS = Minds.names()
+"""Kinds of simulated minds (:class:`protocol.Minds`): ``simple`` people perceive exactly,
+remember, keep to themselves and go where they believe their item most likely is (what the
+brain's percept filter assumes); ``rich`` ones get the knobs :func:`rich_autonomy` draws;
+``model`` ones perceive as simple ones do and act by the brain's planner
+(``planner = "model"``: the engine needs the table ``python -m brain plan`` writes)."""
 
 
 def rich_autonomy(seed: int) -> list[str]:
@@ -188,10 +190,11 @@ def rich_autonomy(seed: int) -> list[str]:
 TICK_SECONDS = 0.1
 """A generated episode's tick (s)."""
 
-KINDS = ("everyday", "tasks")
-"""Kinds of episodes: ``everyday`` (people with random habits) or ``tasks`` (built around the
-robot's jobs, :data:`TASKS`, with people who never change their minds, put nothing away and
-move nothing but what the task says, so that the job stays the job)."""
+KINDS = EpisodeKind.names()
+"""Kinds of episodes (:class:`protocol.EpisodeKind`): ``everyday`` (people with random
+habits) or ``tasks`` (built around the robot's jobs, :data:`TASKS`, with people who never
+change their minds, put nothing away and move nothing but what the task says, so that the job
+stays the job)."""
 
 
 def episode(

@@ -19,26 +19,19 @@ from collections.abc import Collection, Sequence
 
 import numpy as np
 
-from protocol import GridCell, Location
+from protocol import GridCell, Location, TaskKind, task_of
 from protocol.carry import walking_distances
 
 from ..scenario.maps import GameMap
 from ..world.paths import shortest_path
 from ..world.world import PERSON_SPEED
 
-TASKS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
-"""The jobs task episodes are built around, in turn by seed: ``moved`` (shortly before its owner
-comes back from an errand, someone moves the item they will come back for to a spot out of
-their view), ``hidden`` (the same, to the spot the owner's search reaches last: where they
-will not look), ``contested`` (both people want the same item) and ``seen`` (Sally-Anne's
-true-belief control: the owner watches the item being moved to a spot in view, then goes on
-the errand; putting it back would mislead them), and three where behaviour is the evidence:
-``told`` (the other person, sure of a wrong place, tells the owner so out of the robot's
-hearing, and the owner goes there), ``overlooked`` (the owner, sure of a wrong place, stands
-in view of the item without noticing it, then goes to that place) and ``stale`` (the owner,
-sure of a wrong place from before the episode, goes there, coming in from outside or from a
-room of the house)."""
-BELIEF_TASKS = ("told", "overlooked", "stale")
+TASKS = TaskKind.names()
+"""The jobs task episodes are built around, in turn by seed (:func:`protocol.task_of`): the
+names of :class:`protocol.TaskKind`, which says what each is. ``moved``, ``hidden``,
+``contested`` and ``seen`` are built around a move (or a want) the robot can see; in the
+other three (:data:`BELIEF_TASKS`) behaviour is the evidence."""
+BELIEF_TASKS = tuple(kind.value for kind in (TaskKind.TOLD, TaskKind.OVERLOOKED, TaskKind.STALE))
 """The kinds of :data:`TASKS` whose false belief only behaviour shows (:func:`belief_agents`)."""
 TELL_AFTER = (5, 30)
 """When the telling of ``told`` happens (ticks, drawn uniformly)."""
@@ -53,18 +46,6 @@ LEAD_TICKS = (10, 60)
 uniformly): shortly before they come back for it."""
 HANDLING_TICKS = 10
 """Ticks a take and a drop add to the mover's walk (a margin, not a measurement)."""
-
-
-MAP_CYCLE = 3
-"""An evaluation draws its episodes' maps in turn by seed, three of them
-(``toyroom.evaluation.generation.MAPS``); :func:`task_of` steps past that cycle."""
-
-
-def task_of(seed: int, kinds: Sequence[str] = TASKS) -> str:
-    """The job a task episode of ``seed`` is built around: in turn among ``kinds``, one step
-    further every :data:`MAP_CYCLE` seeds, so that every map of an evaluation gets every kind
-    (plain turns alias them: with three kinds, each map would get only one)."""
-    return kinds[(seed + seed // MAP_CYCLE) % len(kinds)]
 
 
 def seed_of(kind: str, nth: int = 0, kinds: Sequence[str] = TASKS) -> int:
@@ -129,7 +110,7 @@ def task_agents(
     spot = next(loc for loc in game_map.locations if loc.id == placed[wanted])
     if task in BELIEF_TASKS:
         return belief_agents(task, game_map, placed, homes, rng)
-    if task == "contested":
+    if task == TaskKind.CONTESTED.value:
         return [
             line
             for person, home in zip(("A1", "A2"), homes[:2], strict=True)
@@ -149,13 +130,14 @@ def task_agents(
     errand = int(rng.integers(ERRAND_TICKS[0], ERRAND_TICKS[1] + 1))
     owner = [f'prefers = "{wanted}"', f"errand = {errand}", f'knows = ["{wanted}"]']
     mover_home = next(h for h in homes if h != owner_home)
-    if task == "seen" and in_view:
+    if task == TaskKind.SEEN.value and in_view:
         target = in_view[int(rng.integers(len(in_view)))]
         owner.append(f"errand_after = {int(rng.integers(150, 251))}")
         after = 0
     else:
         order = [loc for loc in search_order(game_map, spot, search) if loc in unseen]
-        target = (order or unseen)[-1] if task == "hidden" else unseen[int(rng.integers(len(unseen)))]
+        hidden = task == TaskKind.HIDDEN.value
+        target = (order or unseen)[-1] if hidden else unseen[int(rng.integers(len(unseen)))]
         lead = int(rng.integers(LEAD_TICKS[0], LEAD_TICKS[1] + 1))
         after = move_after(game_map, owner_home, mover_home, spot, target, errand, lead, tick_seconds)
     other = items[1] if len(items) > 1 else "out"
@@ -215,23 +197,24 @@ def belief_agents(
     wanted = items[0]
     cells = sorted(c for c in game_map.region_of if c not in {_cell(loc) for loc in game_map.locations})
     inside = [c for c in cells if game_map.region_of[c] not in game_map.outside_regions]
-    pool = cells if task == "stale" else inside  # stale: coming in from outside, or already in
+    pool = cells if task == TaskKind.STALE.value else inside  # stale: coming in from outside, or already in
     occupied = set(placed.values())
-    owner_home, target = revealing(game_map, pool, placed[wanted], rng, task == "overlooked", occupied)
+    overlooked = task == TaskKind.OVERLOOKED.value
+    owner_home, target = revealing(game_map, pool, placed[wanted], rng, overlooked, occupied)
     owner, others = [f'prefers = "{wanted}"'], [c for c in inside if c != owner_home]
     mover: list[str] = []
-    if task == "told":
+    if task == TaskKind.TOLD.value:
         after = int(rng.integers(TELL_AFTER[0], TELL_AFTER[1] + 1))
         region = game_map.region_of[owner_home]
         others = [c for c in others if game_map.region_of[c] == region] or [owner_home]
         owner += [f'knows = ["{wanted}"]', f"wait = {after + 10}"]
         mover += [f'tell = ["A1", "{wanted}"]', f"tell_after = {after}", f"wait = {after + 1}"]
-    elif task == "overlooked":
+    elif task == TaskKind.OVERLOOKED.value:
         watch = int(rng.integers(WATCH_TICKS[0], WATCH_TICKS[1] + 1))
         owner += [f'believes = [["{wanted}", "{target}"]]', f'overlooks = ["{wanted}"]', f"wait = {watch}"]
     else:
         owner += [f'believes = [["{wanted}", "{target}"]]']
-    believes = [(wanted, target)] if task == "told" else []
+    believes = [(wanted, target)] if task == TaskKind.TOLD.value else []
     other_home = _draw(others, rng)
     if len(items) > 1:
         other_home, wrong = revealing(game_map, others, placed[items[1]], rng, occupied=occupied)

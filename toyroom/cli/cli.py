@@ -21,9 +21,10 @@ from bridge.flags import (
     out_folder_problem,
 )
 from bridge.session import add_network_args
+from protocol import OBSERVING, EpisodeKind, Minds, Observer, Perception, Policy, TaskKind
 from protocol import Error as ProtocolErrorBase
-from protocol import Observer
 
+from .choicehelp import KIND_NOTES, MINDS_NOTES, PERCEPTION_NOTES, POLICY_NOTES, described
 from .commands import COMMANDS, NODES, exec_node
 
 log = logging.getLogger("toyroom")
@@ -204,26 +205,24 @@ def _eval_command(command: Command) -> None:
     )
     evaluation.add_argument(
         "--perception",
-        default="omniscient",
-        help="omniscient (the robot sees every item) or embodied (only from its own cell); "
-        "comma-separated for several conditions",
+        default=Perception.OMNISCIENT.value,
+        help=f"{described(Perception, PERCEPTION_NOTES)}; comma-separated for several conditions",
     )
     evaluation.add_argument(
         "--minds",
-        default="simple",
-        help="simple (people perceive exactly), rich (they forget, overlook, gossip, wander) or "
-        "model (they act by the brain's planner under --set's settings); comma-separated",
+        default=Minds.SIMPLE.value,
+        help=f"{described(Minds, MINDS_NOTES)}; comma-separated",
     )
     evaluation.add_argument(
         "--kind",
-        default="everyday",
-        help="everyday (random episodes) or tasks (built around the robot's jobs); comma-separated",
+        default=EpisodeKind.EVERYDAY.value,
+        help=f"{described(EpisodeKind, KIND_NOTES)}; comma-separated",
     )
     evaluation.add_argument(
         "--tasks",
         default="",
         help="with --kind tasks: the task kinds episodes are drawn from in turn, comma-separated: "
-        "moved, hidden, contested, seen, told, overlooked, stale (default: all)",
+        f"{', '.join(TaskKind.names())} (default: all)",
     )
     evaluation.add_argument(
         "--autonomy",
@@ -236,11 +235,10 @@ def _eval_command(command: Command) -> None:
     )
     evaluation.add_argument(
         "--policies",
-        default="tom",
-        help="the acting robot's policies, one run each, comma-separated: tom (on inferred minds), "
-        "benefit (the same, each task by its expected benefit), tidy (put every moved item back), "
-        "announce (tell everyone of every move); "
-        "none (observing) is always run: --policies none runs it alone",
+        default=Policy.TOM.value,
+        help="the acting robot's policies, one run each, comma-separated: "
+        f"{described(Policy, POLICY_NOTES, last=', ')}; "
+        f"{OBSERVING} (observing) is always run: --policies {OBSERVING} runs it alone",
     )
     evaluation.add_argument(
         "--max-ticks", type=int, default=1000, help="ticks per episode (default: %(default)s)"

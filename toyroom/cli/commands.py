@@ -17,6 +17,7 @@ from typing import Any
 from bridge.flags import PROG_ENV, settings_argv
 from bridge.processes import check_brain_settings, node_environment, stop_on_signals, wait_for_stop
 from bridge.session import SessionSettings, settings_from_args
+from protocol import OBSERVING
 from toyroom.evaluation.conditions import POLICIES, Condition
 
 log = logging.getLogger("toyroom.bridge")
@@ -293,7 +294,7 @@ def _eval(args: argparse.Namespace) -> int:
     except ValueError as err:
         print(f"toyroom eval: {err}", file=sys.stderr)
         return 2
-    policies = [p for p in args.policies.split(",") if p != "none"]  # none: always run
+    policies = [p for p in args.policies.split(",") if p != OBSERVING]  # always run
     unknown = [p for p in policies if p not in POLICIES]
     if unknown:
         print(f"toyroom eval: unknown policies {unknown} (known: {', '.join(POLICIES)})", file=sys.stderr)

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
-from protocol import Observer
+from protocol import OBSERVING, Observer
 
 from .conditions import Condition
 from .intervals import METRICS as INTERVAL_METRICS
@@ -20,7 +20,7 @@ MAJORITY = "majority"
 (of the episodes scored: it is fitted on them), never a false belief, no belief."""
 ROBOT = "robot"
 """An episode's acting runs are keyed ``robot-<policy>``; ``none`` is the observing run's."""
-NONE = "none"
+NONE = OBSERVING
 HELP = (
     "ticks_to_goal_fb",
     "ticks_to_goal_any_fb",

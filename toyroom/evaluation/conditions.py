@@ -23,24 +23,25 @@ import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-PERCEPTIONS = ("omniscient", "embodied")
-MINDS = ("simple", "rich", "model")
-KINDS = ("everyday", "tasks")
-TASK_KINDS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
-"""The kinds of task episodes, in the generator's order (``sim2d.generation.tasks.TASKS``; a test keeps
-the two equal: the bridge never imports the engine)."""
-POLICIES = ("tom", "benefit", "tidy", "announce")
+from protocol import EpisodeKind, Minds, Perception, Policy, TaskKind, task_of
+
+PERCEPTIONS = Perception.names()
+MINDS = Minds.names()
+KINDS = EpisodeKind.names()
+TASK_KINDS = TaskKind.names()
+"""The kinds of task episodes, in the generator's order (:func:`protocol.task_of`)."""
+POLICIES = Policy.names()
 """The acting robot's policies an evaluation may run (the brain's ``RobotSettings.policy``;
-``none``, the robot observing, is always run)."""
+:data:`protocol.OBSERVING`, the robot observing, is always run)."""
 
 
 @dataclass(frozen=True)
 class Condition:
     """One condition of an evaluation."""
 
-    perception: str = "omniscient"
-    minds: str = "simple"
-    kind: str = "everyday"
+    perception: str = Perception.OMNISCIENT.value
+    minds: str = Minds.SIMPLE.value
+    kind: str = EpisodeKind.EVERYDAY.value
     tasks: tuple[str, ...] = ()
     """The task kinds a ``tasks`` condition draws from, in turn by episode seed (empty: all)."""
     autonomy: tuple[str, ...] = ()
@@ -70,14 +71,13 @@ class Condition:
 
     def task_of(self, seed: int) -> str | None:
         """The task kind of the episode of ``seed`` (``None`` unless ``kind`` is ``tasks``), as
-        the generator picks it (``sim2d.generation.tasks.task_of``: in turn, one step further every three
-        seeds, so that the three maps each get every kind)."""
-        kinds = self.tasks or TASK_KINDS
-        return kinds[(seed + seed // 3) % len(kinds)] if self.kind == "tasks" else None
+        the generator picks it (:func:`protocol.task_of`)."""
+        return task_of(seed, self.tasks or TASK_KINDS) if self.kind == EpisodeKind.TASKS.value else None
 
     def brain_args(self) -> tuple[str, ...]:
         """What every brain of this condition is told (its perception)."""
-        return ("--set", f"perception={self.perception}") if self.perception != "omniscient" else ()
+        told = self.perception != Perception.OMNISCIENT.value
+        return ("--set", f"perception={self.perception}") if told else ()
 
 
 def conditions(
@@ -90,6 +90,6 @@ def conditions(
     """Every combination, in the order given, each ``tasks`` condition drawing from ``tasks``,
     all with the people's ``autonomy`` settings (raises ``ValueError`` naming a bad value)."""
     return [
-        Condition(p, m, k, tuple(tasks) if k == "tasks" else (), tuple(autonomy))
+        Condition(p, m, k, tuple(tasks) if k == EpisodeKind.TASKS.value else (), tuple(autonomy))
         for p, m, k in itertools.product(perceptions, minds, kinds)
     ]

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from protocol import Observer
+from protocol import OBSERVING, Observer
 
 from .aggregate import ROBOT, aggregate, by_task
 from .batches import run_batch
@@ -286,7 +286,7 @@ def evaluate(
         "episodes": episodes,
         "seed": seed,
         "brain_args": list(brain_args),
-        "policies": [*policies, "none"],
+        "policies": [*policies, OBSERVING],
         "command": command,
         "timing": timing([r for chunk in chunks for r in chunk], ledger.seconds(), workers, used),
         "conditions": [

@@ -8,6 +8,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from protocol import Minds, Perception
+
 from .aggregate import HELP as HELP_MEASURES
 
 METRICS = (
@@ -210,7 +212,7 @@ def _condition(condition: Mapping[str, Any], out: Path | None) -> list[str]:
         f"episodes {condition['kind']} ({condition['episodes']} scored)",
         "",
     ]
-    if condition["perception"] == "omniscient" and condition["minds"] == "simple":
+    if condition["perception"] == Perception.OMNISCIENT.value and condition["minds"] == Minds.SIMPLE.value:
         lines += [ORACLE, ""]
     lines += [*_tables(condition), ""]
     failed, retried = condition.get("episodes_failed", 0), condition.get("failed_runs_retried", 0)

@@ -33,7 +33,7 @@ from brain.model.personinterface import PersonFilter, PersonModel, StepRecord
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from bridge.recording.trace import Trace
-from protocol import Observer
+from protocol import Observer, Perception
 
 from .evidence import Evidence
 
@@ -78,7 +78,7 @@ class Recorder:
 
 def replayable(settings: ModelSettings, model: PersonModel) -> bool:
     """Whether :func:`evidence_at_points` can serve this model."""
-    one_branch = settings.perception == "omniscient"
+    one_branch = settings.perception == Perception.OMNISCIENT.value
     if isinstance(model, GradedModel):
         return one_branch and model.lookahead is None
     return one_branch and isinstance(model, ExactModel)

@@ -12,7 +12,7 @@ import pytest
 from protocol import Pursuit
 from sim2d.engine import Engine
 from sim2d.generation.episodes import write_episode
-from sim2d.generation.tasks import BELIEF_TASKS, TASKS, seed_of, task_of
+from sim2d.generation.tasks import BELIEF_TASKS, seed_of, task_of
 from sim2d.people.autonomous import AutonomousPerson
 from sim2d.people.pursuit import Primitive, Reconsider, pursuit_of
 from sim2d.scenario.scenario import load_scenario
@@ -109,16 +109,6 @@ def test_a_pointless_walk_is_dropped_after_the_persons_own_lag() -> None:
     assert [reconsider.check(True, t, rng) for t in range(10, 14)] == [False, False, False, True]
     assert reconsider.check(True, 20, rng) is False and reconsider.check(False, 21, rng) is False
     assert reconsider.check(True, 30, rng) is False and reconsider.check(True, 33, rng) is True
-
-
-def test_the_evaluation_knows_every_task_kind() -> None:
-    from toyroom.evaluation.conditions import TASK_KINDS, Condition
-
-    assert TASK_KINDS == TASKS, f"bridge's TASK_KINDS {TASK_KINDS} differ from sim2d's TASKS {TASKS}"
-    for kinds in ((), ("told", "overlooked", "stale"), ("moved", "seen")):
-        condition = Condition(kind="tasks", tasks=kinds)
-        theirs = [task_of(seed, kinds or TASKS) for seed in range(1000, 1060)]
-        assert [condition.task_of(seed) for seed in range(1000, 1060)] == theirs, kinds
 
 
 def test_every_map_of_an_evaluation_gets_every_kind() -> None:
