@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from protocol import Perception
+from protocol import FALSE_BELIEF_MASS, Perception
 
 from .errors import SettingsError
 from .robotsettings import (
@@ -127,7 +127,7 @@ class ModelSettings:
     ignorance: float = 0.5
     stale_share: float = 0.6
     belief_update: str = "predict"
-    false_belief_mass: float = 0.1
+    false_belief_mass: float = FALSE_BELIEF_MASS
     desire_model: str = "favourite"
     person_planner: str = "qmdp"
     desire_levels: int = 3

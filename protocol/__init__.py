@@ -19,6 +19,7 @@ from .codec import Encoding, decode, encode, read_header, to_builtins
 from .control import Pause, Reset, Resume, Step
 from .errors import Error, ProtocolError, VersionMismatch
 from .events import Event, EventKind
+from .falsebelief import FALSE_BELIEF_MASS, believes_falsely, is_false_belief
 from .geometry import NEIGHBOURS, Cell, GridCell, Pose, Vec2
 from .handshake import Capability, ClockMode, EngineInfo, Hello
 from .keys import Keys, check_name
@@ -91,6 +92,9 @@ from .version import PROTOCOL_VERSION, Version, check_version
 from .vocabulary import known, note_unknown, unknown_values
 
 __all__ = [
+    "FALSE_BELIEF_MASS",
+    "believes_falsely",
+    "is_false_belief",
     "MAP_CYCLE",
     "OBSERVING",
     "Choice",

@@ -10,6 +10,8 @@ from functools import cached_property
 
 import numpy as np
 
+from protocol import is_false_belief
+
 from .arrays import TIE, FloatArray, IntArray, first_max
 from .desires import Desires, DesireSummary
 from .world import WorldModel, is_held, location_of
@@ -115,19 +117,18 @@ def point_false_belief(beliefs: FloatArray, truth: tuple[int, ...]) -> FloatArra
 
 def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float) -> FloatArray:
     """``(K,)`` the robot's probability that the person's belief gives each item's true
-    location less than ``mass`` times what it gives its likeliest location: a false belief,
-    not mere ignorance (a belief spread evenly over places that include the truth is not one,
-    however many places: a fixed threshold would call ignorance over more than ``1 / mass``
-    places false). With point beliefs this is ``1 - P(believed at the true location)``."""
+    location less than ``mass`` times what it gives its likeliest location
+    (:func:`protocol.is_false_belief`, the rule the evaluation scores with): a false belief,
+    not mere ignorance. With point beliefs this is ``1 - P(believed at the true location)``."""
     if est.hypotheses is None:
         return point_false_belief(est.beliefs, truth)
     true = location_of(np.array(truth, dtype=np.int64))
     weights, beliefs = est.hypotheses
     if weights.ndim == 2:  # per item (the factored model): (K, P) weights, (K, P, L) beliefs
         at_true = beliefs[np.arange(len(true)), :, true]  # (K, P)
-        return (weights * (at_true < mass * beliefs.max(axis=-1))).sum(axis=1)
+        return (weights * is_false_belief(at_true, beliefs.max(axis=-1), mass)).sum(axis=1)
     at_true = beliefs[:, np.arange(len(true)), true]  # (G, K)
-    return weights @ (at_true < mass * beliefs.max(axis=-1))
+    return weights @ is_false_belief(at_true, beliefs.max(axis=-1), mass)
 
 
 def reread(est: Estimate, truth: tuple[int, ...], mass: float) -> Estimate:

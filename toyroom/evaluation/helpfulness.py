@@ -2,8 +2,9 @@
 evaluator heard):
 
 - ``false_belief``: whether the person, at some tick, had a false belief about the item they
-  wanted then (their true belief gave its true location less than
-  :data:`~toyroom.evaluation.metrics.FALSE_BELIEF_MASS`): the people help is for;
+  wanted then (:func:`protocol.believes_falsely`: their true belief gave its true location
+  less than :data:`~protocol.FALSE_BELIEF_MASS` times its likeliest location's): the people
+  help is for;
   ``false_belief_tick``: the first such tick; ``goal_tick``: the first tick, from then on,
   they played with that item (``None``: never);
 - ``wasted_trips``: arrivals at an item location that their true belief, the tick before,
@@ -18,9 +19,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
-from protocol import Event, EventKind, Scene, State, Truth
-
-from .metrics import FALSE_BELIEF_MASS
+from protocol import Event, EventKind, Scene, State, Truth, believes_falsely
 
 TRIP_BELIEF = 0.5
 """A trip is made for an item when the person gave the place at least this."""
@@ -65,11 +64,7 @@ def helpfulness(
             belief = {b.item: {p.id: p.p for p in b.locations} for b in mind.beliefs}
             wanted = belief.get(mind.preference)
             true_place = where.get(mind.preference)
-            if (
-                wanted is not None
-                and true_place is not None
-                and wanted.get(true_place, 0.0) < FALSE_BELIEF_MASS
-            ):
+            if wanted is not None and true_place is not None and believes_falsely(wanted, true_place):
                 help_.false_belief = True
                 help_.false_belief_tick = onset.setdefault(mind.agent, (tick, mind.preference))[0]
             cell = cells.get(mind.agent)

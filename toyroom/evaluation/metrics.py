@@ -7,9 +7,11 @@ Per tick, person and item, from the brain's online ``mind`` and the engine's ``t
 - ``preference_accuracy``: the most probable inferred preference equals the true one,
   over ticks after the person first took an item;
 - false beliefs: the brain's flag against the truth that the person's true belief gives
-  the item's true location less than :data:`FALSE_BELIEF_MASS` (a belief spread over
-  places that include the truth is ignorance, not a false belief; no tie is broken by the
-  order of locations), as precision, recall and F1 (pooled over everything);
+  the item's true location less than :data:`~protocol.FALSE_BELIEF_MASS` times its likeliest
+  location's (:func:`protocol.believes_falsely`, the brain's own rule: a belief spread over
+  places that include the truth is ignorance, not a false belief, however many places; no
+  tie is broken by the order of locations), as precision, recall and F1 (pooled over
+  everything);
 - the true preferences seen, so that a majority-class observer (always the most common
   preference, never a false belief) can be scored from the same counts;
 - ``goal_false_belief_f1``: the same F1 over the beliefs about the item each person wants
@@ -36,13 +38,10 @@ import statistics
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from protocol import Mind, Truth
+from protocol import Mind, Truth, believes_falsely
 
 from .scoredminds import ScoredMind
 
-FALSE_BELIEF_MASS = 0.1
-"""A person has a false belief about an item when their true belief gives its true location
-less than this (the brain's default ``false_belief_mass``)."""
 EPS = 1e-3
 """Probabilities are clipped to ``[EPS, 1 - EPS]`` for the log loss (an observer that says 0
 and is wrong pays ``-ln(EPS)`` = 6.9, not infinity)."""
@@ -58,7 +57,7 @@ sees happen)."""
 
 def false_belief_causes(truths: Mapping[int, Truth]) -> dict[int, dict[tuple[str, str], str]]:
     """Tick -> ``(person, item)`` -> the :data:`CAUSES` entry of each false belief held then
-    (by :data:`FALSE_BELIEF_MASS`), its cause fixed at its first tick."""
+    (:func:`protocol.believes_falsely`), its cause fixed at its first tick."""
     out: dict[int, dict[tuple[str, str], str]] = {}
     current: dict[tuple[str, str], str] = {}
     before: dict[str, str] | None = None
@@ -70,7 +69,7 @@ def false_belief_causes(truths: Mapping[int, Truth]) -> dict[int, dict[tuple[str
             for belief in person.beliefs:
                 true = {p.id: p.p for p in belief.locations}
                 place = where.get(belief.item)
-                if place is None or true.get(place, 0.0) >= FALSE_BELIEF_MASS:
+                if place is None or not believes_falsely(true, place):
                     continue
                 key = (person.agent, belief.item)
                 if key in current:
@@ -310,7 +309,7 @@ def score_tick(
             )
             counts.tv_n += 1
             where = true_location.get(belief.item)
-            actual = where is not None and true.get(where, 0.0) < FALSE_BELIEF_MASS
+            actual = where is not None and believes_falsely(true, where)
             flagged = belief.item in est.false_beliefs
             cause = (causes or {}).get((person.agent, belief.item)) if actual else None
             if cause is not None:

@@ -2,8 +2,9 @@
 
 A tick is *revealed* for a person and item when the person is after the item (their
 ``pursuit.item``), heading for or searching a place (``pursuit.location``) that their own
-belief gives it, and it is not there: their belief gives its true place less than
-:data:`~toyroom.evaluation.metrics.FALSE_BELIEF_MASS`. Any observer who watches them could
+belief gives it, and it is not there: a false belief about it (:func:`protocol.believes_falsely`:
+their belief gives its true place less than :data:`~protocol.FALSE_BELIEF_MASS` times the
+likeliest place's). Any observer who watches them could
 then tell that they believe it elsewhere; nothing else shows such a belief when it formed out
 of sight (a word the robot did not hear, an item overlooked in view, a belief from before).
 
@@ -24,9 +25,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from protocol import Truth
-
-from .metrics import FALSE_BELIEF_MASS
+from protocol import Truth, believes_falsely
 
 MIN_MOVES = 2
 """Steps (cells entered) a person must take in a stretch, before reaching its place, for it to
@@ -60,7 +59,7 @@ def revealed(truth: Truth) -> dict[Key, str]:
             continue
         true = where.get(pursuit.item)
         belief = {p.id: p.p for b in mind.beliefs if b.item == pursuit.item for p in b.locations}
-        if true is None or pursuit.location == true or belief.get(true, 0.0) >= FALSE_BELIEF_MASS:
+        if true is None or pursuit.location == true or not believes_falsely(belief, true):
             continue
         if belief.get(pursuit.location, 0.0) > 0.0:
             out[(mind.agent, pursuit.item)] = pursuit.location
