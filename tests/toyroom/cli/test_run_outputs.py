@@ -152,7 +152,7 @@ def test_eval_refuses_bad_settings_before_any_episode(tmp_path: Path) -> None:
         [
             sys.executable,
             "-m",
-            "bridge",
+            "toyroom",
             "eval",
             "--episodes",
             "1",
