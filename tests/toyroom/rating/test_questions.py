@@ -93,7 +93,7 @@ def test_the_command_says_what_is_wrong(recordings: list[Path], tmp_path: Path) 
         [
             sys.executable,
             "-m",
-            "bridge",
+            "toyroom",
             "rate",
             *map(str, recordings),
             "--questions",

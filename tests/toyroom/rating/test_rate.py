@@ -230,7 +230,7 @@ def test_ocr_reads_the_rating_page(recordings: list[Path], tmp_path: Path) -> No
         [
             sys.executable,
             "-m",
-            "bridge",
+            "toyroom",
             "rate",
             *map(str, recordings),
             "--questions",

@@ -88,7 +88,7 @@ def test_listening_on_every_interface_warns(recordings: list[Path], tmp_path: Pa
     command = [
         sys.executable,
         "-m",
-        "bridge",
+        "toyroom",
         "rate",
         *map(str, recordings),
         "--questions",

@@ -21,7 +21,7 @@ def screenshot(world: str, shot: Path, after: float = 2.0) -> subprocess.Complet
         [
             sys.executable,
             "-m",
-            "bridge",
+            "toyroom",
             "view",
             "--world",
             world,

@@ -64,7 +64,7 @@ def shot_at(recording: Path, tick: int, out: Path, *extra: str, until: int | Non
         [
             sys.executable,
             "-m",
-            "bridge",
+            "toyroom",
             "replay",
             str(recording),
             "--world",
