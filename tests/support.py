@@ -229,3 +229,59 @@ def study(name: str) -> ModuleType:
         sys.modules[name] = module
         spec.loader.exec_module(module)
     return sys.modules[name]
+
+
+class RunProcess:
+    """``toyroom run --no-live ARGS`` as a real process, its output in a temporary file: what
+    the fault tests stop, stall and kill (its nodes by name) and wait for."""
+
+    def __init__(self, *args: str) -> None:
+        import subprocess
+        import sys
+        import tempfile
+
+        self.log = tempfile.TemporaryFile()
+        command = [sys.executable, "-m", "toyroom", "run", "--no-live", *args]
+        self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT)
+
+    def output(self) -> str:
+        """Everything the run has printed so far."""
+        self.log.seek(0)
+        return self.log.read().decode(errors="replace")
+
+    def nodes(self) -> dict:
+        """The run's engine and brain processes (``psutil.Process``), by name."""
+        import psutil
+
+        found = {}
+        for process in psutil.Process(self.process.pid).children(recursive=True):
+            try:
+                line = process.cmdline()
+            except psutil.NoSuchProcess:
+                continue
+            for name, package in (("engine", "sim2d"), ("brain", "brain")):
+                if package in line and "-m" in line and "check-settings" not in line:
+                    found[name] = process
+        return found
+
+    def finish(self, timeout: float = 120) -> int:
+        """The run's exit status, failing the test if it runs past ``timeout`` seconds."""
+        import subprocess
+
+        import pytest
+
+        try:
+            return self.process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            pytest.fail(f"toyroom run did not exit within {timeout} s:\n{self.output()}")
+
+    def close(self) -> None:
+        """Kill the run and its nodes if they are still there."""
+        import psutil
+
+        if self.process.poll() is None:
+            for child in psutil.Process(self.process.pid).children(recursive=True):
+                child.kill()
+            self.process.kill()
+            self.process.wait()
+        self.log.close()

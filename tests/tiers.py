@@ -56,6 +56,7 @@ STARTERS = frozenset(
         "run_batch",
         "generate_all",
         "eval_main",
+        "RunProcess",
         # browsers and Ray
         "Browser",
         "chromium",

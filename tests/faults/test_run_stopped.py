@@ -15,13 +15,13 @@ import shlex
 import signal
 import subprocess
 import sys
-import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 import psutil
 import pytest
+from support import RunProcess
 
 SCENARIOS = Path(__file__).resolve().parents[2] / "sim2d" / "scenarios"
 
@@ -38,20 +38,13 @@ def long_scenario(folder: Path) -> Path:
     return folder / "long.toml"
 
 
-class Run:
+class Run(RunProcess):
     """``toyroom run --out OUT`` as a real process on the test's own world."""
 
     def __init__(self, tmp_path: Path, world: str, out: Path) -> None:
         self.out = out
         self.world = world
-        self.log = tempfile.TemporaryFile()
-        command = [sys.executable, "-m", "toyroom", "run", "--scenario", str(long_scenario(tmp_path))]
-        command += ["--out", str(out), "--no-live", "--world", world]
-        self.process = subprocess.Popen(command, stdout=self.log, stderr=subprocess.STDOUT)
-
-    def output(self) -> str:
-        self.log.seek(0)
-        return self.log.read().decode(errors="replace")
+        super().__init__("--scenario", str(long_scenario(tmp_path)), "--out", str(out), "--world", world)
 
     def wait_until(self, what: str, condition: Callable[[], bool], timeout: float = 120) -> None:
         """Wait (looking every 20 ms) until ``condition()``, failing if the run ends first."""
@@ -73,33 +66,6 @@ class Run:
                 if record["key"].endswith("/state"):
                     found.append(record["payload"])
         return found
-
-    def nodes(self) -> dict[str, psutil.Process]:
-        """The run's engine and brain processes, by name."""
-        found = {}
-        for process in psutil.Process(self.process.pid).children(recursive=True):
-            try:
-                line = process.cmdline()
-            except psutil.NoSuchProcess:
-                continue
-            for name, package in (("engine", "sim2d"), ("brain", "brain")):
-                if package in line and "-m" in line:
-                    found[name] = process
-        return found
-
-    def finish(self, timeout: float = 120) -> int:
-        try:
-            return self.process.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            pytest.fail(f"toyroom run did not exit within {timeout} s:\n{self.output()}")
-
-    def close(self) -> None:
-        if self.process.poll() is None:
-            for child in psutil.Process(self.process.pid).children(recursive=True):
-                child.kill()
-            self.process.kill()
-            self.process.wait()
-        self.log.close()
 
 
 def recover(failed: str, out: Path) -> subprocess.CompletedProcess[str]:

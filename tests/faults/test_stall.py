@@ -17,15 +17,13 @@ import json
 import os
 import random
 import signal
-import subprocess
-import sys
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import psutil
 import pytest
+from support import RunProcess
 
 from bridge import Bridge, handshake
 from protocol import ControlReply, Reset
@@ -78,22 +76,14 @@ def planned(count: int, seed: int) -> list[Stall]:
     ]
 
 
-class Run:
+class Run(RunProcess):
     """``toyroom run --scenario paper-robot --out OUT`` as a real process."""
 
     def __init__(self, out: Path, *args: str) -> None:
         self.out = out
-        self.log = tempfile.TemporaryFile()
-        command = [sys.executable, "-m", "toyroom", "run", "--scenario", "paper-robot", "--no-live"]
-        self.process = subprocess.Popen(
-            [*command, "--out", str(out), *args], stdout=self.log, stderr=subprocess.STDOUT
-        )
+        super().__init__("--scenario", "paper-robot", "--out", str(out), *args)
         self._read = 0
         self._states = 0
-
-    def output(self) -> str:
-        self.log.seek(0)
-        return self.log.read().decode(errors="replace")
 
     def states_recorded(self) -> int:
         """How many states the run's trace holds so far (read on from the last look)."""
@@ -118,29 +108,13 @@ class Run:
             time.sleep(0.005)
 
     def node(self, name: str) -> psutil.Process:
-        package = {"engine": "sim2d", "brain": "brain"}[name]
-        for process in psutil.Process(self.process.pid).children(recursive=True):
-            try:
-                line = process.cmdline()
-            except psutil.NoSuchProcess:
-                continue
-            if package in line and "-m" in line and "check-settings" not in line:
-                return process
-        raise AssertionError(f"no {name} process under toyroom run:\n{self.output()}")
+        found = self.nodes()
+        if name not in found:
+            raise AssertionError(f"no {name} process under toyroom run:\n{self.output()}")
+        return found[name]
 
-    def finish(self) -> int:
-        try:
-            return self.process.wait(timeout=RUN_LIMIT_S)
-        except subprocess.TimeoutExpired:
-            pytest.fail(f"toyroom run did not exit within {RUN_LIMIT_S} s:\n{self.output()}")
-
-    def close(self) -> None:
-        if self.process.poll() is None:
-            for child in psutil.Process(self.process.pid).children(recursive=True):
-                child.kill()
-            self.process.kill()
-            self.process.wait()
-        self.log.close()
+    def finish(self, timeout: float = RUN_LIMIT_S) -> int:
+        return super().finish(timeout)
 
 
 def state_payloads(trace: Path) -> list[dict]:
