@@ -285,3 +285,15 @@ class RunProcess:
             self.process.kill()
             self.process.wait()
         self.log.close()
+
+
+def long_paper_2(folder: Path, ticks: int, name: str) -> Path:
+    """paper-2 whose first step (A1 playing) lasts ``ticks`` ticks, written with its map into
+    ``folder`` as ``NAME.toml``: a run of the length a fault test needs."""
+    scenarios = Path(__file__).resolve().parents[1] / "sim2d" / "scenarios"
+    (folder / "paper.map.toml").write_text((scenarios / "paper.map.toml").read_text())
+    text = (scenarios / "paper-2.toml").read_text()
+    first = '{ do = "play", ticks = 20, label = "0" }'
+    assert first in text, "paper-2's first step changed: update tests/support.py long_paper_2"
+    (folder / f"{name}.toml").write_text(text.replace(first, first.replace("ticks = 20", f"ticks = {ticks}")))
+    return folder / f"{name}.toml"

@@ -15,10 +15,10 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from support import long_paper_2
 
 pytestmark = pytest.mark.process
 
-SCENARIOS = Path(__file__).resolve().parents[2] / "sim2d" / "scenarios"
 RUN_LIMIT_S = 120.0
 """Most seconds a run may take here: a few unloaded; generous, for a loaded 2-core machine."""
 
@@ -29,14 +29,7 @@ def toyroom_run(*args: str) -> list[str]:
 
 def endless_scenario(folder: Path) -> Path:
     """paper-2 whose first step lasts 100,000 ticks: a run that is on until it is stopped."""
-    (folder / "paper.map.toml").write_text((SCENARIOS / "paper.map.toml").read_text())
-    text = (SCENARIOS / "paper-2.toml").read_text()
-    long = text.replace(
-        '{ do = "play", ticks = 20, label = "0" }', '{ do = "play", ticks = 100000, label = "0" }'
-    )
-    assert long != text, "paper-2's first step changed: update this test"
-    (folder / "endless.toml").write_text(long)
-    return folder / "endless.toml"
+    return long_paper_2(folder, 100_000, "endless")
 
 
 def wait_for_state(trace: Path, process: subprocess.Popen[bytes]) -> None:

@@ -21,21 +21,13 @@ from pathlib import Path
 
 import psutil
 import pytest
-from support import RunProcess
+from support import RunProcess, long_paper_2
 
-SCENARIOS = Path(__file__).resolve().parents[2] / "sim2d" / "scenarios"
 
 
 def long_scenario(folder: Path) -> Path:
     """paper-2 with a 600-tick first step (its map beside it): a run of several seconds."""
-    (folder / "paper.map.toml").write_text((SCENARIOS / "paper.map.toml").read_text())
-    text = (SCENARIOS / "paper-2.toml").read_text()
-    long = text.replace(
-        '{ do = "play", ticks = 20, label = "0" }', '{ do = "play", ticks = 600, label = "0" }'
-    )
-    assert long != text, "paper-2's first step changed: update this test"
-    (folder / "long.toml").write_text(long)
-    return folder / "long.toml"
+    return long_paper_2(folder, 600, "long")
 
 
 class Run(RunProcess):
