@@ -24,7 +24,6 @@ import pytest
 from support import RunProcess, long_paper_2
 
 
-
 def long_scenario(folder: Path) -> Path:
     """paper-2 with a 600-tick first step (its map beside it): a run of several seconds."""
     return long_paper_2(folder, 600, "long")
