@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 import statistics
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 from protocol import Mind, Truth, believes_falsely
 
@@ -207,34 +207,10 @@ class Counts:
         self.fb_n += actual
 
 
-SUMS = (
-    "tv_sum",
-    "tv_n",
-    "pref_hits",
-    "pref_n",
-    "tp",
-    "fp",
-    "fn",
-    "tn",
-    "goal_tp",
-    "goal_fp",
-    "goal_fn",
-    "goal_tn",
-    "known_tp",
-    "known_fp",
-    "known_fn",
-    "known_tn",
-    "brier_sum",
-    "log_loss_sum",
-    "prob_n",
-    "fb_n",
-    "stretches",
-    "detected",
-    "nested_n",
-    "nested_right",
-    "nested_first_right",
-)
-"""The fields of :class:`Counts` that add up."""
+SUMS = tuple(f.name for f in fields(Counts) if isinstance(f.default, int | float))
+"""The fields of :class:`Counts` that add up: the numbers (in their order), not the tallies
+by key (``pref_truth``, ``cause_fb``, ``cause_tp``) nor ``leads``, which :meth:`Counts.add`
+merges itself."""
 
 
 def _f1(tp: int, fp: int, fn: int) -> tuple[float | None, float | None, float | None]:

@@ -6,7 +6,7 @@ import msgspec
 import pytest
 
 from protocol import AgentMind, ItemBelief, ItemPlace, Mind, Prob, TrueMind, Truth
-from toyroom.evaluation.metrics import Counts, false_belief_causes, score_tick
+from toyroom.evaluation.metrics import SUMS, Counts, false_belief_causes, score_tick
 
 
 def mind(tick: int, basket: float, flagged: bool, prefers: str) -> Mind:
@@ -163,3 +163,34 @@ def test_false_beliefs_by_how_they_arose() -> None:
     assert by_cause["moved"] == {"ticks": 2, "share": 0.5, "recall": 0.5}, by_cause
     assert by_cause["unmoved"] == {"ticks": 1, "share": 0.25, "recall": 1.0}, by_cause
     assert total.majority().recall_by_cause()["moved"]["recall"] == 0.0
+
+
+def test_sums_are_the_number_fields_of_counts_as_the_hand_list_had_them() -> None:
+    """``SUMS``, derived from :class:`Counts`' fields, is the tuple once written out by hand."""
+    assert SUMS == (
+        "tv_sum",
+        "tv_n",
+        "pref_hits",
+        "pref_n",
+        "tp",
+        "fp",
+        "fn",
+        "tn",
+        "goal_tp",
+        "goal_fp",
+        "goal_fn",
+        "goal_tn",
+        "known_tp",
+        "known_fp",
+        "known_fn",
+        "known_tn",
+        "brier_sum",
+        "log_loss_sum",
+        "prob_n",
+        "fb_n",
+        "stretches",
+        "detected",
+        "nested_n",
+        "nested_right",
+        "nested_first_right",
+    )
