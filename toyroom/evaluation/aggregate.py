@@ -4,6 +4,7 @@ people got (:mod:`toyroom.evaluation.helpfulness`), paired the same way."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
@@ -13,6 +14,7 @@ from .conditions import Condition
 from .intervals import METRICS as INTERVAL_METRICS
 from .intervals import intervals, pooled_means
 from .metrics import Counts, Outcome, majority_counts
+from .records import EpisodeRecord, RunScores
 
 BTOM = Observer.BTOM.value
 MAJORITY = "majority"
@@ -30,13 +32,13 @@ HELP = (
 )
 
 
-def mistaken(episode: Mapping[str, Any], keys: Sequence[str]) -> set[str]:
+def mistaken(episode: EpisodeRecord, keys: Sequence[str]) -> set[str]:
     """The people who had a false belief about what they wanted in any of the runs ``keys``
     of ``episode``: one population for every policy (:func:`_help_sums`)."""
-    return {a for key in keys for a, h in episode[key].get("help", {}).items() if h["false_belief"]}
+    return {a for key in keys for a, h in episode.runs[key].help.items() if h.false_belief}
 
 
-def _help_sums(run: Mapping[str, Any], anyone: Collection[str] = ()) -> dict[str, tuple[float, int]]:
+def _help_sums(run: RunScores, anyone: Collection[str] = ()) -> dict[str, tuple[float, int]]:
     """One run's ``(sum, count)`` of each help measure: ticks to goal over the people who had
     a false belief in this run (until they first played with the item it was about, from then
     on; the episode's length when never), counted from the episode's start and from the false
@@ -45,27 +47,31 @@ def _help_sums(run: Mapping[str, Any], anyone: Collection[str] = ()) -> dict[str
     (the same people for every policy, so a robot that spares someone a false belief is
     credited and one that causes one is charged, which ``ticks_to_goal_fb``, over each run's
     own people, does not do); and wasted trips and interruptions over every person."""
-    helped = run.get("help", {})
-    fb = [h for h in helped.values() if h["false_belief"]]
-    ticks = [h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"] for h in fb]
-    onsets = [h.get("false_belief_tick") for h in fb]
+    helped = run.help
+    fb = [h for h in helped.values() if h.false_belief]
+    ticks = [h.goal_tick if h.goal_tick is not None else run.episode_ticks for h in fb]
+    onsets = [h.false_belief_tick for h in fb]
     since = [t - onset for t, onset in zip(ticks, onsets, strict=True) if onset is not None]
-    reached = run.get("ticks_to_goal", {})
-    every = [reached.get(a) if reached.get(a) is not None else run["episode_ticks"] for a in sorted(anyone)]
+    reached = run.ticks_to_goal
+    every = [_or(reached.get(a), run.episode_ticks) for a in sorted(anyone)]
     return {
         "ticks_to_goal_fb": (float(sum(ticks)), len(ticks)),
         "ticks_to_goal_any_fb": (float(sum(every)), len(every)),
         "ticks_from_false_belief": (float(sum(since)), len(since)),
-        "wasted_trips": (float(sum(h["wasted_trips"] for h in helped.values())), len(helped)),
-        "interruptions": (float(sum(h["interruptions"] for h in helped.values())), len(helped)),
+        "wasted_trips": (float(sum(h.wasted_trips for h in helped.values())), len(helped)),
+        "interruptions": (float(sum(h.interruptions for h in helped.values())), len(helped)),
     }
 
 
-def policies_of(episode: Mapping[str, Any]) -> dict[str, str]:
+def _or(tick: int | None, otherwise: int) -> int:
+    return otherwise if tick is None else tick
+
+
+def policies_of(episode: EpisodeRecord) -> dict[str, str]:
     """Robot policy -> the key of the run it is measured on, acting policies first (``tom``
     first of them), then ``none`` (the robot observing)."""
     acting = sorted(
-        (k[len(ROBOT) + 1 :] for k in episode if k.startswith(f"{ROBOT}-")), key=lambda p: p != "tom"
+        (k[len(ROBOT) + 1 :] for k in episode.runs if k.startswith(f"{ROBOT}-")), key=lambda p: p != "tom"
     )
     return {p: f"{ROBOT}-{p}" for p in acting} | {NONE: BTOM}
 
@@ -74,7 +80,7 @@ LOSSES = ("before_false_belief", "before_robot_acted", "after_robot_acted", "rob
 """The loss table's columns (:func:`robot_losses`)."""
 
 
-def robot_losses(episodes: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, float | None]]:
+def robot_losses(episodes: Sequence[EpisodeRecord]) -> dict[str, dict[str, float | None]]:
     """Per policy, where the ticks to the goal of the people with a false belief went (means
     over them, ticks from the episode's start): before the false belief, from it to the robot's
     first act for them (to the goal when it never acted), from that act to the goal; and the
@@ -83,20 +89,20 @@ def robot_losses(episodes: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, f
     for policy, key in policies_of(episodes[0]).items():
         parts: list[tuple[float, float, float, float]] = []
         for episode in episodes:
-            run = episode[key]
-            for h in run.get("help", {}).values():
-                if not h["false_belief"] or h.get("false_belief_tick") is None:
+            run = episode.runs[key]
+            for h in run.help.values():
+                if not h.false_belief or h.false_belief_tick is None:
                     continue
-                goal = h["goal_tick"] if h.get("goal_tick") is not None else run["episode_ticks"]
-                onset, acted = h["false_belief_tick"], h.get("acted_tick")
-                acted = goal if acted is None else min(acted, goal)
-                parts.append((onset, acted - onset, goal - acted, float(h.get("acted_tick") is not None)))
+                goal = _or(h.goal_tick, run.episode_ticks)
+                onset = h.false_belief_tick
+                acted = goal if h.acted_tick is None else min(h.acted_tick, goal)
+                parts.append((onset, acted - onset, goal - acted, float(h.acted_tick is not None)))
         n = len(parts)
         table[policy] = {name: (sum(p[i] for p in parts) / n if n else None) for i, name in enumerate(LOSSES)}
     return table
 
 
-def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
+def robot_metrics(episodes: Sequence[EpisodeRecord], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
     """``(per policy, the first policy minus each other)``: success rate and each of
     :data:`HELP` as ``{mean, lo, hi}``."""
     policies = policies_of(episodes[0])
@@ -104,7 +110,7 @@ def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dic
     differences: dict[str, Any] = {p: {} for p in list(policies)[1:]}
     people = [mistaken(e, list(policies.values())) for e in episodes]
     sums = {
-        policy: [_help_sums(e[key], p) for e, p in zip(episodes, people, strict=True)]
+        policy: [_help_sums(e.runs[key], p) for e, p in zip(episodes, people, strict=True)]
         for policy, key in policies.items()
     }
     for measure in HELP:
@@ -118,7 +124,7 @@ def robot_metrics(episodes: Sequence[Mapping[str, Any]], seed: int) -> tuple[dic
     for policy, key in policies.items():
         outcome = Outcome()
         for episode in episodes:
-            for ok in episode[key]["outcome"].values():
+            for ok in episode.runs[key].outcome.values():
                 outcome.people += 1
                 outcome.successes += bool(ok)
         per_policy[policy]["success"] = outcome.rate
@@ -134,16 +140,16 @@ def _with_intervals(pooled: Mapping[str, float | None], bounds: Mapping[str, Any
     }
 
 
-def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str]) -> dict[str, Any]:
+def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[str]) -> dict[str, Any]:
     """One condition's numbers from its episodes' results (failed episodes are counted in
     ``episodes_failed`` and left out of the scores)."""
-    failed = [e for e in episodes if "error" in e]
-    episodes = [e for e in episodes if "error" not in e]
+    failed = [e for e in episodes if e.failed]
+    episodes = [e for e in episodes if not e.failed]
     totals = {observer: Counts() for observer in observers}
     per_episode: dict[str, list[Counts]] = {observer: [] for observer in (*observers, MAJORITY)}
     for episode in episodes:
         for observer in observers:
-            counts = Counts(**episode[observer]["counts"])
+            counts = dataclasses.replace(episode.runs[observer].counts)  # a copy: the sums add into totals
             totals[observer].add(counts)
             per_episode[observer].append(counts)
     goal = max(totals[BTOM].pref_truth, key=lambda g: (totals[BTOM].pref_truth[g], g), default="")
@@ -156,7 +162,7 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
     return {
         "episodes": len(episodes),
         "episodes_failed": len(failed),
-        "failed_runs_retried": sum(len(e.get("failed_runs") or []) for e in episodes),
+        "failed_runs_retried": sum(len(e.failed_runs or []) for e in episodes),
         "observers": {name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
         "paired_differences": differences,
         "revealed_stretches": totals[BTOM].stretches if BTOM in totals else None,
@@ -172,11 +178,11 @@ def aggregate(episodes: list[dict[str, Any]], seed: int, observers: Sequence[str
 
 
 def by_task(
-    condition: Condition, episodes: Sequence[dict[str, Any]], seed: int, observers: Sequence[str]
+    condition: Condition, episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[str]
 ) -> dict[str, Any]:
     """A ``tasks`` condition's numbers per task kind (episode ``i`` of a sweep has the seed
     ``1000 seed + i``, which picks its kind: :meth:`Condition.task_of`)."""
-    kinds: dict[str, list[dict[str, Any]]] = {}
+    kinds: dict[str, list[EpisodeRecord]] = {}
     for result in episodes:
-        kinds.setdefault(condition.task_of(seed * 1000 + int(result["index"])) or "", []).append(result)
+        kinds.setdefault(condition.task_of(seed * 1000 + result.index) or "", []).append(result)
     return {kind: aggregate(results, seed, observers) for kind, results in sorted(kinds.items())}

@@ -34,6 +34,7 @@ from .generation import MAPS, generate, map_of, scenarios_of
 from .interrupt import NODES, EvaluationStopped
 from .planned import policy_table
 from .pool import run_chunks
+from .records import EpisodeRecord, RunScores
 from .report import report
 from .resume import EPISODES, Ledger, begin, finished, plan_of
 from .runs import MOTION, RunResult, RunSpec, run_once
@@ -96,24 +97,24 @@ def episode_runs(
     return [observe, *acting]
 
 
-def run_episode(job: EpisodeJob) -> dict[str, Any]:
-    """Everything about one episode, as plain data (so a Ray task can return it); an
-    episode whose runs kept failing comes back with its ``error`` and no scores."""
+def run_episode(job: EpisodeJob) -> EpisodeRecord:
+    """Everything about one episode (:class:`~.records.EpisodeRecord`); an episode whose
+    runs kept failing comes back with its ``error`` and no scores."""
     try:
         return _episode(job)
     except EvaluationStopped:
         raise
     except Exception as err:
         log.error("episode %d failed: %s", job.index, err)
-        return {
-            "index": job.index,
-            "map": map_of(job.index),
-            "scenario": f"episode-{job.index}",
-            "error": f"{type(err).__name__}: {err}",
-        }
+        return EpisodeRecord(
+            index=job.index,
+            map=map_of(job.index),
+            scenario=f"episode-{job.index}",
+            error=f"{type(err).__name__}: {err}",
+        )
 
 
-def _episode(job: EpisodeJob) -> dict[str, Any]:
+def _episode(job: EpisodeJob) -> EpisodeRecord:
     started = time.monotonic()
     scenario, specs = episode_specs(job)
     logs = Path(job.workdir) / job.condition.name / "logs"
@@ -167,26 +168,32 @@ def episode_entry(
     seconds: Sequence[float],
     failures: list[str],
     took: float,
-) -> dict[str, Any]:
-    """Everything about one episode, as plain data: each run's scores (``results``, in the
-    order of ``specs``), its seconds, the failed attempts, and the episode's seconds."""
-    out: dict[str, Any] = {"index": job.index, "map": map_of(job.index), "scenario": scenario.stem}
-    out["run_seconds"] = {}
-    for spec, result, run_seconds in zip(specs, results, seconds, strict=True):
-        out["run_seconds"][spec.tag.removeprefix(f"{scenario.stem}-")] = run_seconds
+) -> EpisodeRecord:
+    """Everything about one episode: each run's scores (``results``, in the order of
+    ``specs``), its seconds, the failed attempts, and the episode's seconds."""
+    run_seconds: dict[str, float] = {}
+    runs: dict[str, RunScores] = {}
+    for spec, result, spent in zip(specs, results, seconds, strict=True):
+        run_seconds[spec.tag.removeprefix(f"{scenario.stem}-")] = spent
         for observer, scored in result.items():
             key = observer if spec.robot == "observe" else f"{ROBOT}-{spec.policy}"
-            out[key] = {
-                "counts": scored.counts.__dict__,
-                "outcome": scored.outcome.per_person,
-                "ticks_to_goal": scored.outcome.ticks_to_goal,
-                "episode_ticks": scored.outcome.ticks,
-                "ticks": scored.ticks,
-                "help": {p: dataclasses.asdict(h) for p, h in scored.help.items()},
-            }
-    out["failed_runs"] = failures
-    out["seconds"] = took
-    return out
+            runs[key] = RunScores(
+                counts=scored.counts,
+                outcome=scored.outcome.per_person,
+                ticks_to_goal=scored.outcome.ticks_to_goal,
+                episode_ticks=scored.outcome.ticks,
+                ticks=scored.ticks,
+                help=dict(scored.help),
+            )
+    return EpisodeRecord(
+        index=job.index,
+        map=map_of(job.index),
+        scenario=scenario.stem,
+        run_seconds=run_seconds,
+        runs=runs,
+        failed_runs=failures,
+        seconds=took,
+    )
 
 
 def _recorded(spec: RunSpec, directory: Path) -> RunSpec:
@@ -261,7 +268,7 @@ def evaluate(
     workdir = str(out / state.workdir)
     ledger = Ledger(out, state, cpu_seconds)  # generating the episodes counts too
 
-    def done(job: EpisodeJob, entry: dict[str, Any]) -> None:
+    def done(job: EpisodeJob, entry: EpisodeRecord) -> None:
         ledger.keep(job.condition.name, entry)
         entries[(job.condition.name, job.index)] = entry
         if progress is not None:
@@ -297,20 +304,21 @@ def evaluate(
     return metrics
 
 
-def _write(out: Path, metrics: dict[str, Any], episodes: dict[str, list[dict[str, Any]]]) -> None:
+def _write(out: Path, metrics: dict[str, Any], episodes: dict[str, list[EpisodeRecord]]) -> None:
     """``metrics.json``, ``episodes.json`` (each condition's episodes) and ``report.md``;
     then the evaluation is no longer an unfinished one (:mod:`.resume`)."""
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
-    (out / "episodes.json").write_text(json.dumps(episodes, indent=1) + "\n")
+    kept = {name: [entry.to_builtins() for entry in chunk] for name, chunk in episodes.items()}
+    (out / "episodes.json").write_text(json.dumps(kept, indent=1) + "\n")
     (out / "report.md").write_text(report(metrics, out))
     finished(out)
 
 
-def _summary(condition: Condition, chunk: list[dict[str, Any]], seed: int) -> dict[str, Any]:
+def _summary(condition: Condition, chunk: list[EpisodeRecord], seed: int) -> dict[str, Any]:
     """One condition's entry of ``metrics.json``, from its episodes (in order of index)."""
     summary = {**dataclasses.asdict(condition), "name": condition.name}
     summary |= aggregate(chunk, seed, OBSERVERS)
-    summary["by_map"] = {m: aggregate([r for r in chunk if r["map"] == m], seed, OBSERVERS) for m in MAPS}
+    summary["by_map"] = {m: aggregate([r for r in chunk if r.map == m], seed, OBSERVERS) for m in MAPS}
     if condition.kind == "tasks":
         summary["by_task"] = by_task(condition, chunk, seed, OBSERVERS)
     return summary
@@ -337,7 +345,7 @@ def _shares(job: EpisodeJob) -> bool:
     return not job.record and job.condition.minds != "model"
 
 
-def run_episodes(jobs: Sequence[EpisodeJob]) -> list[dict[str, Any]]:
+def run_episodes(jobs: Sequence[EpisodeJob]) -> list[EpisodeRecord]:
     """:func:`run_episode` of each job, in order, the runs of all of them sharing an engine
     process and a brain process per kind of run (:mod:`toyroom.evaluation.batches`); an
     episode whose batch did not finish it is run again alone (its entry's ``failed_runs``
@@ -357,7 +365,8 @@ def run_episodes(jobs: Sequence[EpisodeJob]) -> list[dict[str, Any]]:
     for job, (scenario, specs), scores in zip(jobs, prepared, batch.scores, strict=True):
         if scores is None:
             entry = run_episode(job)
-            entry.setdefault("failed_runs", []).insert(0, f"episode {job.index}: its batch did not finish it")
+            again = f"episode {job.index}: its batch did not finish it"
+            entry.failed_runs = [again, *(entry.failed_runs or [])]
         else:
             entry = episode_entry(job, scenario, specs, scores, batch.seconds, [], took)
         out.append(entry)
@@ -368,7 +377,7 @@ def _run_jobs(
     jobs: list[EpisodeJob],
     workers: int,
     backend: str,
-    done: Callable[[EpisodeJob, dict[str, Any]], None],
+    done: Callable[[EpisodeJob, EpisodeRecord], None],
     batch: int = BATCH,
     address: str | None = None,
 ) -> None:

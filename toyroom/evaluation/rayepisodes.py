@@ -20,11 +20,13 @@ import tomllib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
-from typing import Any
+
+import msgspec.structs
 
 from .episodes import EpisodeJob, run_episode
 from .interrupt import NODES
 from .raybackend import node_id, run_with_ray
+from .records import EpisodeRecord
 
 
 @dataclass(frozen=True)
@@ -32,7 +34,7 @@ class Shipped:
     """What an episode task sends back: its entry, and the files it made that a local
     evaluation keeps, by their paths relative to the output folder."""
 
-    entry: dict[str, Any]
+    entry: EpisodeRecord
     files: dict[str, bytes]
     condition: str = ""
     """The name of the episode's condition."""
@@ -73,13 +75,13 @@ def run_shipped(job: EpisodeJob, *files: tuple[str, bytes]) -> Shipped:
         logs = Path(local.workdir) / job.condition.name / "logs"
         kept = [*logs.glob("*.log"), *(root / "recordings").rglob("*.mcap")]
         made = {path.relative_to(root).as_posix(): path.read_bytes() for path in sorted(kept)}
-    return Shipped({**entry, "node": node}, made, job.condition.name)
+    return Shipped(msgspec.structs.replace(entry, node=node), made, job.condition.name)
 
 
 def run_on_ray(
     jobs: Sequence[EpisodeJob],
     workers: int,
-    done: Callable[[EpisodeJob, dict[str, Any]], None],
+    done: Callable[[EpisodeJob, EpisodeRecord], None],
     address: str | None = None,
 ) -> None:
     """Every job run as a Ray task (:func:`run_shipped`) on the cluster at ``address``
@@ -97,7 +99,7 @@ def run_on_ray(
     def arrived(shipped: Shipped) -> Shipped:
         NODES.check()  # what arrives with a stop signal is not kept
         write_files(out, shipped.files)
-        done(by_key[(shipped.condition, int(shipped.entry["index"]))], shipped.entry)
+        done(by_key[(shipped.condition, shipped.entry.index)], shipped.entry)
         return Shipped(shipped.entry, {}, shipped.condition)  # the files' bytes are not kept
 
     run_with_ray(

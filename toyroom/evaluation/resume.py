@@ -34,6 +34,7 @@ from bridge.errors import BridgeError
 from bridge.processes import CHECKOUT
 
 from .conditions import Condition
+from .records import EpisodeRecord
 
 STATE = "unfinished-eval.json"
 """The file in the output folder that marks an unfinished evaluation."""
@@ -131,7 +132,7 @@ def differences(earlier: Plan, now: Plan) -> list[str]:
 
 def begin(
     out: Path, plan: Plan, names: Sequence[str], fresh: bool
-) -> tuple[Unfinished, dict[tuple[str, int], dict[str, Any]]]:
+) -> tuple[Unfinished, dict[tuple[str, int], EpisodeRecord]]:
     """The evaluation's state in ``out`` and the episodes kept from its earlier sessions, by
     (condition name, of ``names``; index): an unfinished one of the same plan resumed, or
     (none, or ``fresh``) a new one begun (``episodes.jsonl`` emptied, a new scratch folder).
@@ -172,27 +173,29 @@ def _read_state(path: Path) -> Unfinished:
         raise IncompatibleRun(f"{path}: unreadable ({err}): run with --fresh to start afresh") from None
 
 
-def read_kept(path: Path, names: Sequence[str], episodes: int) -> dict[tuple[str, int], dict[str, Any]]:
+def read_kept(path: Path, names: Sequence[str], episodes: int) -> dict[tuple[str, int], EpisodeRecord]:
     """The finished episodes in ``episodes.jsonl`` of the conditions ``names`` and indices
-    below ``episodes``, by (condition, index) (a line cut off by a killed process is
-    skipped: that episode runs again)."""
-    kept: dict[tuple[str, int], dict[str, Any]] = {}
-    lines = path.read_text(encoding="utf-8").splitlines() if path.exists() else []
+    below ``episodes``, by (condition, index) (a line cut off by a killed process, or one
+    that is no episode's record, is skipped: that episode runs again)."""
+    kept: dict[tuple[str, int], EpisodeRecord] = {}
+    lines = path.read_bytes().splitlines() if path.exists() else []
     for line in lines:
         try:
-            entry = json.loads(line)
-        except json.JSONDecodeError:
+            data = msgspec.json.decode(line, type=dict[str, Any])
+            condition = data.pop("condition", None)
+            entry = EpisodeRecord.from_builtins(data)
+        except (msgspec.DecodeError, msgspec.ValidationError):
             continue
-        condition, index = entry.pop("condition", None), entry.get("index")
-        if condition in names and isinstance(index, int) and 0 <= index < episodes:
-            kept[(condition, index)] = entry
+        if condition in names and 0 <= entry.index < episodes:
+            kept[(condition, entry.index)] = entry
     return kept
 
 
-def keep(path: Path, condition: str, entry: dict[str, Any]) -> None:
-    """Append a finished episode's ``entry`` (of ``condition``) to ``episodes.jsonl``."""
+def keep(path: Path, condition: str, entry: EpisodeRecord) -> None:
+    """Append a finished episode's ``entry`` (of ``condition``) to ``episodes.jsonl``: its
+    JSON object (:meth:`~.records.EpisodeRecord.to_builtins`) with the condition's name."""
     with path.open("a", encoding="utf-8") as kept:
-        kept.write(json.dumps({**entry, "condition": condition}) + "\n")
+        kept.write(json.dumps({**entry.to_builtins(), "condition": condition}) + "\n")
 
 
 def save(out: Path, state: Unfinished) -> None:
@@ -217,7 +220,7 @@ class Ledger:
         self.started, self.cpu_started = time.monotonic(), cpu()
         self.count = 0
 
-    def keep(self, condition: str, entry: dict[str, Any]) -> None:
+    def keep(self, condition: str, entry: EpisodeRecord) -> None:
         """Append a finished episode to ``episodes.jsonl`` and save the seconds spent."""
         keep(self.out / EPISODES, condition, entry)
         self.count += 1

@@ -7,6 +7,8 @@ from __future__ import annotations
 import resource
 from typing import Any
 
+from .records import EpisodeRecord
+
 
 def cpu_seconds() -> dict[str, float]:
     """CPU seconds used so far by this process (the evaluator) and by its finished child
@@ -16,17 +18,17 @@ def cpu_seconds() -> dict[str, float]:
 
 
 def timing(
-    results: list[dict[str, Any]], took: float, workers: int, cpu: dict[str, float] | None = None
+    results: list[EpisodeRecord], took: float, workers: int, cpu: dict[str, float] | None = None
 ) -> dict[str, Any]:
     """How long the evaluation took: wall seconds in all and per episode (with ``workers`` at
     a time), one episode's own seconds and each kind of run's, averaged, and the CPU seconds
     per episode of the evaluator and of the node processes (``cpu``: the whole evaluation's;
     ``None`` with Ray, whose workers are not this process's children). The wall seconds per
     episode can be no lower than the CPU seconds per episode over the machine's cores."""
-    own = [r["seconds"] for r in results if "seconds" in r]
+    own = [r.seconds for r in results if r.seconds is not None]
     runs: dict[str, list[float]] = {}
     for r in results:
-        for name, seconds in r.get("run_seconds", {}).items():
+        for name, seconds in (r.run_seconds or {}).items():
             runs.setdefault(name, []).append(seconds)
     return {
         "seconds": took,

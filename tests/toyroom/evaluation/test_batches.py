@@ -19,6 +19,7 @@ from toyroom.evaluation.batches import run_batch
 from toyroom.evaluation.conditions import Condition
 from toyroom.evaluation.episodes import EpisodeJob, batches, episode_specs, run_episode, run_episodes
 from toyroom.evaluation.generation import generate_all
+from toyroom.evaluation.records import EpisodeRecord
 
 SEED, TICKS = 7, 80
 TIMING = ("seconds", "run_seconds", "failed_runs")
@@ -33,21 +34,21 @@ def _jobs(tmp_path: Path, episodes: int) -> list[EpisodeJob]:
     ]
 
 
-def _scores(entry: dict[str, Any]) -> dict[str, Any]:
-    return {k: v for k, v in entry.items() if k not in TIMING}
+def _scores(entry: EpisodeRecord) -> dict[str, Any]:
+    return {k: v for k, v in entry.to_builtins().items() if k not in TIMING}
 
 
 def test_batched_episodes_score_as_each_alone(tmp_path: Path) -> None:
     jobs = _jobs(tmp_path, 3)
     together = run_episodes(jobs)
     alone = [run_episode(job) for job in jobs]
-    assert [e.get("error") for e in together] == [None] * 3, together
-    assert [e["failed_runs"] for e in together] == [[], [], []], "no run failed, none ran twice"
+    assert [e.error for e in together] == [None] * 3, together
+    assert [e.failed_runs for e in together] == [[], [], []], "no run failed, none ran twice"
     for shared, single in zip(together, alone, strict=True):
         assert _scores(shared) == _scores(single), (
-            f"episode {single['index']}: alone {_scores(single)}, in a batch {_scores(shared)}"
+            f"episode {single.index}: alone {_scores(single)}, in a batch {_scores(shared)}"
         )
-    assert set(together[0]["run_seconds"]) == {"btom-observe", "btom-act-tom"}, together[0]["run_seconds"]
+    assert set(together[0].run_seconds or {}) == {"btom-observe", "btom-act-tom"}, together[0].run_seconds
 
 
 def test_an_episode_its_batch_did_not_finish_runs_alone(tmp_path: Path) -> None:
@@ -56,12 +57,12 @@ def test_an_episode_its_batch_did_not_finish_runs_alone(tmp_path: Path) -> None:
     jobs = _jobs(tmp_path, 3)
     Path(jobs[1].scenario).write_text('name = "broken"\nmap = 42\n')
     first, broken, third = run_episodes(jobs)
-    assert first["failed_runs"] == [] and "error" not in first, first
-    assert "the engine failed" in broken["error"], f"expected the engine's failure, got {broken}"
+    assert first.failed_runs == [] and first.error is None, first
+    assert "the engine failed" in (broken.error or ""), f"expected the engine's failure, got {broken}"
     logs = "".join(p.read_text() for p in tmp_path.rglob("batch-*.brain.log"))
     assert "map: expected a map name, got 42" in logs, f"the brain's log names what is wrong: {logs}"
-    assert "error" not in third, third
-    assert third["failed_runs"] == ["episode 2: its batch did not finish it"], third["failed_runs"]
+    assert third.error is None, third
+    assert third.failed_runs == ["episode 2: its batch did not finish it"], third.failed_runs
     assert _scores(third) == _scores(run_episode(jobs[2])), "run again alone, it scores as alone"
 
 

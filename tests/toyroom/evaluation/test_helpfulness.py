@@ -21,6 +21,7 @@ from tests.scenes import tiny_scene, tiny_state
 from toyroom.evaluation.aggregate import robot_losses, robot_metrics
 from toyroom.evaluation.helpfulness import helpfulness
 from toyroom.evaluation.intervals import pooled_means
+from toyroom.evaluation.records import EpisodeRecord
 
 
 def truth(tick: int, believes_b: float, ball_at: str = "A") -> Truth:
@@ -66,6 +67,13 @@ def test_no_false_belief_no_trip_wasted() -> None:
     assert (help_.false_belief, help_.wasted_trips, help_.interruptions) == (False, 0, 0), help_
 
 
+def _episode(runs: dict[str, dict]) -> EpisodeRecord:
+    """An episode of these runs (as ``episodes.json`` has them; what they leave out, empty)."""
+    empty = {"counts": {}, "outcome": {}, "ticks_to_goal": {}, "episode_ticks": 0, "ticks": 0}
+    runs = {key: {**empty, **run} for key, run in runs.items()}
+    return EpisodeRecord.from_builtins({"index": 0, "map": "paper", "scenario": "s", **runs})
+
+
 def test_pooled_means_and_paired_differences() -> None:
     per_episode = {"tom": [(10.0, 1), (30.0, 2), (0.0, 0)], "none": [(20.0, 1), (50.0, 2), (0.0, 0)]}
     bounds, differences = pooled_means(per_episode, seed=1, resamples=200)
@@ -92,8 +100,8 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
         }
 
     episodes = [
-        {"robot-tom": run(True, 40, 0), "btom": run(True, None, 2)},
-        {"robot-tom": run(False, 10, 1), "btom": run(False, 10, 1)},
+        _episode({"robot-tom": run(True, 40, 0), "btom": run(True, None, 2)}),
+        _episode({"robot-tom": run(False, 10, 1), "btom": run(False, 10, 1)}),
     ]
     policies, differences = robot_metrics(episodes, seed=1)
     assert (
@@ -125,11 +133,13 @@ def test_ticks_to_goal_any_fb_scores_the_same_people_under_every_policy() -> Non
         }
         return {"outcome": {}, "ticks_to_goal": reached, "episode_ticks": 100, "help": help_}
 
-    episode = {
-        "robot-tom": run({"A1": False, "A2": False, "A3": False}, {"A1": 30, "A2": 50, "A3": 20}),
-        "robot-tidy": run({"A1": True, "A2": True, "A3": False}, {"A1": 80, "A2": None, "A3": 20}),
-        "btom": run({"A1": True, "A2": False, "A3": False}, {"A1": 80, "A2": 50, "A3": 20}),
-    }
+    episode = _episode(
+        {
+            "robot-tom": run({"A1": False, "A2": False, "A3": False}, {"A1": 30, "A2": 50, "A3": 20}),
+            "robot-tidy": run({"A1": True, "A2": True, "A3": False}, {"A1": 80, "A2": None, "A3": 20}),
+            "btom": run({"A1": True, "A2": False, "A3": False}, {"A1": 80, "A2": 50, "A3": 20}),
+        }
+    )
     policies, differences = robot_metrics([episode], seed=1)
     own = {p: policies[p]["ticks_to_goal_fb"]["mean"] for p in ("tom", "tidy", "none")}
     assert own == {"tom": None, "tidy": 90, "none": 80}, f"each run's own people: {own}"
@@ -143,7 +153,7 @@ def test_the_loss_table_splits_the_ticks_to_the_goal() -> None:
         person = {"false_belief": True, "false_belief_tick": 10, "goal_tick": 40, "acted_tick": acted}
         return {"episode_ticks": 100, "help": {"A1": person, "A2": {"false_belief": False}}}
 
-    losses = robot_losses([{"robot-tom": run(25), "btom": run(None)}])
+    losses = robot_losses([_episode({"robot-tom": run(25), "btom": run(None)})])
     assert losses["tom"] == {
         "before_false_belief": 10,
         "before_robot_acted": 15,
