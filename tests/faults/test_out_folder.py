@@ -97,10 +97,11 @@ def full_disk(tmp_path: Path) -> Iterator[Path]:
     subprocess.run(["umount", "-l", str(disk)], check=False)
 
 
-def test_a_full_disk_fails_the_run_in_one_line(full_disk: Path) -> None:
-    out = full_disk / "out"
+def fails_in_one_line(out: Path, written: str, *args: str) -> None:
+    """``toyroom run --scenario paper-robot --out OUT ARGS`` fails with exit 1 and the one line
+    saying the disk filled while writing ``written`` (no traceback per message)."""
     run = subprocess.run(
-        toyroom_run("--scenario", "paper-robot", "--out", str(out)),
+        toyroom_run("--scenario", "paper-robot", "--out", str(out), *args),
         capture_output=True,
         text=True,
         timeout=RUN_LIMIT_S,
@@ -108,32 +109,21 @@ def test_a_full_disk_fails_the_run_in_one_line(full_disk: Path) -> None:
     )
     lines = [line for line in run.stderr.splitlines() if line.strip()]
     expected = (
-        "toyroom run: no space left on device writing trace.jsonl; "
-        f"partial outputs in {out}/, see {out}/FAILED"
+        f"toyroom run: no space left on device writing {written}; partial outputs in {out}/, see {out}/FAILED"
     )
     assert (run.returncode, lines) == (1, [expected]), (
         f"exit 1 and the one line {expected!r} expected; got exit {run.returncode} and "
         f"{len(lines)} lines ({run.stderr.count('Traceback')} tracebacks), the last {lines[-3:]}"
     )
+
+
+def test_a_full_disk_fails_the_run_in_one_line(full_disk: Path) -> None:
+    out = full_disk / "out"
+    fails_in_one_line(out, "trace.jsonl")
     assert (out / "FAILED").read_text().startswith("toyroom run did not finish: no space left on device")
 
 
 def test_a_recording_on_a_full_disk_fails_the_run_in_one_line(full_disk: Path, tmp_path: Path) -> None:
     """``--record FILE.mcap`` on a full disk: the recording stops at its first failed write
     (no traceback per message) and the run fails, saying so: what it asked for is lost."""
-    out, record = tmp_path / "out", full_disk / "run.mcap"
-    run = subprocess.run(
-        toyroom_run("--scenario", "paper-robot", "--out", str(out), "--record", str(record)),
-        capture_output=True,
-        text=True,
-        timeout=RUN_LIMIT_S,
-        check=False,
-    )
-    lines = [line for line in run.stderr.splitlines() if line.strip()]
-    expected = (
-        f"toyroom run: no space left on device writing run.mcap; partial outputs in {out}/, see {out}/FAILED"
-    )
-    assert (run.returncode, lines) == (1, [expected]), (
-        f"exit 1 and the one line {expected!r} expected; got exit {run.returncode} and "
-        f"{len(lines)} lines ({run.stderr.count('Traceback')} tracebacks), the last {lines[-3:]}"
-    )
+    fails_in_one_line(tmp_path / "out", "run.mcap", "--record", str(full_disk / "run.mcap"))
