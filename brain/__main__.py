@@ -10,6 +10,8 @@
   allowed (``toyroom run`` asks this before it starts any process).
 - ``python -m brain plan --scene SCENE.json --out FILE.npz``: the planner's Q-values of a
   scene, for simulated people who act by the brain's planner (:mod:`brain.outputs.policytable`).
+- ``python -m brain memory show|forget|export FILE ...`` (``toyroom memory``): the memory of
+  households across days that ``--memory FILE`` keeps (:mod:`brain.memory.command`).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from bridge.flags import (
     add_settings_args,
     command_parser,
     configure_logging,
+    positive_int,
 )
 from bridge.processes import exit_with_parent
 from bridge.recording.mcap import McapRecorder
@@ -37,6 +40,8 @@ from protocol import Error as ProtocolError
 from protocol import Observer, Scene
 
 from .errors import BrainError
+from .memory import CHECKPOINT_TICKS, MemoryKeeper, open_memory
+from .memory.command import memory_main, memory_parser
 from .model.planner import use_store
 from .model.revisions import SharedRevisions
 from .model.size import check_model_size
@@ -113,6 +118,7 @@ def run_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
     )
+    _memory_args(parser)
     parser.add_argument(
         "--values-cache",
         type=Path,
@@ -157,6 +163,25 @@ def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Sett
     path = write_outputs(tracker, scenario, out, note)
     (out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
     return path
+
+
+def _memory_args(parser: argparse.ArgumentParser) -> None:
+    """The run's ``--memory`` and ``--checkpoint-ticks``."""
+    parser.add_argument(
+        "--memory",
+        type=Path,
+        metavar="FILE",
+        help="the memory of households across days (SQLite; created if missing): a scene that names "
+        "its household starts each person from what was learned of them before, and what is "
+        "learned is saved (toyroom memory show|forget|export reads it)",
+    )
+    parser.add_argument(
+        "--checkpoint-ticks",
+        type=positive_int,
+        default=CHECKPOINT_TICKS,
+        metavar="N",
+        help=f"save a checkpoint of the memory every N engine ticks of a day (default {CHECKPOINT_TICKS})",
+    )
 
 
 def check_settings_parser() -> argparse.ArgumentParser:
@@ -212,6 +237,7 @@ def run_node(
             if args.record
             else nullcontext()
         ) as recorder,
+        (open_memory(args.memory) if args.memory is not None else nullcontext()) as store,
     ):
         node = BrainNode(
             bridge,
@@ -224,6 +250,7 @@ def run_node(
             shadows=[Observer(o) for o in args.shadow],
             shadow_dir=args.shadow_out,
             run_log=args.run_log,
+            memory=None if store is None else MemoryKeeper(store, args.checkpoint_ticks),
         )
         for chosen, folder in episodes:
             if folder is not None:
@@ -259,6 +286,7 @@ def episode_folders(scenarios: Sequence[str]) -> list[tuple[str, str]]:
 
 
 SUBCOMMANDS = {
+    "memory": memory_parser,
     "infer": infer_parser,
     "plan": plan_parser,
     "check-settings": check_settings_parser,
@@ -272,6 +300,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv[1:] if sub else argv)
     configure_logging(args.log_level)
     try:
+        if sub == "memory":
+            return memory_main(args)
         settings = load_settings(args.settings, args.overrides)
         if sub == "check-settings":
             return 0

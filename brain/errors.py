@@ -35,3 +35,9 @@ class NonFiniteError(BrainError, ArithmeticError):
 class ModelTooLarge(BrainError, MemoryError):
     """A scene whose model arrays would take more memory than the brain allows
     (:data:`brain.model.size.MAX_MODEL_BYTES`), refused before any is allocated."""
+
+
+class MemoryFileError(BrainError, OSError):
+    """A memory file (:mod:`brain.memory`) the brain cannot use: not a toyroom memory (another
+    file, or damaged), written by a newer toyroom, or in use by another process. Raised at
+    start, never read as an empty memory."""

@@ -39,6 +39,7 @@ from protocol import (
 )
 
 from .errors import StateError
+from .memory import MemoryKeeper
 from .model.revisions import SharedRevisions
 from .outputs.results import MindCache, mind_message
 from .outputs.runlog import RunLog
@@ -71,6 +72,8 @@ class BrainNode:
             ``shadow_dir`` (:mod:`brain.outputs.shadows`).
         run_log: a directory to write every state and event handled, and every ``mind``
             message published, into (:mod:`brain.outputs.runlog`); ``None``: none.
+        memory: the memory of households across days (:mod:`brain.memory`): a scene that
+            names its household starts from it, and the brain saves what it learns into it.
 
     Each :meth:`run` follows one episode with a fresh model; a node may run several in turn
     (``python -m brain --episodes``), each into its own ``shadow_dir`` and ``run_log``
@@ -91,8 +94,10 @@ class BrainNode:
         shadows: Sequence[Observer] = (),
         shadow_dir: Path | None = None,
         run_log: Path | None = None,
+        memory: MemoryKeeper | None = None,
     ) -> None:
         self.bridge = bridge
+        self.memory = memory
         self.run_log = run_log
         self._run_log: RunLog | None = None
         self._declared: list[Closable] = []
@@ -124,18 +129,19 @@ class BrainNode:
         log.info("robot '%s' %s", spec.id, "acts" if acts else "only observes")
         return RobotBrain(tracker, spec.id, self.robot_settings) if acts else None
 
-    def _link(self, info: EngineInfo, old: _Link | None, realtime: bool) -> _Link:
+    def _link(self, info: EngineInfo, old: _Link | None, realtime: bool, tick: int | None = None) -> _Link:
         """What following the engine of ``info`` takes: the person models (kept from ``old``
-        when the scene is the same, new otherwise), the shadow observers (which stop when the
-        scene changes: their files hold one scene), and the robot's command channel, once
-        the engine listens to it."""
+        when the scene is the same, new otherwise: from the memory of the household's days
+        before, when there is one, joined at engine tick ``tick``), the shadow observers
+        (which stop when the scene changes: their files hold one scene), and the robot's
+        command channel, once the engine listens to it."""
         same = old is not None and old.info.scene == info.scene
         revisions = SharedRevisions()  # the shadows', and an embodied robot's branches'
-        tracker = (
-            old.tracker
-            if old is not None and same
-            else MindTracker(info.scene, self.settings, self.observer, revisions)
-        )
+        if old is not None and same:
+            tracker = old.tracker
+        else:
+            memory = None if self.memory is None else self.memory.start(info.scene, tick)
+            tracker = MindTracker(info.scene, self.settings, self.observer, revisions, memory)
         shadow = old.shadow if old is not None and same else None
         if old is None and self.shadows:
             shadow = ShadowMinds(info.scene, self.shadows, self.shadow_dir, self.settings, revisions)
@@ -228,9 +234,12 @@ class BrainNode:
         self._mind.put(mind)
         if self._run_log is not None:
             self._run_log.mind(mind)
+        over = state.done or (self._max_ticks is not None and state.tick >= self._max_ticks)
+        if self.memory is not None:
+            self.memory.after_tick(mind, link.tracker.robot_items(), over)
         if self._on_tick is not None:
             self._on_tick(state, events)
-        return state.done or (self._max_ticks is not None and state.tick >= self._max_ticks)
+        return over
 
     def _lockstep(self, first: EngineInfo, scenario: str | None, seed: int) -> tuple[str, MindTracker]:
         """Drive the engine's clock one tick at a time."""
@@ -238,7 +247,7 @@ class BrainNode:
         state = clock.reset(scenario=scenario or first.scenario or None, seed=seed)
         info = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         log.info("engine '%s', scenario '%s', scene '%s'", info.engine, info.scenario, info.scene.name)
-        link = self._link(info, None, realtime=False)
+        link = self._link(info, None, realtime=False, tick=state.tick)
         lost = self._lost = self._watch_engine()
         events = clock.last_reply.events if clock.last_reply is not None else ()
         while not self._tick(link, state, events):

@@ -104,6 +104,14 @@ class ModelSettings:
             belief); 0: what they last saw the other see is all they credit.
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
             from its low to its high value (``desire_levels**(K + 1) - 1``; ``**K - 1`` with no outside).
+        memory_drift: households (:mod:`brain.memory`): the chance per day the model assumes
+            that a person's favourites are redrawn: that much of a remembered desire is
+            spread evenly over the candidates at the next day's start.
+        memory_strength: households: how many looks' worth a remembered belief about an item
+            counts for in the next morning's prior (:mod:`brain.model.remembered`).
+        memory_forget: households: the share of the morning's prior, per item, that goes back
+            to the grid's own weights (a night may blur what a person believed; the robot's
+            own memory of where items rest is blurred alike: something may move overnight).
     """
 
     r: float = 8.0
@@ -136,6 +144,9 @@ class ModelSettings:
     hearsay: float = 0.0
     forget_per_s: float = 0.0
     nested_peek: float = 0.002
+    memory_drift: float = 0.1
+    memory_strength: float = 3.0
+    memory_forget: float = 0.1
 
     def __post_init__(self) -> None:
         checks = {
@@ -163,6 +174,9 @@ class ModelSettings:
             "forget_per_s": self.forget_per_s >= 0.0,
             "nested_peek": self.nested_peek >= 0.0,
             "vi_tolerance": self.vi_tolerance >= 0.0,
+            "memory_drift": 0.0 <= self.memory_drift <= 1.0,
+            "memory_strength": self.memory_strength >= 0.0,
+            "memory_forget": 0.0 <= self.memory_forget <= 1.0,
         }
         check_values("model", self, checks, ALLOWED)
 
@@ -193,6 +207,9 @@ ALLOWED = {
     "forget_per_s": "forget_per_s >= 0",
     "nested_peek": "nested_peek >= 0",
     "vi_tolerance": "vi_tolerance >= 0",
+    "memory_drift": "0 <= memory_drift <= 1",
+    "memory_strength": "memory_strength >= 0",
+    "memory_forget": "0 <= memory_forget <= 1",
 }
 """What the settings allow of each value they check, as their errors say it (``toyroom run``
 checks them with ``python -m brain check-settings`` before any process starts)."""

@@ -46,6 +46,17 @@ def log_level(value: str) -> str:
     return value.upper()
 
 
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number >= 1 (the error names what was given)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {value}")
+    return value
+
+
 def add_log_level(parser: argparse.ArgumentParser, default: str = "INFO") -> None:
     """Add ``--log-level``."""
     parser.add_argument(

@@ -22,6 +22,7 @@ from .events import Event, EventKind
 from .falsebelief import FALSE_BELIEF_MASS, believes_falsely, is_false_belief
 from .geometry import NEIGHBOURS, Cell, GridCell, Pose, Vec2
 from .handshake import Capability, ClockMode, EngineInfo, Hello
+from .household import MAX_DAYS, Morning, morning_of
 from .keys import Keys, check_name
 from .limits import (
     LIMITS,
@@ -77,6 +78,7 @@ from .scene import (
     AgentKind,
     AgentSpec,
     Door,
+    Household,
     ItemShape,
     ItemSpec,
     Location,
@@ -141,9 +143,12 @@ __all__ = [
     "Heartbeat",
     "Hello",
     "Intention",
+    "Household",
     "InvalidScene",
+    "Morning",
     "LIMITS",
     "MAX_AGENTS",
+    "MAX_DAYS",
     "MAX_CELL_SIZE",
     "MAX_GRID_CELLS",
     "MAX_ITEMS",
@@ -207,5 +212,6 @@ __all__ = [
     "to_builtins",
     "unknown_action",
     "unknown_values",
+    "morning_of",
     "validate_scene",
 ]

@@ -155,10 +155,22 @@ class ItemSpec(msgspec.Struct, frozen=True):
         msgspec.structs.force_setattr(self, "shape", known(ItemShape, self.shape))
 
 
+class Household(msgspec.Struct, frozen=True):
+    """The household an episode is a day of (protocol 1.5): the same map, people and items
+    lived over days, each day starting where the last ended. A brain with a memory file
+    starts each person's estimate from what it learned of them on the days before
+    (``id`` names the household in that memory); ``day`` counts from 1."""
+
+    id: Id
+    day: Annotated[int, msgspec.Meta(ge=1)] = 1
+
+
 class Scene(msgspec.Struct, frozen=True):
     """Everything a brain or viewer needs to know about the world that does not change.
 
     Units: ``cell_size`` and ``origin`` in metres; the grid is ``columns`` x ``rows`` cells.
+    ``household`` (optional, protocol 1.5): the household and day this episode is, if it is
+    one (:class:`Household`); absent, an episode of its own.
     """
 
     name: str
@@ -172,6 +184,7 @@ class Scene(msgspec.Struct, frozen=True):
     visibility: tuple[Visibility, ...]
     agents: tuple[AgentSpec, ...]
     items: tuple[ItemSpec, ...]
+    household: Household | None = None
 
     def walkable(self) -> frozenset[tuple[int, int]]:
         """The walkable cells as ``(col, row)`` tuples: region cells and door cells."""

@@ -23,7 +23,7 @@ from bridge.flags import (
 )
 from bridge.recording.mcap import McapRecorder
 from bridge.session import add_network_args, settings_from_args
-from protocol import ClockMode
+from protocol import ClockMode, Morning
 
 from .engine import Engine
 from .errors import Sim2dError
@@ -161,9 +161,32 @@ def generate_parser() -> argparse.ArgumentParser:
         help="set one of the people's [autonomy] settings in every episode written, over the drawn "
         "one (a TOML value: replan_lag=[100000,100000], search='nearest'); repeatable",
     )
+    parser.add_argument(
+        "--day",
+        type=int,
+        help="write day D of the household of each episode's seed (named EPISODE-dD; day 1 is the "
+        "episode itself, with a [household] table); a later day needs --morning",
+    )
+    parser.add_argument(
+        "--morning",
+        type=Path,
+        metavar="FILE.json",
+        help="with --day D > 1: where the day before ended (protocol.Morning as JSON: items, the "
+        "people's sure beliefs and favourites); the night's changes are drawn on top",
+    )
     parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
     add_log_level(parser, "WARNING")
     return parser
+
+
+def _morning(parser: argparse.ArgumentParser, path: Path | None) -> Morning | None:
+    """``--morning``'s file, read and checked (a bad one is a usage error naming it)."""
+    if path is None:
+        return None
+    try:
+        return msgspec.json.decode(path.read_bytes(), type=Morning)
+    except (OSError, msgspec.DecodeError, msgspec.ValidationError) as err:
+        parser.error(f"--morning {path}: {err}")
 
 
 def generate_main(argv: Sequence[str]) -> int:
@@ -178,14 +201,17 @@ def generate_main(argv: Sequence[str]) -> int:
         print(f"{parser.prog}: {problem}", file=sys.stderr)
         return 2
     common = {"minds": args.minds, "kind": args.kind, "tasks": args.tasks, "autonomy": dict(args.autonomy)}
+    days = {"day": args.day, "morning": _morning(parser, args.morning)}
+    if args.rooms is not None and args.day is not None:
+        parser.error("--day: households are drawn on --map or --episodes maps, not --rooms houses")
     try:
         if args.rooms is not None:
             print(write_house_episode(args.out, args.rooms, args.items, args.seed, args.max_ticks, **common))
         elif args.episodes:
             for map_name, seed in _episode_list(parser, args.episodes):
-                print(write_episode(args.out, map_name, seed, args.max_ticks, **common))
+                print(write_episode(args.out, map_name, seed, args.max_ticks, **common, **days))
         else:
-            print(write_episode(args.out, args.map, args.seed, args.max_ticks, **common))
+            print(write_episode(args.out, args.map, args.seed, args.max_ticks, **common, **days))
     except (ValueError, ScenarioError) as err:
         parser.error(str(err))
     return 0

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import msgspec
 import numpy as np
 
 from protocol import (
@@ -159,7 +160,8 @@ class Engine:
         items = tuple(
             ItemSpec(id=i.id, shape=i.shape, name=i.name, absent=i.absent) for i in self.scenario.items
         )
-        return self.scenario.map.scene(agents, items)
+        scene = self.scenario.map.scene(agents, items)
+        return msgspec.structs.replace(scene, household=self.scenario.household)
 
     def info(self, world: str, clock: ClockMode) -> EngineInfo:
         """The handshake answer for ``world``."""

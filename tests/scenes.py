@@ -256,3 +256,98 @@ def school_state(scene: Scene, tick: int, cells: dict[str, tuple[int, int]], ite
             )
         )
     return State(episode=1, tick=tick, time=tick * 0.7, agents=agents, items=tuple(states))
+
+
+def household_scene() -> Scene:
+    """Two rooms and the outside, for days in sequence (:mod:`brain.memory`):
+
+        R1: A [play] (0,0)  (1,0)  (2,0) | door (3,0) | R2: (4,0)  (5,0)  B [play] (6,0)
+                                                              door (5,1)
+                                                              O (5,2)
+
+    R1's cells see A, R2's see B, the door between them both; the outside sees nothing.
+    The person ``p`` and the robot ``r``; a ball and a skate."""
+    r1 = tuple(Cell(c, 0) for c in range(3))
+    r2 = tuple(Cell(c, 0) for c in range(4, 7))
+    visibility = (
+        *(Visibility(cell=c, locations=("A",)) for c in r1),
+        Visibility(cell=Cell(3, 0), locations=("A", "B")),
+        *(Visibility(cell=c, locations=("B",)) for c in r2),
+        Visibility(cell=Cell(5, 1), locations=("B",)),
+        Visibility(cell=Cell(5, 2), locations=()),
+    )
+    return Scene(
+        name="household",
+        cell_size=1.0,
+        origin=Vec2(0.0, 0.0),
+        columns=7,
+        rows=3,
+        regions=(
+            Region(id="R1", kind=RegionKind.PLAYGROUND, cells=r1),
+            Region(id="R2", kind=RegionKind.PLAYGROUND, cells=r2),
+            Region(id="O", kind=RegionKind.OUTSIDE, cells=(Cell(5, 2),)),
+        ),
+        doors=(
+            Door(id="d1", cell=Cell(3, 0), joins=("R1", "R2")),
+            Door(id="d2", cell=Cell(5, 1), joins=("R2", "O")),
+        ),
+        locations=(
+            Location(id="A", region="R1", cell=Cell(0, 0), play=True),
+            Location(id="B", region="R2", cell=Cell(6, 0), play=True),
+        ),
+        visibility=visibility,
+        agents=(
+            AgentSpec(id="p", kind=AgentKind.PERSON, home=Cell(1, 0)),
+            AgentSpec(id="r", kind=AgentKind.ROBOT, home=Cell(5, 2)),
+        ),
+        items=(ItemSpec(id="ball", shape=ItemShape.BALL), ItemSpec(id="skate", shape=ItemShape.BOARD)),
+    )
+
+
+HOUSEHOLD_SPOTS = {"A": Cell(0, 0), "B": Cell(6, 0)}
+
+
+def household_state(
+    tick: int,
+    person: tuple[int, int],
+    robot: tuple[int, int] = (5, 2),
+    items: tuple[str, str] = ("A", "B"),
+    holding: str | None = None,
+) -> State:
+    """``p`` on ``person``, the robot on ``robot``; the ball and the skate resting at
+    ``items`` (location ids), or the one named by ``holding`` carried by ``p``."""
+
+    def region(cell: tuple[int, int]) -> str:  # a door cell: the region left last (approximately)
+        return "O" if cell == (5, 2) else "R1" if cell[0] <= 3 else "R2"
+
+    def agent(agent_id: str, cell: tuple[int, int], held: str | None = None) -> AgentState:
+        return AgentState(
+            id=agent_id,
+            pose=Pose(cell[0] + 0.5, cell[1] + 0.5),
+            velocity=Vec2(0.0, 0.0),
+            cell=Cell(*cell),
+            region=region(cell),
+            holding=held,
+        )
+
+    states = []
+    for item, at in zip(("ball", "skate"), items, strict=True):
+        carried = holding == item
+        spot = Cell(*person) if carried else HOUSEHOLD_SPOTS[at]
+        states.append(
+            ItemState(
+                id=item,
+                pose=Pose(spot.col + 0.5, spot.row + 0.5),
+                cell=spot,
+                region=region((spot.col, spot.row)),
+                location=None if carried else at,
+                held_by="p" if carried else None,
+            )
+        )
+    return State(
+        episode=1,
+        tick=tick,
+        time=tick * 0.7,
+        agents=(agent("p", person, holding), agent("r", robot)),
+        items=tuple(states),
+    )

@@ -106,10 +106,11 @@ ROOMS = {
     "brain": {
         "<base>": set(),
         "model": {"<base>"},
-        "tracking": {"<base>", "model"},
+        "memory": {"<base>", "model"},
+        "tracking": {"<base>", "model", "memory"},
         "robot": {"<base>", "model", "tracking"},
         "outputs": {"<base>", "model", "tracking"},
-        "<shell>": {"<base>", "model", "tracking", "robot", "outputs"},
+        "<shell>": {"<base>", "model", "memory", "tracking", "robot", "outputs"},
     },
 }
 """Inside a package, the rooms each room may import: the bridge core imports none of its

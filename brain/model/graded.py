@@ -27,6 +27,7 @@ Everything here is pure: numpy arrays in, arrays out.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -36,6 +37,7 @@ from .arrays import FloatArray
 from .belief import BeliefModel, Percept
 from .mixture import Beliefs, Mixture
 from .planner import Move
+from .remembered import hypothesis_weights
 from .world import RESTING, VALUES_PER_LOCATION, WorldModel, location_of
 
 UPDATES = ("predict", "paper")
@@ -143,7 +145,7 @@ class InitialBeliefs:
 
     def __init__(self, model: WorldModel, settings: ModelSettings) -> None:
         resolution, ignorance = settings.prior_resolution, settings.ignorance
-        self.points, _ = initial_points(model.n_locations, resolution, ignorance)
+        self.points, self.point_weights = initial_points(model.n_locations, resolution, ignorance)
         beliefs, weights = prior_beliefs(model.worlds, model.n_locations, resolution, ignorance)
         beliefs = beliefs * model.allowed[None, :]  # no belief in a world a capacity rules out
         total = beliefs.sum(axis=1, keepdims=True)
@@ -153,6 +155,24 @@ class InitialBeliefs:
         self.combos = hypothesis_combos(model.n_items, len(self.points))[keep]
         self.ignorance, self.stale = ignorance, settings.stale_share
         self._given: dict[tuple[int, ...], FloatArray] = {}
+
+    def remembered(
+        self, truth: tuple[int, ...] | None, memory: Sequence[FloatArray | None], settings: ModelSettings
+    ) -> FloatArray:
+        """``(G,)`` the prior weights of a person remembered from an earlier day to believe each
+        item at each location with ``memory[k]`` ``(L,)`` (``None``: not remembered): each
+        item's point weights (:func:`informed_weights` given ``truth``, else the grid's own)
+        weighed by the memory (:func:`~brain.model.remembered.hypothesis_weights`)."""
+        places = [None] * len(memory) if truth is None else [location_of(v) for v in truth]
+        bases = [
+            self.point_weights
+            if place is None
+            else informed_weights(self.points, self.ignorance, self.stale, place)
+            for place in places
+        ]
+        return hypothesis_weights(
+            self.combos, self.points, bases, memory, settings.memory_strength, settings.memory_forget
+        )
 
     def given(self, truth: tuple[int, ...]) -> FloatArray:
         """``(G,)`` the prior weights when the items' true values (``2 l + held``) are

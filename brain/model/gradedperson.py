@@ -31,6 +31,7 @@ from .lookahead import cached_lookahead
 from .mixture import Beliefs, Mixture, certain, mixture_of, revised
 from .personinterface import StepRecord
 from .planner import Policy, cached_policy
+from .remembered import Remembered
 from .revisions import SharedRevisions
 from .world import value_of
 
@@ -73,13 +74,18 @@ class GradedModel:
         """What :meth:`revise` reads besides its arguments: models with equal keys revise alike."""
         self.revision_key += (settings.r, settings.delta, settings.prior_resolution, settings.ignorance)
 
-    def prior(self, truth: tuple[int, ...] | None = None) -> FloatArray:
+    def prior(self, truth: tuple[int, ...] | None = None, memory: Remembered | None = None) -> FloatArray:
         """``(G, U)``: the hypotheses' prior weights given the true item values at the person's
         first sight (:meth:`InitialBeliefs.given`; without ``truth``, the grid's own), uniform
-        over candidate desires."""
+        over candidate desires; or, for a person the brain remembers from an earlier day
+        (``memory``), what it read of them then (:mod:`brain.memory.priors`)."""
         U = len(self.policy.utilities)
         weights = self.hypotheses.weights if truth is None else self.hypotheses.given(truth)
-        return np.repeat(weights[:, None] / U, U, axis=1)
+        desires = np.full(U, 1.0 / U)
+        if memory is not None:
+            weights = self.hypotheses.remembered(truth, memory.beliefs, self.settings)
+            desires = desires if memory.desires is None else memory.desires
+        return weights[:, None] * desires[None, :]
 
     @property
     def shared(self) -> SharedRevisions | None:
@@ -259,6 +265,8 @@ class GradedFilter:
     log_evidence: float = 0.0
     started: bool = False
     """Whether a step was taken: the first sets the prior by the world then."""
+    memory: Remembered | None = None
+    """What the brain remembers of the person from an earlier day (sets the prior instead)."""
 
     def __deepcopy__(self, memo: dict[int, object]) -> GradedFilter:
         """A copy for another row of a lapse mixture (:mod:`brain.model.lapses`): a posterior
@@ -274,7 +282,7 @@ class GradedFilter:
 
     def step(self, record: StepRecord) -> None:
         if not self.started:
-            self.posterior, self.started = self.owner.prior(record.truth), True
+            self.posterior, self.started = self.owner.prior(record.truth, self.memory), True
         likelihood = self.owner.decision_likelihood(self.state, record)
         self.posterior, evidence = _filter_step(self.posterior, likelihood, record.switch)
         if likelihood is not None:

@@ -356,7 +356,7 @@ def _cached_values(scene: Scene, key: tuple[object, ...]) -> tuple[WorldModel, F
 def cached_policy(scene: Scene, settings: ModelSettings) -> Policy:
     """The policy of a scene, computed once per (scene, settings) in this process; value
     iteration once per (scene without its agents, :data:`PLANNING` settings), so a fit over
-    ``beta`` or over belief models solves each map once."""
+    ``beta`` or over belief models solves each map once (and each day of a household alike)."""
     key = tuple(getattr(settings, name) for name in PLANNING)
-    model, u, qs = _cached_values(msgspec.structs.replace(scene, agents=()), key)
+    model, u, qs = _cached_values(msgspec.structs.replace(scene, agents=(), household=None), key)
     return _policy(model, u, qs, settings)

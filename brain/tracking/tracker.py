@@ -19,19 +19,22 @@ import numpy as np
 
 from protocol import Activity, AgentKind, Event, EventKind, Observer, Perception, Scene, State
 
+from ..memory.snapshot import Snapshot
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, percept, told, true_values
 from ..model.estimates import Estimate, mix, reread
-from ..model.gradedperson import GradedModel
+from ..model.gradedperson import GradedFilter, GradedModel
 from ..model.inference import switch_probability
 from ..model.nested import NestedBeliefs
 from ..model.personinterface import StepRecord
 from ..model.personmodel import person_model
 from ..model.planner import Move, play_action
+from ..model.remembered import Remembered
 from ..model.revisions import SharedRevisions
 from ..model.world import held_value, value_of
 from ..settings import ModelSettings
 from .decisions import decided_action
+from .remembering import remembered_people, robot_items, start_view
 from .statecheck import check_items
 from .track import Chain, PersonTrack
 from .waits import stays_due
@@ -47,6 +50,9 @@ class MindTracker:
         observer: which person model to use.
         revisions: belief revisions to share with the brain's other trackers of the same
             scene (:mod:`brain.model.revisions`; exact graded models only, else unused).
+        memory: what the brain remembers of the household from an earlier day
+            (:mod:`brain.memory`): each remembered person's desire and belief start from it
+            (graded models), and an embodied robot's view of where items rest.
     """
 
     def __init__(
@@ -55,6 +61,7 @@ class MindTracker:
         settings: ModelSettings | None = None,
         observer: Observer = Observer.BTOM,
         revisions: SharedRevisions | None = None,
+        memory: Snapshot | None = None,
     ) -> None:
         self.scene = scene
         self.settings = settings or ModelSettings()
@@ -94,6 +101,17 @@ class MindTracker:
         """Where each person believes each other believes each item is (:mod:`brain.model.nested`)."""
         self.nested_ticks: dict[int, FloatArray] = {}
         """Tick -> ``(P, K, L)`` the nested beliefs then, per pair of ``self.nested.pairs``."""
+        if memory is not None and self.view is not None:
+            start_view(self.view, self.model, memory, self.settings)
+        self.remembered: dict[str, Remembered] = (
+            {} if memory is None else remembered_people(memory, self.person_model, self.people, self.settings)
+        )
+        """Person -> what their model starts from (those the memory holds; graded models)."""
+
+    def robot_items(self) -> dict[str, dict[str, float]]:
+        """Where the robot itself believes each item rests (:func:`.remembering.robot_items`)."""
+        weights = None if self.view is None else self.branch_weights()
+        return robot_items(self.model, self.truth, self.branch_truths, weights)
 
     # ----- feeding --------------------------------------------------------------------
 
@@ -327,6 +345,8 @@ class MindTracker:
             )
             if chain.filter is None:
                 chain.filter = self.person_model.new_filter()
+                if isinstance(chain.filter, GradedFilter):
+                    chain.filter.memory = self.remembered.get(track.agent)
             chain.filter.step(record)
             chain.steps.append(record)
             chain.estimates.append(chain.filter.estimate(truth))

@@ -9,7 +9,7 @@ from typing import Any
 
 from grid_scenario import Cell, Scenario, scaled
 
-PROTOCOL = "1.4"
+PROTOCOL = "1.5"
 NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1))
 
 

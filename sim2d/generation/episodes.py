@@ -1,9 +1,6 @@
 """Random episodes: scenario (and map) files made from a seed.
 
-- :func:`house_map`: a house of ``rooms`` rooms of 3 x 3 cells in two rows, joined by
-  doors (a random spanning tree plus one extra door), an outside below the first room;
-  ``spots`` of the rooms get an item spot (half of them play spots), and each room sees its
-  own spot plus, at random, that of one neighbour it has a door to (an open doorway).
+- :func:`~.houses.house_map` (re-exported here): a generated house.
 - :func:`episode`: a scenario on a map: items at random spots, two autonomous people with
   hidden preferences drawn from the seed, random mischief and patience, an acting robot.
 
@@ -13,14 +10,18 @@ those (sim2d, the grid engine) plays them.
 
 from __future__ import annotations
 
+import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 
-from protocol import EpisodeKind, Minds
+from protocol import EpisodeKind, GridCell, Minds, Morning
 
-from ..scenario.maps import SCENARIO_DIR, load_map
+from ..scenario.maps import SCENARIO_DIR, GameMap, load_map
+from .households import day_seed, household_lines, night
+from .houses import house_map as house_map
+from .mornings import by_favourites, with_beliefs
 from .overrides import with_autonomy
 from .tasks import TASKS, check_kinds, person_lines, task_agents
 
@@ -37,129 +38,6 @@ ITEM_SHAPES = (
     ("yoyo", "marble"),
 )
 """Item ids and shapes, in the order episodes use them (at most this many items)."""
-
-
-Edge = tuple[int, int, int, int, int, int]
-"""A door between rooms: (room a, room b, a's grid column, a's grid row, dx, dy)."""
-
-
-def _col0(gx: int) -> int:
-    return 4 * gx  # 3 cells of room, 1 of wall
-
-
-def _row0(gy: int) -> int:
-    return 4 + 4 * gy  # the outside below
-
-
-def _doors(rng: np.random.Generator, grid: dict[tuple[int, int], int], rooms: int) -> list[Edge]:
-    """A random spanning tree of the rooms' neighbour graph, plus one extra door."""
-    edges: list[Edge] = []
-    for (gx, gy), index in grid.items():
-        for dx, dy in ((1, 0), (0, 1)):
-            other = grid.get((gx + dx, gy + dy))
-            if other is not None:
-                edges.append((index, other, gx, gy, dx, dy))
-    order = rng.permutation(len(edges))
-    parent = list(range(rooms))
-
-    def find(i: int) -> int:
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    doors, spare = [], []
-    for e in order:
-        a, b = edges[e][0], edges[e][1]
-        if find(a) != find(b):
-            parent[find(a)] = find(b)
-            doors.append(edges[e])
-        else:
-            spare.append(edges[e])
-    return doors + spare[:1]
-
-
-def _room_lines(grid: dict[tuple[int, int], int], with_spot: list[int], play: set[int]) -> list[str]:
-    lines: list[str] = []
-    for (gx, gy), index in sorted(grid.items(), key=lambda kv: kv[1]):
-        kind = "playground" if index in play else "storage" if index in with_spot else "room"
-        lines += [
-            "[[regions]]",
-            f'id = "R{index}"',
-            f'kind = "{kind}"',
-            f"rects = [[{_col0(gx)}, {_row0(gy)}, 3, 3]]",
-            "",
-        ]
-    return lines + ["[[regions]]", 'id = "O"', 'kind = "outside"', "rects = [[0, 0, 3, 3]]", ""]
-
-
-def _door_lines(doors: list[Edge]) -> list[str]:
-    lines: list[str] = []
-    for a, b, gx, gy, dx, _dy in doors:
-        cell = (_col0(gx) + 3, _row0(gy) + 1) if dx else (_col0(gx) + 1, _row0(gy) + 3)
-        lines += [
-            "[[doors]]",
-            f'id = "R{a}-R{b}"',
-            f"cell = [{cell[0]}, {cell[1]}]",
-            f'joins = ["R{a}", "R{b}"]',
-            "",
-        ]
-    return lines + ["[[doors]]", 'id = "R0-O"', "cell = [1, 3]", 'joins = ["R0", "O"]', ""]
-
-
-def _spot_lines(grid: dict[tuple[int, int], int], with_spot: list[int], play: set[int]) -> list[str]:
-    lines: list[str] = []
-    for index in with_spot:
-        gx, gy = next(k for k, v in grid.items() if v == index)
-        lines += [
-            "[[locations]]",
-            f'id = "L{index}"',
-            f'region = "R{index}"',
-            f"cell = [{_col0(gx) + 1}, {_row0(gy) + 1}]",
-            f"play = {'true' if index in play else 'false'}",
-            "",
-        ]
-    return lines
-
-
-def _visibility_lines(rng: np.random.Generator, rooms: int, doors: list[Edge]) -> list[str]:
-    """Each room sees its own spot and, at random, that of one room it has a door to."""
-    neighbours: dict[int, list[int]] = {i: [] for i in range(rooms)}
-    for a, b, *_ in doors:
-        neighbours[a].append(b)
-        neighbours[b].append(a)
-    lines: list[str] = []
-    for index in range(rooms):
-        sees = {index}
-        if neighbours[index] and rng.random() < 0.5:
-            sees.add(int(rng.choice(neighbours[index])))
-        lines += [
-            "[[visibility]]",
-            f'from = ["R{index}"]',
-            "sees = [" + ", ".join(f'"R{i}"' for i in sorted(sees)) + "]",
-            "",
-        ]
-    return lines + ["[[visibility]]", 'from = ["O"]', 'sees = ["O"]', ""]
-
-
-def house_map(name: str, rooms: int, spots: int, seed: int) -> str:
-    """The TOML text of a random house."""
-    rng = np.random.default_rng(seed)
-    per_row = (rooms + 1) // 2
-    grid = {(index % per_row, index // per_row): index for index in range(rooms)}
-    doors = _doors(rng, grid, rooms)
-    with_spot = sorted(rng.choice(rooms, size=min(spots, rooms), replace=False).tolist())
-    play = set(with_spot[: max(1, len(with_spot) // 2)])
-    lines = [
-        f"# A generated house (seed {seed}): {rooms} rooms, {len(with_spot)} item spots.",
-        f'name = "{name}"',
-        "cell_size = 1.0",
-        f"columns = {4 * per_row - 1}",
-        f"rows = {4 + 4 * 2 - 1}",
-        "",
-    ]
-    lines += _room_lines(grid, with_spot, play) + _door_lines(doors) + _spot_lines(grid, with_spot, play)
-    return "\n".join(lines + _visibility_lines(rng, rooms, doors))
 
 
 MINDS = Minds.names()
@@ -209,6 +87,7 @@ def episode(
     kind: str = "everyday",
     people: int = 2,
     tasks: Sequence[str] | None = None,
+    morning: Morning | None = None,
 ) -> str:
     """The TOML text of a random episode on the map at ``map_path``, which the file names as
     ``map_ref`` (a bundled map's name, or a file name beside the episode: no absolute paths,
@@ -216,7 +95,10 @@ def episode(
     ``kind``: one of :data:`KINDS`; ``people``: how many (everyday episodes; people past the
     second get homes of their own draw, so the first two's episode is the same); ``tasks``:
     the task kinds a ``tasks`` episode is drawn from (default: all of
-    :data:`~sim2d.generation.tasks.TASKS`)."""
+    :data:`~sim2d.generation.tasks.TASKS`); ``morning``: a day of a household after the first
+    (:mod:`.households`): items where the morning has them, each person sure of what they
+    were sure of at night (rich minds draw no ``knows`` or ``stale`` on top), wanting what
+    they wanted most (a task is built around the first person's favourite item)."""
     if people < 1 or (kind == "tasks" and people != 2):
         raise ValueError(f"an episode has at least 1 person (tasks: 2), not {people}")
     if minds not in MINDS:
@@ -226,6 +108,9 @@ def episode(
     rng = np.random.default_rng(seed)
     game_map = load_map(str(map_path))
     rich = rich_autonomy(seed) if minds == "rich" else []
+    if morning is not None and rich:  # the night's beliefs, not a fresh draw
+        rich = [line for line in rich if line.split(" =")[0] not in ("knows", "stale")]
+        rich += ["knows = 0.0", "stale = 0.0"]
     search = next((line.split('"')[1] for line in rich if line.startswith("search")), "likely")
     spots = [loc.id for loc in game_map.locations]
     cells = sorted(
@@ -259,18 +144,54 @@ def episode(
     for k in range(items):
         item, shape = ITEM_SHAPES[k]
         placed[item] = spots[int(rng.integers(len(spots)))]
+        if morning is not None:
+            placed[item] = morning.items.get(item, placed[item])
         lines += ["[[items]]", f'id = "{item}"', f'shape = "{shape}"', f'at = "{placed[item]}"', ""]
-    if kind == "tasks":
-        kinds = TASKS if tasks is None else check_kinds(tasks)
-        lines += task_agents(
-            game_map, placed, homes, seed, tick_seconds=TICK_SECONDS, search=search, kinds=kinds
-        )
-    else:
-        more = np.random.default_rng([seed, 1]).choice(len(cells), size=max(0, people - 2))
-        for n, home in enumerate([*homes[: min(people, 2)], *(cells[int(i)] for i in more)]):
-            lines += person_lines(f"A{n + 1}", home)
+    people_of = _task_people if kind == "tasks" else _everyday_people
+    agents = people_of(game_map, placed, homes, cells, seed, search, tasks, people, morning)
+    lines += agents if morning is None else with_beliefs(agents, morning.beliefs)
     lines += ["[[agents]]", 'id = "robot"', 'kind = "robot"', f"home = [{homes[2][0]}, {homes[2][1]}]", ""]
     return "\n".join(lines)
+
+
+def _task_people(
+    game_map: GameMap,
+    placed: dict[str, str],
+    homes: list[GridCell],
+    cells: list[GridCell],
+    seed: int,
+    search: str,
+    tasks: Sequence[str] | None,
+    people: int,
+    morning: Morning | None,
+) -> list[str]:
+    """The two people of a task episode (the task about the first person's favourite)."""
+    kinds = TASKS if tasks is None else check_kinds(tasks)
+    favourites = {} if morning is None else morning.favourites
+    ordered = by_favourites(placed, favourites)
+    return task_agents(game_map, ordered, homes, seed, tick_seconds=TICK_SECONDS, search=search, kinds=kinds)
+
+
+def _everyday_people(
+    game_map: GameMap,
+    placed: dict[str, str],
+    homes: list[GridCell],
+    cells: list[GridCell],
+    seed: int,
+    search: str,
+    tasks: Sequence[str] | None,
+    people: int,
+    morning: Morning | None,
+) -> list[str]:
+    """The people of an everyday episode (past the second, homes of their own draw), each
+    wanting what the morning says they want most, if anything."""
+    favourites = {} if morning is None else morning.favourites
+    more = np.random.default_rng([seed, 1]).choice(len(cells), size=max(0, people - 2))
+    agents: list[str] = []
+    for n, home in enumerate([*homes[: min(people, 2)], *(cells[int(i)] for i in more)]):
+        wants = favourites.get(f"A{n + 1}")
+        agents += person_lines(f"A{n + 1}", home, *([f'prefers = "{wants}"'] if wants else []))
+    return agents
 
 
 MAPS = {
@@ -348,10 +269,16 @@ def write_episode(
     kind: str = "everyday",
     tasks: Sequence[str] | None = None,
     autonomy: Mapping[str, str] | None = None,
+    day: int | None = None,
+    morning: Morning | None = None,
 ) -> Path:
     """Write a random episode (and its generated map) into ``directory``; return its path
     (``tasks``: the task kinds of a ``tasks`` episode, default all; ``autonomy``: settings of
-    its ``[autonomy]`` table to override, :func:`~sim2d.generation.overrides.with_autonomy`)."""
+    its ``[autonomy]`` table to override, :func:`~sim2d.generation.overrides.with_autonomy`).
+
+    ``day``: the episode is that day of the household of ``seed`` (:mod:`.households`), named
+    ``<episode>-d<day>``; every day after the first needs the end of the day before
+    (``morning``)."""
     directory.mkdir(parents=True, exist_ok=True)
     spec = MAPS[map_name]
     if spec is None:
@@ -361,18 +288,42 @@ def write_episode(
         map_ref = map_path.name
         if not map_path.exists():
             map_path.write_text(house_map(map_name, *spec))
-    name = episode_name(map_name, seed)
+    household = episode_name(map_name, seed)
+    name = household if day is None else f"{household}-d{day}"
     path = directory / f"{name}.toml"
-    text = episode(
-        name,
-        map_ref,
-        map_path,
-        ITEMS[map_name],
-        seed,
-        max_ticks=max_ticks,
-        minds=minds,
-        kind=kind,
-        tasks=tasks,
-    )
+
+    def draw(of: int, start: Morning | None = None) -> str:
+        return episode(
+            name,
+            map_ref,
+            map_path,
+            ITEMS[map_name],
+            of,
+            max_ticks=max_ticks,
+            minds=minds,
+            kind=kind,
+            tasks=tasks,
+            morning=start,
+        )
+
+    if day is None:
+        text = draw(seed)
+    elif day == 1:
+        text = draw(seed) + "\n" + "\n".join(household_lines(household, 1))
+    else:
+        if morning is None:
+            raise ValueError(f"day {day} of household {household} needs the end of day {day - 1} (a morning)")
+        first = first_morning(draw(seed), map_path)
+        people = sorted(morning.favourites) or ["A1", "A2"]
+        goals = [*first.items, *(["out"] if kind != "tasks" else [])]
+        spots = [loc.id for loc in load_map(str(map_path)).locations]
+        after, changes = night(morning, first, spots, people, goals, seed, day)
+        text = draw(day_seed(seed, day), after) + "\n" + "\n".join(household_lines(household, day, changes))
     path.write_text(with_autonomy(text, autonomy or {}, path))
     return path
+
+
+def first_morning(text: str, map_path: Path) -> Morning:
+    """Where the items of a household's first day (its episode's TOML ``text``) rest."""
+    data = tomllib.loads(text)
+    return Morning(items={item["id"]: item["at"] for item in data.get("items", [])})

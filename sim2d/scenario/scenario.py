@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, ItemShape
+from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, Household, ItemShape
 
 from ..errors import ScenarioError
 from .autonomy import Autonomy, parse_autonomy
@@ -77,6 +77,8 @@ class Scenario:
     items: tuple[ItemSetup, ...]
     agents: tuple[AgentSetup, ...]
     autonomy: Autonomy = Autonomy()
+    household: Household | None = None
+    """The household and day the episode is (``[household]``: ``id``, ``day`` from 1), if any."""
 
     @property
     def autonomous(self) -> tuple[AgentSetup, ...]:
@@ -317,4 +319,19 @@ def load_scenario(name_or_path: str) -> Scenario:
         items=tuple(items),
         agents=tuple(agents),
         autonomy=parse_autonomy(data, path),
+        household=_household(data, path),
     )
+
+
+def _household(data: dict[str, Any], path: Path) -> Household | None:
+    """The ``[household]`` table: ``id`` (a non-empty string), ``day`` (an integer >= 1)."""
+    table = data.get("household")
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        raise ScenarioError(path, "household", "expected a table with id and day")
+    table = check_keys(table, frozenset({"id", "day"}), path, "household")
+    ident = table.get("id")
+    if not isinstance(ident, str) or not ident:
+        raise ScenarioError(path, "household", f"id must be a non-empty string, got {ident!r}")
+    return Household(id=ident, day=integer(table.get("day", 1), path, "household", "day"))

@@ -28,6 +28,7 @@ SCENARIO_KEYS = frozenset(
         "items",
         "agents",
         "autonomy",
+        "household",
     }
 )
 """A scenario file's top level."""

@@ -43,6 +43,8 @@ NODE_HELP = {
     "--scenario NAME [--out FILE]",
     "fit": "fit the model's parameters to recorded runs (RECORDINGS... --params beta,hazard --out DIR), "
     "cross-validated by episode, and compare models by held-out log-likelihood",
+    "memory": "the brain's memory of households across days: show FILE | forget FILE PERSON | "
+    "export FILE [--out JSON]",
     "rate": "serve a judgments page: participants watch recordings and rate beliefs and desires "
     "(RECORDINGS... --questions FILE.toml [--out FILE.csv] [--participants N])",
 }
@@ -242,6 +244,15 @@ def _eval_command(command: Command) -> None:
     )
     evaluation.add_argument(
         "--max-ticks", type=int, default=1000, help="ticks per episode (default: %(default)s)"
+    )
+    evaluation.add_argument(
+        "--days",
+        type=int,
+        default=1,
+        help="live each episode as a household over this many days, each starting where the last "
+        "ended (overnight changes, favourites that drift: docs/evaluation.md), the brain with a "
+        "memory of each person; scored per day against a brain without memory (default: 1, an "
+        "episode of its own; above 1: local backend, no --batch, not resumable)",
     )
     evaluation.add_argument(
         "--batch",

@@ -17,7 +17,7 @@ from typing import Any
 from bridge.flags import PROG_ENV, settings_argv
 from bridge.processes import check_brain_settings, node_environment, stop_on_signals, wait_for_stop
 from bridge.session import SessionSettings, settings_from_args
-from protocol import OBSERVING
+from protocol import MAX_DAYS, OBSERVING
 from toyroom.evaluation.conditions import POLICIES, Condition
 
 log = logging.getLogger("toyroom.bridge")
@@ -219,6 +219,7 @@ NODES = {
     "export-scenario": ("sim2d", ("export",)),
     "fit": ("toyroom.fitting", ()),
     "rate": ("toyroom.rating", ()),
+    "memory": ("brain", ("memory",)),
 }
 """Commands that run a node package as its own process (``toyroom sim`` -> ``python -m
 sim2d``, ``toyroom generate`` -> ``python -m sim2d generate``), with their options."""
@@ -304,6 +305,7 @@ def _eval(args: argparse.Namespace) -> int:
         ("--workers", args.workers),
         ("--batch", args.batch),
         ("--max-ticks", args.max_ticks),
+        ("--days", args.days),
     ):
         if value < 1:
             print(f"toyroom eval: {flag} must be at least 1, got {value}", file=sys.stderr)
@@ -312,6 +314,13 @@ def _eval(args: argparse.Namespace) -> int:
         print("toyroom eval: --address is a Ray cluster's: it needs --backend ray", file=sys.stderr)
         return 2
     command = shlex.join(["toyroom", *sys.argv[1:]])
+    if args.days > 1:
+        if args.backend != "local" or args.days > MAX_DAYS:
+            print(f"toyroom eval: --days runs on the local backend, 1 to {MAX_DAYS} days", file=sys.stderr)
+            return 2
+        from .households import days_main
+
+        return days_main(args, brain, chosen, command, policies)
     return eval_main(
         args.episodes,
         args.seed,

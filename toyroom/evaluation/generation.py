@@ -56,6 +56,32 @@ def generate_all(
     return _generate(directory, range(episodes), seed, minds, kind, max_ticks, tasks, autonomy)
 
 
+def generate_day(
+    directory: Path,
+    index: int,
+    seed: int,
+    condition: Condition,
+    max_ticks: int,
+    day: int,
+    morning: Path | None = None,
+) -> Path:
+    """Day ``day`` of the household of episode ``index`` of a sweep with ``seed`` under
+    ``condition`` (``morning``: a JSON :class:`protocol.Morning` of the day before's end, for
+    every day after the first; :mod:`sim2d.generation.households`)."""
+    days = ["--day", str(day), *(["--morning", str(morning)] if morning is not None else [])]
+    return _generate(
+        directory,
+        [index],
+        seed,
+        condition.minds,
+        condition.kind,
+        max_ticks,
+        condition.tasks,
+        condition.autonomy,
+        days,
+    )[0]
+
+
 def _generate(
     directory: Path,
     indices: Sequence[int],
@@ -65,8 +91,10 @@ def _generate(
     max_ticks: int,
     tasks: Sequence[str] = (),
     autonomy: Sequence[str] = (),
+    more: Sequence[str] = (),
 ) -> list[Path]:
-    """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process."""
+    """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process
+    (``more``: more of its options)."""
     if not indices:
         return []
     entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in indices]
@@ -74,7 +102,8 @@ def _generate(
         [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
         + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)]
         + (["--tasks", ",".join(tasks)] if tasks and kind == "tasks" else [])
-        + [arg for setting in autonomy for arg in ("--autonomy", setting)],
+        + [arg for setting in autonomy for arg in ("--autonomy", setting)]
+        + list(more),
         timeout=120 + 10 * len(indices),
     )
     paths = [Path(line) for line in result.stdout.splitlines() if line.strip()]

@@ -52,6 +52,8 @@ class EpisodeRecord(msgspec.Struct, kw_only=True):
     """The episode's own seconds (none: failed)."""
     node: str | None = None
     """The Ray node it ran on (none: run locally)."""
+    day: int | None = None
+    """The day of its household (``toyroom eval --days``; none: an episode of its own)."""
 
     @property
     def failed(self) -> bool:
@@ -64,7 +66,7 @@ class EpisodeRecord(msgspec.Struct, kw_only=True):
         if self.run_seconds is not None:
             out["run_seconds"] = dict(self.run_seconds)
         out |= msgspec.to_builtins(self.runs)
-        for name in ("error", "failed_runs", "seconds", "node"):
+        for name in ("error", "failed_runs", "seconds", "node", "day"):
             value = getattr(self, name)
             if value is not None:
                 out[name] = msgspec.to_builtins(value)

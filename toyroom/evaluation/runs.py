@@ -18,7 +18,7 @@ from bridge.bridge import Bridge
 from bridge.processes import engine_command, node_command, report_failure, wait_for_engine
 from bridge.pubsub import Received
 from bridge.session import SessionSettings
-from protocol import EngineInfo, Event, EventKind, Mind, Scene, State, Truth, decode
+from protocol import EngineInfo, Event, EventKind, Mind, Morning, Scene, State, Truth, decode, morning_of
 
 from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
@@ -68,6 +68,8 @@ class RunResult:
     ticks: int = 0
     help: dict[str, PersonHelp] = field(default_factory=dict)
     """Per person, how much the robot helped (:mod:`toyroom.evaluation.helpfulness`)."""
+    morning: Morning | None = None
+    """Where the run's last truth left things (the next day of a household starts there)."""
 
 
 @dataclass
@@ -221,6 +223,8 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
     truth = TruthView(record.truths, record.took, stretches(record.truths, cells, spots))
     results = {spec.observer: _score(record.minds, truth, outcome)}
     results[spec.observer].help = helpfulness(scene, record.states, record.truths, record.events)
+    if record.truths:
+        results[spec.observer].morning = morning_of(record.truths[max(record.truths)])
     if spec.robot == "observe":
         heuristic = MotionHeuristic(scene, embodied=spec.perception == "embodied")
         guessed = {

@@ -106,7 +106,10 @@ def ocr(image: np.ndarray, folder: Path, ink_below: float = 0.35) -> str:
     reason="tesseract is not installed (apt-get install tesseract-ocr): the labels are not read back",
 )
 def test_ocr_reads_room_names_and_people(picture: np.ndarray, tmp_path: Path) -> None:
-    text = ocr(map_part(picture), tmp_path)
+    # two binarisations of the same picture: a label drawn over a tinted floor or beside a
+    # box's edge reads at one ink level or the other (one alone missed "A1" in 1 of ~10
+    # fresh-clone runs on a loaded machine, reading it as "Px")
+    text = ocr(map_part(picture), tmp_path) + " | " + ocr(map_part(picture), tmp_path, ink_below=0.5)
     rooms = [name for name in ROOMS if name in text]
     assert len(rooms) >= len(ROOMS) - 1, f"OCR read only {rooms} of {ROOMS} in the map; it read: {text!r}"
     missed: list[str] = []  # a room label under a person's or the robot's label may be misread

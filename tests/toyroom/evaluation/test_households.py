@@ -1,0 +1,102 @@
+"""``toyroom eval --days N``: households lived over days, each chain of runs with a memory file
+of its own, scored per day against a brain without memory; and a brain killed in the middle of
+a day, run again, leaves the later days' numbers as they were."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import psutil
+import pytest
+
+DAYS = ["--episodes", "1", "--seed", "3", "--kind", "tasks", "--max-ticks", "250", "--workers", "2"]
+
+
+def _eval(folder: Path, *extra: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "toyroom", "eval", *DAYS, *extra, "--out", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+
+
+def _days(folder: Path) -> list[dict[str, Any]]:
+    (records,) = json.loads((folder / "episodes.json").read_text()).values()
+    return records
+
+
+@pytest.mark.timeout(600)
+def test_a_household_of_three_days_is_scored_by_day(tmp_path: Path) -> None:
+    out = tmp_path / "eval"
+    result = _eval(out, "--days", "3", "--policies", "tom")
+    assert result.returncode == 0, result.stderr[-3000:]
+    records = _days(out)
+    assert [r["day"] for r in records] == [1, 2, 3], [r.get("day") for r in records]
+    expected = {"btom", "truebelief", "perceptonly", "motion", "btom-fresh", "robot-tom", "robot-tom-fresh"}
+    for record in records:
+        assert expected <= set(record), f"day {record['day']}: runs {sorted(record)}"
+        assert "error" not in record, record.get("error")
+    (condition,) = json.loads((out / "metrics.json").read_text())["conditions"]
+    assert sorted(condition["by_day"]) == ["1", "2", "3"] and "later" in condition, sorted(condition)
+    day2 = condition["by_day"]["2"]
+    assert set(day2["robot"]) == {"tom", "tom-fresh", "none"}, sorted(day2["robot"])
+    report = (out / "report.md").read_text()
+    assert "| day |" in report and "| 3+ |" in report and "detection btom-fresh" in report, report[:2000]
+    assert (out / "days-omniscient-simple-tasks.png").stat().st_size > 5000
+    memory = next(out.glob("work/*/household-0/memory/observe.sqlite"))
+    shown = subprocess.run(
+        [sys.executable, "-m", "toyroom", "memory", "show", str(memory)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert shown.returncode == 0 and "gen-" in shown.stdout, shown.stdout + shown.stderr
+    for day in ("1", "2", "3"):
+        assert f"│ {day}   " in shown.stdout, f"day {day}'s end is not remembered:\n{shown.stdout}"
+    second = next(out.glob("work/*/household-0/scenarios/observe/*-d2.toml")).read_text()
+    assert "[household]" in second and "day = 2" in second, second[-400:]
+
+
+def _kill_on_day_three(stop: threading.Event, killed: list[int]) -> None:
+    """SIGKILL the first brain of day 3 of the chain with memory, once it has run a second."""
+    while not stop.is_set() and not killed:
+        for process in psutil.process_iter(["pid", "cmdline"]):
+            command = " ".join(process.info["cmdline"] or [])
+            if "-m brain" in command and "-d3.toml" in command and "observe.sqlite" in command:
+                time.sleep(1.0)
+                try:
+                    process.kill()
+                    killed.append(process.info["pid"])
+                except psutil.NoSuchProcess:
+                    pass
+                break
+        time.sleep(0.05)
+
+
+@pytest.mark.timeout(900)
+def test_a_brain_killed_on_day_three_leaves_days_four_and_five_as_they_were(tmp_path: Path) -> None:
+    whole = _eval(tmp_path / "whole", "--days", "5", "--policies", "none")
+    assert whole.returncode == 0, whole.stderr[-3000:]
+    stop, killed = threading.Event(), []
+    watcher = threading.Thread(target=_kill_on_day_three, args=(stop, killed), daemon=True)
+    watcher.start()
+    try:
+        broken = _eval(tmp_path / "broken", "--days", "5", "--policies", "none")
+    finally:
+        stop.set()
+        watcher.join(timeout=10)
+    assert killed, "no brain of day 3 was found to kill"
+    assert broken.returncode == 0, broken.stderr[-3000:]
+    before, after = _days(tmp_path / "whole"), _days(tmp_path / "broken")
+    assert after[2].get("failed_runs"), f"day 3's killed run is not on record: {after[2]}"
+    scored = ("btom", "btom-fresh", "perceptonly", "truebelief", "motion")
+    for day in (4, 5):
+        for key in scored:
+            assert after[day - 1][key] == before[day - 1][key], f"day {day}, {key}: the kill changed it"
