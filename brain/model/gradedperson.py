@@ -242,11 +242,13 @@ def _one_world(beliefs: FloatArray) -> bool:
     )
 
 
-def _filter_step(alpha: FloatArray, likelihood: FloatArray | None, switch: float) -> tuple[FloatArray, float]:
+def _filter_step(
+    alpha: FloatArray, likelihood: FloatArray | None, switch: float, base: FloatArray | None = None
+) -> tuple[FloatArray, float]:
     """``(G, U)`` posterior after a step and the step's evidence: the preference switch of
-    the pause before the step, then the decision's likelihood (so the decision is judged
-    under the preference held after the pause)."""
-    alpha = switched(alpha, switch)
+    the pause before the step (to the remembered desires ``base``, when given), then the
+    decision's likelihood (so the decision is judged under the preference held after the pause)."""
+    alpha = switched(alpha, switch, base)
     if likelihood is not None:
         alpha = alpha * likelihood
     total = float(alpha.sum())
@@ -284,7 +286,8 @@ class GradedFilter:
         if not self.started:
             self.posterior, self.started = self.owner.prior(record.truth, self.memory), True
         likelihood = self.owner.decision_likelihood(self.state, record)
-        self.posterior, evidence = _filter_step(self.posterior, likelihood, record.switch)
+        base = None if self.memory is None else self.memory.desires
+        self.posterior, evidence = _filter_step(self.posterior, likelihood, record.switch, base)
         if likelihood is not None:
             self.log_evidence += log_of(evidence)
         self.state = self.owner.revise(self.state, record)

@@ -63,9 +63,15 @@ def switch_probability(hazard: float, elapsed_decisions: float) -> float:
     return 1.0 - (1.0 - hazard) ** max(1.0, elapsed_decisions)
 
 
-def switched(alpha: FloatArray, switch: float) -> FloatArray:
-    """``alpha`` (``(..., D)``) after a preference switch of probability ``switch``."""
-    return alpha @ hazard_matrix(alpha.shape[-1], switch) if switch > 0 else alpha
+def switched(alpha: FloatArray, switch: float, base: FloatArray | None = None) -> FloatArray:
+    """``alpha`` (``(..., D)``) after a preference switch of probability ``switch``: to another
+    preference uniformly, or (``base``, ``(D,)``: a person's lasting preferences, remembered
+    from earlier days) redrawn from ``base``."""
+    if switch <= 0:
+        return alpha
+    if base is None:
+        return alpha @ hazard_matrix(alpha.shape[-1], switch)
+    return (1.0 - switch) * alpha + switch * alpha.sum(axis=-1, keepdims=True) * base
 
 
 def filter_step(alpha: FloatArray, step: HmmStep) -> tuple[FloatArray, float]:

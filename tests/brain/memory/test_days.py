@@ -106,3 +106,22 @@ def test_an_overnight_move_the_robot_did_not_see_is_found_when_it_sees_the_place
     day2.observe(household_state(1, (5, 2), robot=(5, 1), items=("B", "B")), [])  # the robot sees B
     after = false_belief(day2, "ball")
     assert after > 0.5, f"expected P(false belief) > 0.5 once the robot sees the ball at B, got {after:.2f}"
+
+
+def test_a_switch_redraws_from_the_remembered_desires() -> None:
+    """With a memory, a preference switch redraws from what the person was remembered to want
+    (their lasting preferences), not uniformly: a person who turned to something else for a
+    while drifts back toward their favourite as time passes, at the hazard's rate."""
+    import numpy as np
+
+    from brain.model.inference import switched
+
+    base = np.array([0.8, 0.1, 0.1])
+    alpha = np.array([[0.0, 0.0, 0.5], [0.0, 0.0, 0.5]])  # two hypotheses, both read as "out"
+    after = alpha
+    for _ in range(60):
+        after = switched(after, 0.1, base)
+    assert np.isclose(after.sum(), 1.0), "a switch keeps the mass"
+    assert np.allclose(after / after.sum(axis=1, keepdims=True), base, atol=0.01), after
+    uniform = switched(alpha, 0.1)
+    assert np.isclose(uniform[0, 0], 0.025) and np.isclose(switched(alpha, 0.1, base)[0, 0], 0.04)
