@@ -32,7 +32,7 @@ run: $(VENV)/.run-installed
 # Two workers (pytest-xdist): most of the suite waits on engines, brains and browsers, so two
 # at a time keep this 2-core machine busy; every test has its own world and port.
 test: $(VENV)/.test-installed chromium mono tesseract
-	$(PY) -m pytest -n 2 --dist loadgroup
+	$(PY) -m pytest -n 2
 
 # The fast tier: lint, types and every test that starts no process, Zenoh session, browser or
 # Ray (tests/tiers.py marks the others `process`, and fails one that starts something unmarked).
