@@ -92,7 +92,10 @@ def test_a_newer_schema_is_refused(tmp_path: Path) -> None:
 
 def test_a_file_held_by_another_brain_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "memory.sqlite"
-    with open_memory(path):
+    with open_memory(path):  # a new file (its schema written at open)
+        with pytest.raises(MemoryFileError, match="in use by another process"):
+            open_memory(path)
+    with open_memory(path):  # an existing one (nothing written at open): held all the same
         with pytest.raises(MemoryFileError, match="in use by another process"):
             open_memory(path)
     open_memory(path).close()  # let go: usable again
