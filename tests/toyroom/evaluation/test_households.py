@@ -14,6 +14,7 @@ from typing import Any
 
 import psutil
 import pytest
+from support import study
 
 DAYS = ["--episodes", "1", "--seed", "3", "--kind", "tasks", "--max-ticks", "250", "--workers", "2"]
 
@@ -62,6 +63,8 @@ def test_a_household_of_three_days_is_scored_by_day(tmp_path: Path) -> None:
         assert f"│ {day}   " in shown.stdout, f"day {day}'s end is not remembered:\n{shown.stdout}"
     second = next(out.glob("work/*/household-0/scenarios/observe/*-d2.toml")).read_text()
     assert "[household]" in second and "day = 2" in second, second[-400:]
+    desires = study("household_desires").rows(out)  # the study that reads such a folder
+    assert all(1 <= r[0] <= 3 and all(0.0 <= v <= 1.0 for v in r[2:]) for r in desires), desires
 
 
 def _kill_on_day_three(stop: threading.Event, killed: list[int]) -> None:

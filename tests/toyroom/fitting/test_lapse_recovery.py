@@ -5,8 +5,9 @@ unseen hand moving the item one of them wants into their view every 150 ticks), 
 grid and the optimiser on ``miss``.
 
 Twelve episodes keep this near a minute (sixteen until 2026-12-05, cut for ``make test``'s
-time); they pin ``miss`` to within a factor of 2 of the truth. The factor of 1.5 the issue asks for needs more episodes: ``python
-studies/recover_lapse.py --episodes 120`` (the numbers in docs/fitting.md)."""
+time); they pin ``miss`` to within a factor of 2 of the truth. The factor of 1.5 the issue asks
+for needs more episodes: ``python studies/recover_lapse.py --episodes 120`` (the numbers in
+docs/fitting.md)."""
 
 from __future__ import annotations
 
