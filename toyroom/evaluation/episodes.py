@@ -177,14 +177,7 @@ def episode_entry(
         run_seconds[spec.tag.removeprefix(f"{scenario.stem}-")] = spent
         for observer, scored in result.items():
             key = observer if spec.robot == "observe" else f"{ROBOT}-{spec.policy}"
-            runs[key] = RunScores(
-                counts=scored.counts,
-                outcome=scored.outcome.per_person,
-                ticks_to_goal=scored.outcome.ticks_to_goal,
-                episode_ticks=scored.outcome.ticks,
-                ticks=scored.ticks,
-                help=dict(scored.help),
-            )
+            runs[key] = RunScores.of(scored)
     return EpisodeRecord(
         index=job.index,
         map=map_of(job.index),

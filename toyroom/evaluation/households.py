@@ -40,7 +40,7 @@ from .generation import generate_day, map_of
 from .interrupt import NODES
 from .pool import run_chunks
 from .records import EpisodeRecord, RunScores
-from .runs import RunResult, RunSpec
+from .runs import RunSpec
 
 log = logging.getLogger("toyroom.eval")
 
@@ -164,7 +164,7 @@ def _live(
         result = _run_with_retries(spec, logs, failures[day])
         seconds[day][f"{chain.name}"] = time.monotonic() - began
         for observer, scored in result.items():
-            runs[day][chain.key(observer)] = _scores(scored)
+            runs[day][chain.key(observer)] = RunScores.of(scored)
         live = result[spec.observer].morning
         if live is None and day < job.days:
             raise RuntimeError(f"day {day} left no truth to start day {day + 1} from")
@@ -194,17 +194,6 @@ def _spec(job: HouseholdJob, chain: Chain, scenario: Path, memory: Path) -> RunS
     if job.record:
         spec = _recorded(spec, Path(job.workdir).parent / "recordings" / job.condition.name / chain.name)
     return spec
-
-
-def _scores(result: RunResult) -> RunScores:
-    return RunScores(
-        counts=result.counts,
-        outcome=result.outcome.per_person,
-        ticks_to_goal=result.outcome.ticks_to_goal,
-        episode_ticks=result.outcome.ticks,
-        ticks=result.ticks,
-        help=dict(result.help),
-    )
 
 
 def morning_file(path: Path) -> Morning:

@@ -10,12 +10,15 @@ only where they apply, so a file written before these types reads the same."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import msgspec
 
 from .helpfulness import PersonHelp
 from .metrics import Counts
+
+if TYPE_CHECKING:
+    from .runs import RunResult
 
 
 class RunScores(msgspec.Struct, kw_only=True):
@@ -32,6 +35,18 @@ class RunScores(msgspec.Struct, kw_only=True):
     """The ticks scored."""
     help: dict[str, PersonHelp] = msgspec.field(default_factory=dict)
     """Per person, how much the robot helped (:mod:`.helpfulness`)."""
+
+    @classmethod
+    def of(cls, result: RunResult) -> RunScores:
+        """What a record keeps of one observer's (or acting run's) scores of a run."""
+        return cls(
+            counts=result.counts,
+            outcome=result.outcome.per_person,
+            ticks_to_goal=result.outcome.ticks_to_goal,
+            episode_ticks=result.outcome.ticks,
+            ticks=result.ticks,
+            help=dict(result.help),
+        )
 
 
 class EpisodeRecord(msgspec.Struct, kw_only=True):
