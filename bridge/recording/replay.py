@@ -22,7 +22,7 @@ from protocol import ClockMode, EngineInfo, Keys, ProtocolError, decode
 
 from ..bridge import Bridge
 from ..handshake import serve_info
-from .readable import Recording, read_recording
+from .readable import Recorded, Recording, read_recording
 
 _JSON = zenoh.Encoding("application/json")
 log = logging.getLogger("toyroom.recording")
@@ -39,7 +39,9 @@ def replay(
     resend_minds: bool = False,
 ) -> int:
     """Republish a recording (a file, or one already read) into ``bridge``'s world (up to
-    tick ``until_tick``, when given); return the number of messages sent. With
+    tick ``until_tick``, when given: every message of a tick up to it, in recorded order,
+    though in real time a brain's mind of tick t may be logged after the engine's state of
+    t + 1); return the number of messages sent. With
     ``wait_subscribers``, first wait up to that many seconds for someone to subscribe to
     the world's state. With ``resend_minds`` (a replay that then holds still for a
     viewer), the last ``brain/mind`` is sent once more half a second after the end: as fast
@@ -80,13 +82,13 @@ def replay(
     first = records[0].log_time if records else 0
     started = time.monotonic()
     prefix = Keys(bridge.world).prefix
-    for record in records:
+    for record in records[: _end(records, until_tick)]:
         if record.key.endswith("/engine/info"):
             continue
         if stop is not None and stop.is_set():
             break
         if until_tick is not None and _tick(record.data) > until_tick:
-            break
+            continue
         if speed > 0:
             due = started + (record.log_time - first) / 1e9 / speed
             delay = due - time.monotonic()
@@ -107,6 +109,16 @@ def replay(
         time.sleep(0.5)
         last_mind[0].put(last_mind[1])  # type: ignore[attr-defined]
     return sent
+
+
+def _end(records: tuple[Recorded, ...], until_tick: int | None) -> int:
+    """How many of ``records`` a replay up to ``until_tick`` walks: through the last one of
+    a tick at most ``until_tick`` (all of them without a limit)."""
+    if until_tick is None:
+        return len(records)
+    ticks = [_tick(record.data) for record in records]
+    inside = [i for i, tick in enumerate(ticks) if 0 <= tick <= until_tick]
+    return inside[-1] + 1 if inside else 0
 
 
 def _tick(data: bytes) -> int:

@@ -61,7 +61,8 @@ def screenshot(
                 if stop.wait(POLL_S):
                     return False
                 if time.monotonic() > deadline:
-                    raise RuntimeError(f"chromium did not render {url} within {timeout:g} s")
+                    error = errors.read_text(errors="replace")[-2000:]
+                    raise RuntimeError(f"chromium did not render {url} within {timeout:g} s: {error}")
             if process.returncode != 0:
                 error = errors.read_text(errors="replace")[-2000:]
                 raise RuntimeError(f"chromium exited with status {process.returncode}: {error}")

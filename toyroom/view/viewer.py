@@ -63,6 +63,8 @@ class Viewer:
         """Why the last handshake failed, other than no answer (another protocol version, an
         inconsistent scene); ``None`` when it did not."""
         self._reconnect = threading.Event()
+        self._held = threading.Event()
+        self._drawing = threading.Lock()
         self.bridge.subscribe(self.bridge.keys.state, self.view.on_state, expected=State)
         self.bridge.subscribe(self.bridge.keys.mind, self.view.on_mind, expected=Mind)
         self.bridge.presence("engine", self._on_presence)
@@ -97,6 +99,9 @@ class Viewer:
     def run(self) -> None:
         """Draw until :attr:`stop` is set; re-handshake when an engine (re)appears."""
         while not self.stop.is_set():
+            if self._held.is_set():
+                self.stop.wait(0.1)
+                continue
             if self.info is None or self._reconnect.is_set():
                 self._reconnect.clear()
                 if not self.connect(timeout=1.0):
@@ -104,9 +109,19 @@ class Viewer:
                     continue
             # wake at least every frame: a mind held back by MIND_HZ is drawn when it is due
             if self.view.dirty.wait(1.0 / REFRESH_HZ) or self.view.mind_due():
-                self.view.dirty.clear()
-                self.view.render()
+                with self._drawing:
+                    if not self._held.is_set():
+                        self.view.dirty.clear()
+                        self.view.render()
                 self.stop.wait(1.0 / REFRESH_HZ)  # at most REFRESH_HZ frames a second
+
+    def hold(self) -> None:
+        """Draw nothing more (a frame being drawn is finished first): the picture a
+        screenshot then takes is of what is drawn now, and the page gets no more updates (a
+        live world's stream kept headless Chromium's virtual time from running out, and
+        the screenshot from ever being taken, on a loaded machine)."""
+        with self._drawing:
+            self._held.set()
 
     def missing(self, waited: float, tick: int | None = None) -> str | None:
         """What a screenshot would lack after drawing for ``waited`` seconds (no engine, an
@@ -208,6 +223,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if (missing := viewer.missing(args.after, args.tick)) is not None:
             print(f"toyroom view: no screenshot saved: {missing}", file=sys.stderr, flush=True)
             return 1
+        viewer.hold()
         if not screenshot(viewer.url, args.screenshot, stop):
             print("toyroom view: stopped before the screenshot was saved", file=sys.stderr, flush=True)
             return 1
