@@ -30,9 +30,10 @@ run: $(VENV)/.run-installed
 	$(VENV)/bin/toyroom run --out out
 
 # Two workers (pytest-xdist): most of the suite waits on engines, brains and browsers, so two
-# at a time keep this 2-core machine busy; every test has its own world and port.
+# at a time keep this 2-core machine busy; every test has its own world and port. The 30
+# slowest are listed at the end: the suite must stay under 12 minutes here.
 test: $(VENV)/.test-installed chromium mono tesseract
-	$(PY) -m pytest -n 2
+	$(PY) -m pytest -n 2 --durations=30
 
 # The fast tier: lint, types and every test that starts no process, Zenoh session, browser or
 # Ray (tests/tiers.py marks the others `process`, and fails one that starts something unmarked).

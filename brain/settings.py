@@ -34,7 +34,10 @@ class ModelSettings:
         beta: Boltzmann rationality of the action likelihood ``P(a) ∝ exp(beta * Q)``.
         epsilon: floor mixed into every action likelihood (an impossible action never
             zeroes the forward pass).
-        hazard: probability that the preference switches between two decisions.
+        hazard: probability that the preference is redrawn from the prior (uniform over the
+            goals, or remembered desires) at a decision; a redraw may keep it, so a change to
+            another goal has ``hazard * (D - 1) / D``. It compounds exactly over a longer gap
+            (``1 - (1 - hazard)^n`` over ``n`` decision times), toward the prior.
         decision_seconds: the typical time of one decision (a move to the next cell): a
             longer gap between two decisions (a wait) compounds the hazard over it.
         wait_decisions: a person who stands on their cell this many ``decision_seconds``

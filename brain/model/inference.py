@@ -5,10 +5,14 @@ percept at the new position) or a percept alone (something changed in view, spee
 
     alpha_t  ∝  T_t @ (L_t ⊙ (alpha_{t-1} @ H_t))
 
-with ``H_t`` the preference switch of the step: a switch probability ``s_t`` spread evenly
-over the other preferences (``s_t = 0`` for a percept alone; for a decision, the hazard
-compounded over the pause since the person's previous decision), applied first, so that a
-decision is judged under the preference the person holds after the pause that precedes it;
+with ``H_t`` the preference change of the step: with probability ``s_t`` the preference is
+redrawn from the prior (uniform, or a person's remembered desires), which may keep it
+(Baker, Saxe and Tenenbaum 2009). ``s_t = 0`` for a percept alone; for a decision,
+``s_t = 1 - (1 - hazard)^n`` over the ``n`` decision times since the person's previous
+decision: the exact compounding of a redraw per decision, ``H^n``, which tends to the prior
+and never forces a change (the rule before it put the whole ``1 - (1 - h)^n`` on the *other*
+preferences, so a long errand all but certainly flipped a person with two goals). It is applied first, so that
+a decision is judged under the preference the person holds after the pause that precedes it;
 ``L_t[w, d] = P(a_t | x, h, w, d)`` (all ones for a percept alone) and ``T_t`` the belief
 transition of the new percept. ``alpha_t`` is over the belief after the step's percept and
 the preference that made the step's decision. Forward filtering gives the online estimate;
@@ -33,8 +37,8 @@ class HmmStep:
         tick: the engine tick it happened at.
         transition: ``(W, W)`` belief transition ``T[i, j] = P(i | j)``.
         likelihood: ``(W, D)`` action likelihood at the previous state, ``None`` for a percept alone.
-        switch: probability that the preference changes in the pause before this step
-            (applied before the likelihood).
+        switch: probability that the preference is redrawn from the prior in the pause
+            before this step (applied before the likelihood; a redraw may keep it).
     """
 
     tick: int
@@ -43,13 +47,13 @@ class HmmStep:
     switch: float
 
 
-def hazard_matrix(n_preferences: int, switch: float) -> FloatArray:
-    """``(D, D)`` ``H[d_prev, d] = P(d | d_prev)``: stay with ``1 - switch``, else switch uniformly."""
-    if n_preferences == 1:
-        return np.ones((1, 1))
-    h = np.full((n_preferences, n_preferences), switch / (n_preferences - 1))
-    np.fill_diagonal(h, 1.0 - switch)
-    return h
+def hazard_matrix(n_preferences: int, switch: float, base: FloatArray | None = None) -> FloatArray:
+    """``(D, D)`` ``H[d_prev, d] = P(d | d_prev)``: kept with ``1 - switch``, else redrawn
+    from ``base`` (``(D,)``; uniform when ``None``), which may draw ``d_prev`` again. Its
+    powers compound exactly: ``H(s)^n = H(1 - (1 - s)^n)``."""
+    D = n_preferences
+    prior = np.full(D, 1.0 / D) if base is None else np.asarray(base, dtype=float)
+    return (1.0 - switch) * np.eye(D) + switch * np.broadcast_to(prior, (D, D))
 
 
 def log_of(evidence: float) -> float:
@@ -59,19 +63,20 @@ def log_of(evidence: float) -> float:
 
 
 def switch_probability(hazard: float, elapsed_decisions: float) -> float:
-    """The chance of at least one switch over ``elapsed_decisions`` decision times (at least one)."""
+    """The chance of a redraw of the preference over ``elapsed_decisions`` decision times
+    (at least one), each with a redraw chance of ``hazard``: ``1 - (1 - hazard)^n``."""
     return 1.0 - (1.0 - hazard) ** max(1.0, elapsed_decisions)
 
 
 def switched(alpha: FloatArray, switch: float, base: FloatArray | None = None) -> FloatArray:
-    """``alpha`` (``(..., D)``) after a preference switch of probability ``switch``: to another
-    preference uniformly, or (``base``, ``(D,)``: a person's lasting preferences, remembered
-    from earlier days) redrawn from ``base``."""
+    """``alpha`` (``(..., D)``) after a redraw of the preference with probability ``switch``
+    from ``base`` (``(D,)``: a person's lasting preferences, remembered from earlier days;
+    uniform when ``None``), which may keep it."""
     if switch <= 0:
         return alpha
-    if base is None:
-        return alpha @ hazard_matrix(alpha.shape[-1], switch)
-    return (1.0 - switch) * alpha + switch * alpha.sum(axis=-1, keepdims=True) * base
+    D = alpha.shape[-1]
+    prior = np.full(D, 1.0 / D) if base is None else base
+    return (1.0 - switch) * alpha + switch * alpha.sum(axis=-1, keepdims=True) * prior
 
 
 def filter_step(alpha: FloatArray, step: HmmStep) -> tuple[FloatArray, float]:

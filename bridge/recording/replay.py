@@ -57,18 +57,7 @@ def replay(
             ", ".join(repr(t) for t in recording.foreign[:3])
             + (", ..." if len(recording.foreign) > 3 else ""),
         )
-    info = None
-    for record in records:
-        if record.key.endswith("/engine/info"):
-            try:
-                found = decode(record.data, EngineInfo)
-            except ProtocolError:
-                continue
-            info = msgspec.structs.replace(found, world=bridge.world, clock=ClockMode.REALTIME)
-            break
-    if info is not None:
-        served = info
-        serve_info(bridge, lambda: served)
+    _serve_recorded_info(bridge, records)
     publishers: dict[str, object] = {}
     if wait_subscribers > 0:
         state_key = f"{Keys(bridge.world).prefix}/engine/state"
@@ -109,6 +98,25 @@ def replay(
         time.sleep(0.5)
         last_mind[0].put(last_mind[1])  # type: ignore[attr-defined]
     return sent
+
+
+def _serve_recorded_info(bridge: Bridge, records: tuple[Recorded, ...]) -> None:
+    """Answer the handshake with the recording's first readable engine info, moved to
+    ``bridge``'s world and to the real-time clock (a replay runs in real time); nothing when
+    the recording has none."""
+    infos = (r.data for r in records if r.key.endswith("/engine/info"))
+    found = next((info for data in infos if (info := _info(data)) is not None), None)
+    if found is not None:
+        served = msgspec.structs.replace(found, world=bridge.world, clock=ClockMode.REALTIME)
+        serve_info(bridge, lambda: served)
+
+
+def _info(data: bytes) -> EngineInfo | None:
+    """The engine info of a payload, ``None`` when it does not decode as one."""
+    try:
+        return decode(data, EngineInfo)
+    except ProtocolError:
+        return None
 
 
 def _end(records: tuple[Recorded, ...], until_tick: int | None) -> int:

@@ -5,9 +5,9 @@ A planned person perceives like every autonomous person (:class:`~sim2d.people.b
 with whatever rich-minds knobs the scenario sets), remembers which items they last saw in
 someone else's hands, and at each decision:
 
-1. switches their preference with the table's hazard, compounded over the decision times
-   since their last decision (``1 - (1 - hazard) ** max(1, elapsed)``), to another goal
-   drawn uniformly: the brain's preference-switch model;
+1. redraws their preference uniformly from their goals (which may keep it) with the
+   table's hazard compounded over the decision times since their last decision
+   (``1 - (1 - hazard) ** max(1, elapsed)``): the brain's preference-change model;
 2. draws one planner action from :meth:`~sim2d.people.policytable.PolicyTable.choice` for their
    cell, held item and belief;
 3. carries it out so the brain's tracker reads that action: a move walks to the neighbouring
@@ -129,7 +129,7 @@ class PlannedPerson(AutonomousPerson):
         if self.last_decision is not None:
             elapsed = (now - self.last_decision) / self.table.decision_seconds
             if self.rng.random() < 1.0 - (1.0 - self.table.hazard) ** max(1.0, elapsed):
-                self.preference = str(self.rng.choice([o for o in self.options if o != self.preference]))
+                self.preference = str(self.rng.choice(self.options))
         self.last_decision = now
         agent = world.agents[self.id]
         cell = self.table.cell_index[agent.cell]

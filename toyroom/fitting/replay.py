@@ -110,12 +110,10 @@ def evidence_at_points(
 
 
 def _switched(alpha: FloatArray, switch: FloatArray) -> FloatArray:
-    """``(P, ..., U)`` posteriors after each point's preference switch (``hazard_matrix``)."""
+    """``(P, ..., U)`` posteriors after each point's preference redraw (``hazard_matrix``)."""
     U = alpha.shape[-1]
-    if U == 1:
-        return alpha
     s = switch.reshape(-1, *([1] * (alpha.ndim - 1)))
-    return (1.0 - s) * alpha + s / (U - 1) * (alpha.sum(axis=-1, keepdims=True) - alpha)
+    return (1.0 - s) * alpha + s / U * alpha.sum(axis=-1, keepdims=True)
 
 
 def _switch(hazard: FloatArray, record: StepRecord) -> FloatArray:

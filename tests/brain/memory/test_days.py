@@ -124,4 +124,5 @@ def test_a_switch_redraws_from_the_remembered_desires() -> None:
     assert np.isclose(after.sum(), 1.0), "a switch keeps the mass"
     assert np.allclose(after / after.sum(axis=1, keepdims=True), base, atol=0.01), after
     uniform = switched(alpha, 0.1)
-    assert np.isclose(uniform[0, 0], 0.025) and np.isclose(switched(alpha, 0.1, base)[0, 0], 0.04)
+    # a redraw from every goal evenly gives the ball 0.1 x 0.5 / 3; from the memory 0.1 x 0.5 x 0.8
+    assert np.isclose(uniform[0, 0], 0.1 * 0.5 / 3) and np.isclose(switched(alpha, 0.1, base)[0, 0], 0.04)

@@ -37,7 +37,7 @@ def run(
 
 
 def test_every_move_take_drop_and_play_is_read_as_the_action_it_was(tmp_path: Path) -> None:
-    engine, (tracker,) = run(tmp_path, 800)
+    engine, (tracker,) = run(tmp_path, 1000)
     names = action_names(tracker.model.items)
     for agent, person in engine.people.items():
         assert isinstance(person, PlannedPerson)

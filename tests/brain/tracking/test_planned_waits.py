@@ -67,8 +67,9 @@ def test_every_stay_a_planned_person_makes_is_read_as_one(tmp_path: Path) -> Non
                 f"it read {read[max(0, (i or 0) - 3) :][:8]} (from decision {max(0, (i or 0) - 3)}; "
                 f"{len(made)} made, {len(read)} read)"
             )
-            assert read.count("stay") >= made.count("stay") >= 5, (
-                f"seed {seed}, {agent}: {made.count('stay')} Stays made, {read.count('stay')} read"
+            done = made[: len(read)]  # the last one made may still be under way (above)
+            assert read.count("stay") >= done.count("stay") >= 5, (
+                f"seed {seed}, {agent}: {done.count('stay')} Stays made (and done), {read.count('stay')} read"
             )
             in_a_row += sum(a == b == "stay" for a, b in zip(made, made[1:], strict=False))
     assert in_a_row > 5, f"expected Stays in a row to be tested, got {in_a_row}"

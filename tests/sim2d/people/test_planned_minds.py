@@ -125,7 +125,10 @@ def test_a_near_rational_person_walks_straight_to_where_they_believe_their_item_
     assert min(chances) > 0.49, f"at beta 50 every decision is one of at most two best, got {chances}"
 
 
-def test_hazard_one_switches_the_preference_at_every_decision(tmp_path: Path) -> None:
+def test_hazard_one_redraws_the_preference_at_every_decision(tmp_path: Path) -> None:
+    """A redraw from all the goals, which may keep the one held (the brain's model): with a
+    hazard of one the preference at each decision is drawn anew, so it repeats at times
+    (never under the rule before, a switch to another goal) and takes every goal."""
     table = load_policy_table(write_table(tmp_path, "paper-auto", "hazard=0.999999"))
     engine = Engine(planned_scenario(), seed=1, policy=table)
     person = planned(engine, "A2")
@@ -136,8 +139,9 @@ def test_hazard_one_switches_the_preference_at_every_decision(tmp_path: Path) ->
         if len(person.decisions) > before:
             seen.append(person.preference)
     assert len(seen) >= 5, f"expected several decisions in 120 ticks, got {len(seen)}"
-    assert all(a != b for a, b in zip(seen[1:], seen[2:], strict=False)), (
-        f"expected a new preference at every decision, got {seen}"
+    repeats = sum(a == b for a, b in zip(seen[1:], seen[2:], strict=False))
+    assert repeats >= 1 and set(seen) == set(person.options), (
+        f"expected preferences drawn anew at every decision (some repeats, every goal), got {seen}"
     )
 
 
