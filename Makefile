@@ -12,7 +12,7 @@ PIP_VERSION := 26.3
 UV_VERSION := 0.13.9
 LATEST := .venv-latest
 
-.PHONY: run test check lock test-latest wheel-check schema clean chromium mono tesseract
+.PHONY: run test sweeps check lock test-latest wheel-check schema clean chromium mono tesseract
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -34,6 +34,12 @@ run: $(VENV)/.run-installed
 # slowest are listed at the end: the suite must stay under 12 minutes here.
 test: $(VENV)/.test-installed chromium mono tesseract
 	$(PY) -m pytest -n 2 --durations=30
+
+# The sweeps: tests that run a benchmark or a study end to end (`toyroom bench --quick`, a
+# parameter's recovery over a dozen episodes), minutes of CPU each; CI runs them after `make
+# test` (tests/tiers.py, the `sweep` mark).
+sweeps: $(VENV)/.test-installed chromium mono tesseract
+	$(PY) -m pytest -n 2 --tier sweeps --durations=10
 
 # The fast tier: lint, types and every test that starts no process, Zenoh session, browser or
 # Ray (tests/tiers.py marks the others `process`, and fails one that starts something unmarked).

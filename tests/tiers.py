@@ -1,5 +1,8 @@
 """The test tiers. ``make check`` runs the fast tier: every test that starts no process, Zenoh
-session, browser or Ray (``pytest --tier check``); ``make test`` runs them all.
+session, browser or Ray (``pytest --tier check``); ``make test`` runs every test but the
+sweeps; ``make sweeps`` runs the sweeps (``pytest --tier sweeps``): the tests marked
+``sweep``, each a benchmark or a study run end to end over minutes of CPU (``toyroom bench
+--quick``, a parameter's recovery over a dozen episodes). CI runs both.
 
 A test is marked ``process`` when its own code, a fixture it uses or a helper it calls (in
 its module, its class or ``support``) names one of :data:`STARTERS`; a test may also carry
@@ -24,6 +27,7 @@ from typing import Any
 import pytest
 
 MARK = "process"
+SWEEP = "sweep"
 STARTERS = frozenset(
     {
         # processes
@@ -69,15 +73,19 @@ STARTERS = frozenset(
 def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addoption(
         "--tier",
-        choices=("check", "test"),
+        choices=("check", "test", "sweeps"),
         default="test",
-        help="check: only the tests that start no process, Zenoh session, browser or Ray",
+        help="check: only the tests that start no process, Zenoh session, browser or Ray; "
+        "test: all but the sweeps; sweeps: only the benchmarks and studies run end to end",
     )
 
 
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "markers", f"{MARK}: starts a process, a Zenoh session, a browser or Ray (not in `make check`)"
+    )
+    config.addinivalue_line(
+        "markers", f"{SWEEP}: a benchmark or study run end to end (only in `make sweeps`, which CI runs)"
     )
 
 
@@ -86,9 +94,14 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     for item in items:
         if item.get_closest_marker(MARK) is None and starts.item(item):
             item.add_marker(MARK)
-    if config.getoption("--tier") != "check":
-        return
-    kept = [item for item in items if item.get_closest_marker(MARK) is None]
+    tier = config.getoption("--tier")
+    if tier == "sweeps":
+        kept = [item for item in items if item.get_closest_marker(SWEEP) is not None]
+    elif tier == "test":
+        kept = [item for item in items if item.get_closest_marker(SWEEP) is None]
+    else:
+        kept = [item for item in items if item.get_closest_marker(MARK) is None]
+        kept = [item for item in kept if item.get_closest_marker(SWEEP) is None]
     config.hook.pytest_deselected(items=[item for item in items if item not in kept])
     items[:] = kept
 

@@ -7,6 +7,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.sweep  # a benchmark or study run end to end: `make sweeps` (tests/tiers.py)
+
 
 def test_the_brain_step_measurement_runs_alone() -> None:
     result = subprocess.run(

@@ -11,6 +11,7 @@ import pytest
 from support import study
 
 
+@pytest.mark.sweep  # a study run end to end: `make sweeps` (tests/tiers.py)
 @pytest.mark.timeout(120)
 def test_configurations_read_on_the_same_episodes() -> None:
     module = study("diagnose_agreement")

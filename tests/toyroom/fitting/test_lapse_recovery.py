@@ -23,6 +23,7 @@ from support import study
 from support import toyroom_fit as fit
 
 
+@pytest.mark.sweep  # a parameter's recovery over episodes: `make sweeps` (tests/tiers.py)
 @pytest.mark.timeout(300)
 def test_fit_refines_miss_to_near_the_generating_rate(tmp_path: Path) -> None:
     traces = study("recover_lapse").recordings(

@@ -17,6 +17,7 @@ import pytest
 from support import toyroom_fit as fit
 
 
+@pytest.mark.sweep  # a parameter's recovery over episodes: `make sweeps` (tests/tiers.py)
 @pytest.mark.timeout(900)
 def test_fit_recovers_the_planners_beta_and_hazard(tmp_path: Path) -> None:
     evaluation = subprocess.run(
