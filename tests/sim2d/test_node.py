@@ -42,7 +42,7 @@ def test_robot_commands_over_the_wire(world: str) -> None:
         def run(command: RobotCommand) -> list[CommandStatus]:
             commands.put(command)
             got: list[CommandStatus] = []
-            for _ in range(200):
+            for _ in range(600):  # people in paper-tidy may stand in the robot's way for a while
                 clock.step(1)
                 while not statuses.empty():
                     status = statuses.get()
