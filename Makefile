@@ -29,11 +29,12 @@ $(VENV)/.test-installed: pyproject.toml $(LOCK) | $(VENV)/bin/python
 run: $(VENV)/.run-installed
 	$(VENV)/bin/toyroom run --out out
 
-# Two workers (pytest-xdist): most of the suite waits on engines, brains and browsers, so two
-# at a time keep this 2-core machine busy; every test has its own world and port. The 30
-# slowest are listed at the end: the suite must stay under 12 minutes here.
+# Three workers (pytest-xdist) on this 2-core machine: most of the suite waits on engines,
+# brains and browsers (subprocesses that have cores of their own to use), so three at a time
+# keep it busy; every test has its own world and port. The 30 slowest are listed at the end:
+# the suite must stay under 12 minutes here.
 test: $(VENV)/.test-installed chromium mono tesseract
-	$(PY) -m pytest -n 2 --durations=30
+	$(PY) -m pytest -n 3 --durations=30
 
 # The sweeps: tests that run a benchmark or a study end to end (`toyroom bench --quick`, a
 # parameter's recovery over a dozen episodes), minutes of CPU each; CI runs them after `make
