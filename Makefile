@@ -47,7 +47,7 @@ sweeps: $(VENV)/.test-installed chromium mono tesseract
 check: $(VENV)/.test-installed
 	$(PY) -m ruff check .
 	$(PY) -m mypy
-	$(PY) -m pytest --tier check -q
+	$(PY) -m pytest --tier check -q -n 2
 
 # Re-resolve every dependency (and the test and ray extras) to its newest release, for any
 # platform and Python >= 3.11, with uv (pinned here); commit the new constraints.txt.
