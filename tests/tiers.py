@@ -100,8 +100,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     elif tier == "test":
         kept = [item for item in items if item.get_closest_marker(SWEEP) is None]
     else:
-        kept = [item for item in items if item.get_closest_marker(MARK) is None]
-        kept = [item for item in kept if item.get_closest_marker(SWEEP) is None]
+        kept = [item for item in items if not any(item.get_closest_marker(m) for m in (MARK, SWEEP))]
     config.hook.pytest_deselected(items=[item for item in items if item not in kept])
     items[:] = kept
 

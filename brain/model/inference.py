@@ -47,13 +47,12 @@ class HmmStep:
     switch: float
 
 
-def hazard_matrix(n_preferences: int, switch: float, base: FloatArray | None = None) -> FloatArray:
+def hazard_matrix(n_preferences: int, switch: float) -> FloatArray:
     """``(D, D)`` ``H[d_prev, d] = P(d | d_prev)``: kept with ``1 - switch``, else redrawn
-    from ``base`` (``(D,)``; uniform when ``None``), which may draw ``d_prev`` again. Its
-    powers compound exactly: ``H(s)^n = H(1 - (1 - s)^n)``."""
+    uniformly, which may draw ``d_prev`` again (:func:`switched` applies it, or a redraw from
+    remembered desires). Its powers compound exactly: ``H(s)^n = H(1 - (1 - s)^n)``."""
     D = n_preferences
-    prior = np.full(D, 1.0 / D) if base is None else np.asarray(base, dtype=float)
-    return (1.0 - switch) * np.eye(D) + switch * np.broadcast_to(prior, (D, D))
+    return (1.0 - switch) * np.eye(D) + switch / D
 
 
 def log_of(evidence: float) -> float:

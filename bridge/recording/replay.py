@@ -71,13 +71,11 @@ def replay(
     first = records[0].log_time if records else 0
     started = time.monotonic()
     prefix = Keys(bridge.world).prefix
-    for record in records[: _end(records, until_tick)]:
+    for record in _up_to(records, until_tick):
         if record.key.endswith("/engine/info"):
             continue
         if stop is not None and stop.is_set():
             break
-        if until_tick is not None and _tick(record.data) > until_tick:
-            continue
         if speed > 0:
             due = started + (record.log_time - first) / 1e9 / speed
             delay = due - time.monotonic()
@@ -119,14 +117,16 @@ def _info(data: bytes) -> EngineInfo | None:
         return None
 
 
-def _end(records: tuple[Recorded, ...], until_tick: int | None) -> int:
-    """How many of ``records`` a replay up to ``until_tick`` walks: through the last one of
-    a tick at most ``until_tick`` (all of them without a limit)."""
+def _up_to(records: tuple[Recorded, ...], until_tick: int | None) -> list[Recorded]:
+    """The records a replay up to ``until_tick`` sends, in recorded order: every one through
+    the last of a tick at most ``until_tick``, less those of later ticks (all of them without
+    a limit). Each payload's tick is read once."""
     if until_tick is None:
-        return len(records)
+        return list(records)
     ticks = [_tick(record.data) for record in records]
     inside = [i for i, tick in enumerate(ticks) if 0 <= tick <= until_tick]
-    return inside[-1] + 1 if inside else 0
+    end = inside[-1] + 1 if inside else 0
+    return [record for record, tick in zip(records[:end], ticks, strict=False) if tick <= until_tick]
 
 
 def _tick(data: bytes) -> int:
