@@ -63,8 +63,8 @@ def test_robot_stops_when_its_brain_dies(world: str) -> None:
             assert CommandState.RUNNING in seen and CommandState.FAILED not in seen, seen
             killed_at = time.monotonic()
             brain.send_signal(signal.SIGKILL)
-            brain.wait(timeout=10)
-            at, status = statuses.get(timeout=10)
+            brain.wait(timeout=30)
+            at, status = statuses.get(timeout=30)
             assert status.command == "far" and status.state is CommandState.FAILED, status
             assert "no heartbeat" in status.reason, status.reason
             assert at - killed_at < 2.5, f"the robot stopped {at - killed_at:.2f} s after its brain died"

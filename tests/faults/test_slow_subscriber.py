@@ -24,7 +24,7 @@ def test_a_stalled_state_subscriber_does_not_stall_lockstep(world: str) -> None:
     with EngineProcess(world, "--scenario", "paper-1"), Bridge(world) as slow, Bridge(world) as driver:
         handshake(driver, client="test", timeout=30.0)
         slow.subscribe(slow.keys.state, very_slow, expected=State)
-        clock = LockstepClient(driver, timeout=10.0)
+        clock = LockstepClient(driver, timeout=60.0)
         clock.reset(scenario="paper-1")
         started = time.monotonic()
         for _ in range(300):

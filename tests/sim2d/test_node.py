@@ -34,7 +34,7 @@ def test_robot_commands_over_the_wire(world: str) -> None:
         assert robot.acts, "paper-tidy's robot acts"
         statuses: queue.Queue[CommandStatus] = queue.Queue()
         brain.subscribe(brain.keys.status(robot.id), lambda s, _: statuses.put(s), expected=CommandStatus)
-        clock = LockstepClient(brain, timeout=10.0)
+        clock = LockstepClient(brain, timeout=60.0)
         clock.reset(scenario="paper-tidy")
         commands = brain.publisher(brain.keys.command(robot.id))
         assert commands.wait_matched(10.0)
@@ -71,7 +71,7 @@ def test_robot_commands_over_the_wire(world: str) -> None:
         to_ghost = brain.publisher(brain.keys.command("ghost"))
         assert to_ghost.wait_matched(10.0)
         to_ghost.put(RobotCommand(id="boo", robot="ghost", action=Navigate(cell=Cell(1, 8))))
-        answer = ghost.get(timeout=10.0)
+        answer = ghost.get(timeout=30.0)
         assert answer.robot == "ghost" and answer.state is CommandState.FAILED, answer
         assert "unknown robot 'ghost'" in answer.reason, answer
 
@@ -107,7 +107,7 @@ def test_realtime_runs_by_itself_and_pauses(world: str) -> None:
             ticks.put(state.tick)
 
         client.subscribe(client.keys.state, on_state, expected=State)
-        first = latest = ticks.get(timeout=10.0)
+        first = latest = ticks.get(timeout=30.0)
         # It runs by itself: 20 more ticks come without a step (0.4 s at 5x real time and 0.1 s
         # a tick). The bound is generous on purpose: a loaded machine may run slower than real
         # time, and the rate itself is measured by `toyroom bench`, not asserted here.

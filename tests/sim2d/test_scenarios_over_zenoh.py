@@ -83,7 +83,7 @@ def test_scenario_runs_to_its_end(world: str, scenario: str) -> None:
         info = handshake(bridge, client="test", role="test", timeout=30.0)
         assert info.scenario == scenario and info.engine.startswith("sim2d")
         recorder = Recorder(bridge)
-        client = LockstepClient(bridge, timeout=10.0)
+        client = LockstepClient(bridge, timeout=60.0)
         end = run_to_end(client, scenario)
         recorder.wait_for(end)
         # every tick of the episode was published, in order, and the last one is 'done'
@@ -99,7 +99,7 @@ def test_paper_1_world_at_step_6(world: str) -> None:
     """At A1's step 6 (back in S1), the ball lies in S1 and A2 holds the skate in P2."""
     with EngineProcess(world, "--scenario", "paper-1"), Bridge(world) as bridge:
         handshake(bridge, client="test", timeout=30.0)
-        client = LockstepClient(bridge, timeout=10.0)
+        client = LockstepClient(bridge, timeout=60.0)
         client.reset(scenario="paper-1")
         step6 = None
         hits: list[Event] = []
@@ -122,7 +122,7 @@ def test_same_seed_gives_identical_state_stream(world: str) -> None:
 
     with EngineProcess(world, "--scenario", "paper-2"), Bridge(world) as bridge:
         handshake(bridge, client="test", timeout=30.0)
-        client = LockstepClient(bridge, timeout=10.0)
+        client = LockstepClient(bridge, timeout=60.0)
         streams = []
         for _ in range(2):
             state = client.reset(scenario="paper-2", seed=5)
