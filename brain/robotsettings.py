@@ -35,6 +35,7 @@ ROBOT_ALLOWED = {
     "interruption_cost": "interruption_cost >= 0 (steps)",
     "robot_step_cost": "robot_step_cost >= 0 (steps)",
     "put_back_slack": "put_back_slack >= 0 (steps)",
+    "tell_item_cost": "tell_item_cost >= 0 (steps)",
     "search_factor": "search_factor >= 1",
 }
 """What the robot's settings allow of each value they check that is not a share of one."""
@@ -122,6 +123,10 @@ class RobotSettings:
             worth (its cost of going somewhere to help).
         search_factor: how many steps a person who finds a place empty takes, per step of
             the direct walk from there, to find the item (a search is longer than a walk).
+        tell_item_cost: what each item named in a tell costs the person told, in steps, on
+            top of ``interruption_cost`` (one utterance may tell where several items are: the
+            ``benefit`` robot names an item only when the steps its word is expected to save
+            exceed this).
         put_back_slack: steps a put-back may land after the person it is for could reach
             the place and still be counted as in time (they may dawdle).
         lasting_want: weigh help by P(the person wants the item | they want some item), so
@@ -148,6 +153,7 @@ class RobotSettings:
     robot_step_cost: float = 0.05
     search_factor: float = 2.5
     put_back_slack: float = 0.0
+    tell_item_cost: float = 0.25
     lasting_want: bool = False
 
     def __post_init__(self) -> None:
@@ -180,5 +186,5 @@ ROBOT_SHARES = (
     "deception_threshold",
 )
 """:class:`RobotSettings` that are probabilities (or shares of one): each in [0, 1]."""
-ROBOT_COSTS = ("interruption_cost", "robot_step_cost", "put_back_slack")
+ROBOT_COSTS = ("interruption_cost", "robot_step_cost", "put_back_slack", "tell_item_cost")
 """:class:`RobotSettings` that are costs in steps: each at least 0."""

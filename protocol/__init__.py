@@ -71,6 +71,7 @@ from .robot import (
     RobotCommand,
     Say,
     SayTopic,
+    Told,
     UnknownAction,
     unknown_action,
 )
@@ -188,6 +189,7 @@ __all__ = [
     "RobotCommand",
     "Say",
     "SayTopic",
+    "Told",
     "Scene",
     "State",
     "Step",

@@ -53,20 +53,45 @@ class SayTopic(enum.Enum):
     """``item`` is held by ``holder``."""
 
 
+class Told(msgspec.Struct, frozen=True):
+    """One more item told of in the same ``say`` (from 1.6): ``item`` is at ``location``."""
+
+    item: Id
+    location: Id
+
+
 class Say(msgspec.Struct, frozen=True, tag_field="kind", tag="say"):
-    """Tell ``person`` where ``item`` is (``topic=location``) or who holds it (``occupied``)."""
+    """Tell ``person`` where ``item`` is (``topic=location``) or who holds it (``occupied``).
+
+    ``also`` (optional, from 1.6; ``topic=location`` only): more items told of in the same
+    utterance ("the ball is in the kitchen, the skate in the garden"), each a :class:`Told`.
+    A 1.5 engine ignores it and tells of ``item`` alone."""
 
     person: Id
     item: Id
     topic: SayTopic
     location: Id | None = None
     holder: Id | None = None
+    also: tuple[Told, ...] = ()
 
     def __post_init__(self) -> None:
         if self.topic is SayTopic.LOCATION and self.location is None:
             raise ValueError("say with topic 'location' needs field 'location'")
         if self.topic is SayTopic.OCCUPIED and self.holder is None:
             raise ValueError("say with topic 'occupied' needs field 'holder'")
+        if self.also and self.topic is not SayTopic.LOCATION:
+            raise ValueError("say with field 'also' needs topic 'location'")
+        items = [self.item, *(t.item for t in self.also)]
+        if len(set(items)) < len(items):
+            raise ValueError(f"say tells of an item twice: {items}")
+
+    @property
+    def told(self) -> tuple[Told, ...]:
+        """Every item told of and where (``topic=location``): ``item`` first, then ``also``;
+        empty for ``topic=occupied``."""
+        if self.topic is not SayTopic.LOCATION or self.location is None:
+            return ()
+        return (Told(self.item, self.location), *self.also)
 
 
 class Request(msgspec.Struct, frozen=True, tag_field="kind", tag="request"):

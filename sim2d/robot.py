@@ -101,11 +101,16 @@ class RobotBody:
         if isinstance(action, Give):
             return unknown("person", action.person, people)
         if isinstance(action, Say):
-            return (
-                unknown("person", action.person, people)
-                or unknown("item", action.item, world.items)
-                or unknown("location", action.location, world.locations)
-                or unknown("agent", action.holder, world.agents)
+            named: list[tuple[str, str | None, Mapping[str, object] | set[str]]] = [
+                ("person", action.person, people),
+                ("item", action.item, world.items),
+                ("location", action.location, world.locations),
+                ("agent", action.holder, world.agents),
+            ]
+            for told in action.also:
+                named += [("item", told.item, world.items), ("location", told.location, world.locations)]
+            return next(
+                (problem for kind, value, known in named if (problem := unknown(kind, value, known))), None
             )
         if isinstance(action, Request):
             return (
@@ -340,11 +345,12 @@ class RobotBody:
             return None, None
         if isinstance(action, Say):
             if action.topic is SayTopic.LOCATION:
-                world.emit(
-                    EventKind.SAY, self.id, item=action.item, location=action.location, target=action.person
-                )
-                if action.person in people and action.location is not None:
-                    people[action.person].on_informed(world, action.item, action.location)
+                for told in action.told:  # one event per item told (``also``, from 1.6), this tick
+                    world.emit(
+                        EventKind.SAY, self.id, item=told.item, location=told.location, target=action.person
+                    )
+                    if action.person in people:
+                        people[action.person].on_informed(world, told.item, told.location)
             else:
                 world.emit(
                     EventKind.SAY,

@@ -185,7 +185,8 @@ class GoHome(py_trees.behaviour.Behaviour):
 def describe(task: Task) -> str:
     """A one-line description of a task."""
     if isinstance(task, Inform):
-        return f"tell {task.person} the {task.item} is at {task.location}"
+        rest = "".join(f", the {item} at {location}" for item, location in task.also)
+        return f"tell {task.person} the {task.item} is at {task.location}{rest}"
     if isinstance(task, Look):
         return f"look whether the {task.item} is at {task.location}, to tell {task.person}"
     if isinstance(task, Occupied):

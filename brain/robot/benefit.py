@@ -10,7 +10,9 @@ item ``k`` resting at ``t``:
   and, when it is not there, search on to ``t`` (``search_factor`` times the distance);
 - an **inform** reaches them after the robot's walk into earshot (``r`` steps): from then on
   they go straight to ``t``; it saves ``max(T_via(l) - (r + d(p, t)), 0)`` for each wrong
-  ``l``, and costs ``interruption_cost``;
+  ``l``, and costs ``interruption_cost`` plus ``tell_item_cost``;
+- a **tell** names several items at once (:func:`tell_worth`): what each inform would save,
+  summed, for one interruption and ``tell_item_cost`` per item named;
 - a **put-back** to ``b`` lands after the robot's walk to the item and on to ``b``: it saves the
   search from ``b`` when it lands before they reach ``b``; it misleads everyone else who wants
   the item and believes it at ``t`` (their search from ``t``);
@@ -24,7 +26,7 @@ step the robot walks. No I/O; numpy on the world model's distance tables.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -138,7 +140,20 @@ def inform_worth(
     saved_if = np.maximum(via - steps_told(model, person_cell, t, robot_steps, search), 0.0)
     saved_if[t] = 0.0
     saved = wants(est, k, settings.lasting_want) * float(belief @ np.nan_to_num(saved_if, posinf=0.0))
-    return Worth(saved, 0.0, settings.interruption_cost + settings.robot_step_cost * robot_steps)
+    cost = settings.interruption_cost + settings.tell_item_cost + settings.robot_step_cost * robot_steps
+    return Worth(saved, 0.0, cost)
+
+
+def tell_worth(singles: Sequence[Worth], settings: RobotSettings) -> Worth:
+    """One utterance telling the person where several items are, each of whose single
+    :func:`inform_worth` is in ``singles`` (every one heard after the same walk): the steps
+    saved add up, and so does ``tell_item_cost`` per item; the interruption and the walk are
+    paid once. Every item's figure is already weighted by P(they want it), so a person heading
+    for a wrong place is told even while the robot cannot say which item they are after."""
+    if not singles:
+        return Worth(0.0, 0.0, 0.0)
+    shared = singles[0].cost - settings.tell_item_cost  # the interruption and the walk
+    return Worth(sum(w.saved for w in singles), 0.0, shared + settings.tell_item_cost * len(singles))
 
 
 def put_back_worth(

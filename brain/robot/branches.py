@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 import py_trees
 
-from protocol import Cell, Give, GridCell, Navigate, Pick, Place, Policy, Request, Say, SayTopic
+from protocol import Cell, Give, GridCell, Navigate, Pick, Place, Policy, Request, Say, SayTopic, Told
 
 from ..robotsettings import ROBOT_POLICIES, RobotSettings
 from .behaviours import Act, FindTask, GoHome, TaskBranch
@@ -36,6 +36,29 @@ def navigate_timeout(settings: RobotSettings) -> float:
 def _inform(ctx: RobotContext) -> Inform:
     assert isinstance(ctx.task, Inform)
     return ctx.task
+
+
+def _tell_now(ctx: RobotContext) -> Inform:
+    """The inform task as its finder sees it now: the same task, with the items worth naming
+    with it as they are at this tick (a tell's ``also`` is chosen afresh), or as chosen."""
+    task = _inform(ctx)
+    if ctx.finder is not None and ctx.snapshot is not None:
+        now = next((t for t in ctx.finder(ctx.snapshot, ctx.settings) if t == task), None)
+        if isinstance(now, Inform):
+            return now
+    return task
+
+
+def _say_where(task: Inform) -> Say:
+    """The ``say`` of an inform: the task's item, and the others it names (``also``)."""
+    also = tuple(Told(item, location) for item, location in task.also)
+    return Say(person=task.person, item=task.item, topic=SayTopic.LOCATION, location=task.location, also=also)
+
+
+def _said(task: Inform) -> str:
+    """An inform's sentence: ``"A1, the ball is at S1, the skate at P1."``"""
+    rest = "".join(f", the {item} at {location}" for item, location in task.also)
+    return f"{task.person}, the {task.item} is at {task.location}{rest}."
 
 
 def _occupied(ctx: RobotContext) -> Occupied:
@@ -77,17 +100,7 @@ def offer_spot(ctx: RobotContext, offer: str) -> Step:
 def inform_branch(ns: str, finder: Finder = inform_or_deceived) -> TaskBranch:
     """A person heads for an item that is not where they believe: tell them where it is
     (``finder``: who is told what; the ``announce`` policy tells everyone of every move)."""
-    say = Act(
-        "say where it is",
-        lambda c: Say(
-            person=_inform(c).person,
-            item=_inform(c).item,
-            topic=SayTopic.LOCATION,
-            location=_inform(c).location,
-        ),
-        ns,
-        says=lambda c: f"{_inform(c).person}, the {_inform(c).item} is at {_inform(c).location}.",
-    )
+    say = Act("say where it is", lambda c: _say_where(_tell_now(c)), ns, says=lambda c: _said(_tell_now(c)))
     questions: dict[object, str] = {announce_tasks: "moved?", benefit_inform: "worth telling?"}
     question = questions.get(finder, "false belief?")
     return TaskBranch(

@@ -4,7 +4,8 @@
 Candidates, for each person with empty hands and each item resting where the robot knows (or
 can guess) it is:
 
-- **inform** them where it is (:class:`~brain.robot.situation.Inform`);
+- **inform** them where it is (:class:`~brain.robot.situation.Inform`): one tell per person,
+  naming every item whose word is worth its cost (:func:`~brain.robot.benefit.tell_worth`);
 - **put it back** where they believe it (:class:`~brain.robot.situation.PutBack`), when the
   robot is sure where it rests;
 - **look** first at the likeliest place (:class:`~brain.robot.situation.Look`), when the robot
@@ -24,7 +25,7 @@ import numpy as np
 
 from ..model.world import ABSENT
 from ..settings import RobotSettings
-from .benefit import Worth, cell_distances, inform_worth, look_or_guess, put_back_worth
+from .benefit import Worth, cell_distances, inform_worth, look_or_guess, put_back_worth, tell_worth
 from .situation import Inform, Look, PutBack, Snapshot, Task, _believed_why
 
 SURE = 0.999
@@ -67,6 +68,7 @@ def candidates(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
     if robot is None:
         return
     steps = cell_distances(model)
+    sure: dict[str, list[tuple[int, int, Worth]]] = {}
     for k, item in enumerate(model.items):
         where = _where(snap, k)
         if where is None:
@@ -81,7 +83,7 @@ def candidates(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
             likeliest = int(np.argmax(where))
             if where[likeliest] >= SURE:
                 inform = inform_worth(model, est, k, cell, likeliest, to_person, settings)
-                yield Scored(Inform(person, item, model.locations[likeliest]), inform)
+                sure.setdefault(person, []).append((k, likeliest, inform))
                 yield from _put_back(snap, settings, cells, robot, person, k, likeliest)
                 continue
             seeing = model.sees[:, likeliest]
@@ -91,6 +93,21 @@ def candidates(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
             look, guess = look_or_guess(model, est, k, cell, where, to_person, to_look, settings)
             yield Scored(Inform(person, item, model.locations[likeliest]), guess)
             yield Scored(Look(item, model.locations[likeliest], person), look)
+    for person, informs in sure.items():
+        yield _tell(snap, person, informs, settings)
+
+
+def _tell(
+    snap: Snapshot, person: str, informs: list[tuple[int, int, Worth]], settings: RobotSettings
+) -> Scored:
+    """One tell to ``person`` of every item whose word is worth its ``tell_item_cost``
+    (``informs``: item, the location it rests at, and the single inform's worth), likeliest
+    saving first; with none worth it, the best single inform (not worth doing either)."""
+    ranked = sorted(informs, key=lambda i: -i[2].saved)
+    named = [i for i in ranked if i[2].saved > settings.tell_item_cost] or ranked[:1]
+    places = [(snap.model.items[k], snap.model.locations[t]) for k, t, _ in named]
+    task = Inform(person, *places[0], also=tuple(places[1:]))
+    return Scored(task, tell_worth([w for _, _, w in named], settings))
 
 
 def _put_back(

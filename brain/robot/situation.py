@@ -29,11 +29,15 @@ from ..settings import RobotSettings
 
 @dataclass(frozen=True)
 class Inform:
-    """Tell ``person`` that ``item`` is at ``location``."""
+    """Tell ``person`` that ``item`` is at ``location``, and in the same utterance where the
+    items of ``also`` are (``(item, location)`` pairs: a tell of several items,
+    :func:`brain.robot.benefit.tell_worth`). A task is the same task whatever ``also`` says
+    (it is chosen afresh each tick: the items worth naming may change on the way)."""
 
     person: str
     item: str
     location: str
+    also: tuple[tuple[str, str], ...] = dataclasses.field(default=(), compare=False)
 
 
 @dataclass(frozen=True)

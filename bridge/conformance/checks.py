@@ -62,6 +62,7 @@ CHECK_NAMES = (
     "control reply",
     "events",
     "robot commands",
+    "say several",
     "navigation",
     "pick place give",
     "cancel",

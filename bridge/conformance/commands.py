@@ -1,4 +1,5 @@
-"""The conformance checks of robot commands: every kind ending properly, a real navigation
+"""The conformance checks of robot commands: every kind ending properly, a say of several
+items at once (1.6), a real navigation
 to a far cell (pick, place and give are :mod:`.items`'), cancel of a running command, a
 command sent while another runs, a kind the engine does not know, impossible commands, and
 the order of every status seen."""
@@ -13,6 +14,8 @@ from protocol import (
     Cell,
     CommandState,
     CommandStatus,
+    Event,
+    EventKind,
     Give,
     GridCell,
     Navigate,
@@ -21,9 +24,11 @@ from protocol import (
     Request,
     Say,
     SayTopic,
+    Told,
     unknown_action,
 )
 from protocol.carry import walking_distances
+from protocol.version import Version
 
 from .probe import CheckFailed, CheckSkipped, NotApplicable, Probe, kind_of
 
@@ -109,6 +114,40 @@ class CommandChecks(Probe):
                 )
             seen.append(f"{kind_of(action)} {states[-1].value}")
         return ", ".join(seen)
+
+    def check_say_several(self) -> str:
+        """A ``say`` of two items at once (``also``, from 1.6): one ``say`` event per item,
+        on the same tick, to the person told."""
+        self._need_acting_robot()
+        assert self.info is not None and self.robot is not None
+        if Version.parse(self.info.protocol) < Version(1, 6):
+            raise NotApplicable(f"the engine speaks {self.info.protocol}; a say of several items is from 1.6")
+        scene = self.info.scene
+        people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
+        if len(scene.items) < 2 or not scene.locations or not people:
+            raise CheckSkipped("the scene has fewer than two items, no location or no person")
+        first, second, place = scene.items[0].id, scene.items[1].id, scene.locations[0].id
+        self._go(self.cell_of(people[0]), f"to {people[0]}")
+        mark = len(self.stream.events)
+        say = Say(
+            person=people[0], item=first, topic=SayTopic.LOCATION, location=place, also=(Told(second, place),)
+        )
+        statuses = self.command(say)
+        if statuses[-1].state is not CommandState.SUCCEEDED:
+            if "earshot" in statuses[-1].reason:
+                raise CheckSkipped(f"{people[0]} walked out of earshot: {shown(statuses)}")
+            raise CheckFailed(f"say of '{first}' and '{second}': expected succeeded, got {shown(statuses)}")
+
+        def said() -> list[Event]:
+            return [e for e in self.stream.events[mark:] if e.kind is EventKind.SAY and e.actor == self.robot]
+
+        self.stream.wait(lambda: len(said()) >= 2, self.timeout)
+        got = [(e.tick, e.target, e.item, e.location) for e in said()]
+        tick = got[0][0] if got else None
+        expected = [(tick, people[0], first, place), (tick, people[0], second, place)]
+        if got != expected:
+            raise CheckFailed(f"expected a say event per item on one tick, {expected}, got {got}")
+        return f"told {people[0]} of '{first}' and '{second}' in one say: two say events at tick {tick}"
 
     def check_navigation(self) -> str:
         self._need_acting_robot()

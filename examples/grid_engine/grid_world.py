@@ -9,7 +9,7 @@ from typing import Any
 
 from grid_scenario import Cell, Scenario, scaled
 
-PROTOCOL = "1.5"
+PROTOCOL = "1.6"
 NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1))
 
 
@@ -510,17 +510,21 @@ class GridWorld:
                 "say", me, item=action["item"], target=person, detail=f"occupied by {action['holder']}"
             )
             return None
-        self.event("say", me, item=action["item"], location=action["location"], target=person)
+        told = [(action["item"], action["location"])]
+        if self.broken != "say-one":
+            told += [(t["item"], t["location"]) for t in action.get("also") or ()]  # from 1.6
         who = self.people[person]
-        if action["item"] == who.wants and self.holding[person] is None:
-            who.replace(
-                [
-                    {"do": "goto", "location": action["location"]},
-                    {"do": "take", "item": action["item"]},
-                    {"do": "goto"},
-                    {"do": "play"},
-                ]
-            )
+        for item, location in told:  # one event per item told, all on this tick
+            self.event("say", me, item=item, location=location, target=person)
+            if item == who.wants and self.holding[person] is None:
+                who.replace(
+                    [
+                        {"do": "goto", "location": location},
+                        {"do": "take", "item": item},
+                        {"do": "goto"},
+                        {"do": "play"},
+                    ]
+                )
         return None
 
     def finish(self, state: str, reason: str = "", answer: bool | None = None) -> None:

@@ -49,6 +49,7 @@ BREAKS = {
     "no-visibility": "leaves one walkable cell out of the visibility table",
     "door-in-region": "puts a door on a cell of a region",
     "no-token": "declares no liveliness token",
+    "say-one": "tells of the first item of a say alone, ignoring its 'also' (1.6)",
 }
 """The deliberate defects of ``--break``, each one ``toyroom conform`` must catch."""
 

@@ -21,6 +21,7 @@ from protocol import (
     RobotCommand,
     Say,
     SayTopic,
+    Told,
 )
 from sim2d.engine import Engine
 from sim2d.scenario.maps import SCENARIO_DIR
@@ -205,3 +206,32 @@ def test_a_failed_reset_starts_no_episode() -> None:
     )
     events = [e for e in (engine.step().events + engine.step().events)]
     assert all(e.episode == again.state.episode for e in events), events
+
+
+def test_one_say_tells_of_several_items(engine: Engine) -> None:
+    """A ``say`` with ``also`` (protocol 1.6) is one utterance: a ``say`` event per item told,
+    all on the tick it succeeds; an unknown item among them fails it, naming the item."""
+    run(engine, Navigate(cell=Cell(4, 6)))
+    command = RobotCommand(
+        id="both",
+        robot="robot",
+        action=Say(
+            person="A1", item="ball", topic=SayTopic.LOCATION, location="S1", also=(Told("skate", "P2"),)
+        ),
+    )
+    engine.command(command)
+    events, statuses = [], []
+    for _ in range(50):
+        step = engine.step()
+        events += [e for e in step.events if e.kind is EventKind.SAY]
+        statuses += [s for s in step.statuses if s.command == "both"]
+        if statuses and statuses[-1].state.final:
+            break
+    assert statuses[-1].state is CommandState.SUCCEEDED, statuses
+    said = [(e.tick, e.target, e.item, e.location) for e in events]
+    tick = said[0][0] if said else None
+    assert said == [(tick, "A1", "ball", "S1"), (tick, "A1", "skate", "P2")], (
+        f"expected two say events, got {said}"
+    )
+    wrong = Say(person="A1", item="ball", topic=SayTopic.LOCATION, location="S1", also=(Told("kite", "P2"),))
+    assert run(engine, wrong)[-1].reason.startswith("unknown id 'kite': no such item")

@@ -9,7 +9,8 @@ evaluator heard):
   they played with that item (``None``: never);
 - ``wasted_trips``: arrivals at an item location that their true belief, the tick before,
   gave at least one half of holding the item they wanted, when it did not hold it;
-- ``interruptions``: what the robot said to them or asked of them (``say``, ``request``);
+- ``interruptions``: what the robot said to them or asked of them (``say``, ``request``; one
+  utterance telling of several items counts once);
 - ``acted_tick``: when a robot first acted for them (:attr:`PersonHelp.acted_tick`): with
   ``false_belief_tick`` and ``goal_tick``, where the ticks to the goal went (the loss table).
 """
@@ -78,12 +79,15 @@ def helpfulness(
                     help_.wasted_trips += 1
             if cell is not None:
                 previous[mind.agent] = (cell, truth)
+    spoken: set[tuple[int, str, str | None, EventKind]] = set()  # one say of several items: one event each
     for event in sorted(events, key=lambda e: e.tick):
         if (
             event.actor in robots
             and event.kind in (EventKind.SAY, EventKind.REQUEST)
             and event.target in people
+            and (event.tick, event.actor, event.target, event.kind) not in spoken
         ):
+            spoken.add((event.tick, event.actor, event.target, event.kind))
             people[event.target].interruptions += 1
         _acted(people, onset, robots, event)
         start = onset.get(event.actor)

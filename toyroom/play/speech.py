@@ -53,8 +53,12 @@ class Speech:
         if isinstance(action, Say):
             to = self._name(action.person)
             if action.topic is SayTopic.LOCATION:
-                place = self.region_name.get(action.location or "", action.location)
-                return f"{to}, the {self._name(action.item)} is in {place} ({action.location})."
+                place = self.region_name
+                said = [
+                    f"the {self._name(t.item)} is in {place.get(t.location, t.location)} ({t.location})"
+                    for t in action.told
+                ]
+                return f"{to}, {'; '.join(said)}."
             return f"{to}, {self._name(action.holder)} has the {self._name(action.item)}."
         if isinstance(action, Request):
             offer = f" I will give you the {self._name(action.offer)}." if action.offer else ""

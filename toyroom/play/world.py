@@ -294,8 +294,9 @@ class PlayWorld:
                 and action.topic is SayTopic.LOCATION
                 and action.person == self.config.person
             )
-            if changed and told and isinstance(action, Say) and action.location is not None:
-                self.memory.note(action.item, action.location, state.tick)
+            if changed and told and isinstance(action, Say):
+                for item in action.told:
+                    self.memory.note(item.item, item.location, state.tick)
             if changed:
                 self._push(self._heard_view())
 

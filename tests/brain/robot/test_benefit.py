@@ -11,7 +11,7 @@ import pytest
 
 from brain.model.estimates import Estimate
 from brain.model.world import build_world_model
-from brain.robot.benefit import inform_worth, look_or_guess
+from brain.robot.benefit import cell_distances, inform_worth, look_or_guess
 from brain.robot.choice import candidates, chosen
 from brain.robot.situation import Inform, Look, PutBack, Snapshot
 from brain.settings import RobotSettings
@@ -128,4 +128,67 @@ def test_a_certain_place_makes_looking_worthless(world) -> None:
     look, guess = look_or_guess(model, believes("P1"), BALL, person, where, 3.0, 4.0, RobotSettings())
     assert guess.net > look.net, (
         f"with the place known, guessing ({guess}) is telling, and beats a look ({look})"
+    )
+
+
+def both_resting(world, a1: Estimate, places: dict[str, str]) -> Snapshot:
+    """A1 on P2's side of the house, A2 far away and sure where both items rest, the robot in
+    the corridor; the skate and the ball rest at ``places``."""
+    scene, model, state = world
+    cells = {"A1": (13, 9), "A2": (1, 1), "robot": (9, 8)}
+    agents = tuple(msgspec.structs.replace(a, cell=Cell(*cells[a.id]), holding=None) for a in state.agents)
+    items = tuple(msgspec.structs.replace(i, location=places[i.id], held_by=None) for i in state.items)
+    now = msgspec.structs.replace(state, agents=agents, items=items)
+    a2 = Estimate(
+        np.eye(4)[[LOCATIONS.index(places["skate"]), LOCATIONS.index(places["ball"])]],
+        np.array([0.5, 0.5, 0.0]),
+        (0, 0, 0.5),
+        np.zeros(2),
+    )
+    return Snapshot(scene, model, now, {"A1": a1, "A2": a2}, {}, {}, {}, robot="robot")
+
+
+def undecided(skate: str, ball: str) -> Estimate:
+    """A1 wants the skate or the ball, even odds, and is sure of where each is."""
+    beliefs = np.zeros((2, 4))
+    beliefs[0, LOCATIONS.index(skate)] = beliefs[1, LOCATIONS.index(ball)] = 1.0
+    return Estimate(beliefs, np.array([0.5, 0.5, 0.0]), (BALL, LOCATIONS.index(ball), 0.5), np.zeros(2))
+
+
+def test_one_tell_names_every_item_a_person_may_want_and_believes_wrongly(world) -> None:
+    # A1 believes both at P1, across the house; the robot cannot say which one they are after
+    snap = both_resting(world, undecided("P1", "P1"), {"skate": "S1", "ball": "S2"})
+    settings = RobotSettings()
+    tells = [s for s in chosen(snap, settings) if isinstance(s.task, Inform)]
+    assert [(s.task.person, s.task.item, s.task.location, s.task.also) for s in tells] == [
+        ("A1", "ball", "S2", (("skate", "S1"),))
+    ], f"expected one tell of both items to A1, got {tells}"
+    _, model, _ = world
+    person = model.cell_index[(13, 9)]
+    walk = float(cell_distances(model)[model.cell_index[(9, 8)], person]) - 1.0  # into earshot
+    singles = [
+        inform_worth(model, undecided("P1", "P1"), k, person, LOCATIONS.index(at), walk, settings)
+        for k, at in ((0, "S1"), (1, "S2"))
+    ]
+    assert tells[0].worth.saved == pytest.approx(sum(w.saved for w in singles)), (
+        f"a tell saves what each item's word would: expected the sum of {[w.saved for w in singles]}, "
+        f"got {tells[0].worth}"
+    )
+    assert all(0 < w.saved < tells[0].worth.saved for w in singles), (
+        f"each item's word saves part of the tell's {tells[0].worth.saved:.2f} steps, got {singles}"
+    )
+    # with an interruption worth more than either word alone, only the tell of both is worth it
+    dear = RobotSettings(interruption_cost=max(w.saved for w in singles))
+    tells = [s for s in chosen(snap, dear) if isinstance(s.task, Inform)]
+    assert len(tells) == 1 and tells[0].task.also and tells[0].worth.net > 0, (
+        f"expected the tell of both to stay worth doing at interruption cost "
+        f"{dear.interruption_cost:.2f}, got {tells}"
+    )
+
+
+def test_an_item_the_person_knows_where_is_not_named(world) -> None:
+    snap = both_resting(world, undecided("S1", "P1"), {"skate": "S1", "ball": "S2"})
+    tells = [s.task for s in chosen(snap, RobotSettings()) if isinstance(s.task, Inform)]
+    assert tells == [Inform("A1", "ball", "S2")] and tells[0].also == (), (
+        f"A1 knows the skate is at S1: expected a tell of the ball alone, got {tells}"
     )

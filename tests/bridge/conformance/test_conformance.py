@@ -103,6 +103,7 @@ BROKEN = {
     "no-visibility": ("scene", "visibility"),
     "door-in-region": ("scene", "door"),
     "no-token": ("liveliness", "expected a liveliness token"),
+    "say-one": ("say several", "expected a say event per item on one tick"),
 }
 """Each ``--break`` mode of the grid engine: the check that must fail, and what it must say."""
 

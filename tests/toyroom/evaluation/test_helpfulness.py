@@ -59,6 +59,12 @@ def test_a_wasted_trip_a_false_belief_and_an_interruption_by_hand() -> None:
     )
     alone = helpfulness(scene, states, truths, [by_person, played])["p"]
     assert alone.acted_tick is None, f"p speaking to the robot is not the robot acting: {alone.acted_tick}"
+    also = msgspec.structs.replace(said, item="skate", location="B")  # the same utterance (1.6)
+    later = msgspec.structs.replace(said, tick=3, time=2.1)
+    help_ = helpfulness(scene, states, truths, [said, also, later, played])["p"]
+    assert help_.interruptions == 2, (
+        f"a say of two items is one interruption, a later say another: expected 2, got {help_.interruptions}"
+    )
 
 
 def test_no_false_belief_no_trip_wasted() -> None:

@@ -529,18 +529,27 @@ namespace Toyroom.Samples.GridEngine
         {
             var person = say.Person;
             if (!cells[me].WithinEarshot(cells[person]) && regions[me] != regions[person]) return "out of earshot: " + person;
-            var e = Emit("say", me);
-            e.Item = say.Item;
-            e.Target = person;
-            if (say.Topic == SayTopic.Location)
+            if (say.Topic != SayTopic.Location)
             {
-                e.Location = say.Location;
-                var who = people[person];
-                if (say.Item == who.Wants && holding[person] == null)
-                    who.Replace(Person.Do("goto", "location", say.Location), Person.Do("take", "item", say.Item),
+                var e = Emit("say", me);
+                e.Item = say.Item;
+                e.Target = person;
+                e.Detail = "occupied by " + say.Holder;
+                return null;
+            }
+            var told = new List<Told> { new Told { Item = say.Item, Location = say.Location } };
+            if (say.Also != null) told.AddRange(say.Also);  // from 1.6: more items in the same utterance
+            var who = people[person];
+            foreach (var t in told)  // one event per item told, all on this tick
+            {
+                var e = Emit("say", me);
+                e.Item = t.Item;
+                e.Target = person;
+                e.Location = t.Location;
+                if (t.Item == who.Wants && holding[person] == null)
+                    who.Replace(Person.Do("goto", "location", t.Location), Person.Do("take", "item", t.Item),
                         Person.Do("goto"), Person.Do("play"));
             }
-            else e.Detail = "occupied by " + say.Holder;
             return null;
         }
 
