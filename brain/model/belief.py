@@ -11,13 +11,17 @@ normalised over ``i`` for each ``j`` (the percept comes from the true world, so 
 evidence about the old belief), with ``f = r`` for ``i != j`` inside ``PW(j)``, 1 for
 ``i = j`` and 0 outside ``PW(j)``: the worlds that differ from ``j`` only in items the person
 can now see (seen, or believed to be at a visible location). People assume unseen things
-stay put, which is what makes false beliefs. ``P(o | x, w)`` is ``1 - delta`` per item whose
-percept ``w`` reproduces and ``delta`` per item it does not.
+stay put, which is what makes false beliefs; but an item they believe held by someone out of
+sight goes with its carrier: when the carrier goes out of sight with it, it may be held
+anywhere out of sight (still held: a person who saw the robot carry the ball off believes the
+robot has it, not that it rests where they saw it pass); :func:`changes` says which values
+may change, and to what. ``P(o | x, w)`` is ``1 - delta`` per item whose percept ``w``
+reproduces and ``delta`` per item it does not.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -36,10 +40,13 @@ about it, and the person's belief about it stays as it was."""
 @dataclass(frozen=True)
 class Percept:
     """What a person perceives at cell index ``cell``: per item, the value it shows
-    (:func:`~brain.model.world.value_of`), ``NOT_IN_VIEW`` or ``UNNOTICED``."""
+    (:func:`~brain.model.world.value_of`), ``NOT_IN_VIEW`` or ``UNNOTICED``; ``lost``: the
+    items they saw carried by someone else at their last percept and see no more (the carrier
+    went out of sight with it: :func:`carried_off`)."""
 
     cell: int
     seen: tuple[int, ...]
+    lost: tuple[int, ...] = ()
 
 
 def true_values(
@@ -110,11 +117,94 @@ def _percept(
     return Percept(cell=cell, seen=tuple(seen))
 
 
+@dataclass(frozen=True)
+class Changes:
+    """Which believed item values may change on a percept, by the old value ``j``.
+
+    Attributes:
+        anywhere: ``(K, V)`` to any value, with the paper's weight ``r``: the item is in view,
+            or ``j`` puts it at a place in view.
+        carried: ``(K, V)`` redrawn among the held values out of view, evenly, before that:
+            ``j`` has it held by someone the person just lost sight of (a carried item goes
+            with its carrier, who keeps it as far as the person knows, wherever out of sight
+            they went).
+        hidden: ``(V,)`` the values whose place is out of view.
+    """
+
+    anywhere: npt.NDArray[np.bool_]
+    carried: npt.NDArray[np.bool_]
+    hidden: npt.NDArray[np.bool_]
+
+    def allowed(self) -> npt.NDArray[np.bool_]:
+        """``(K, V_i, V_j)`` whether the belief of item ``k`` may go from ``j`` to ``i`` by the
+        paper's change (``i = j`` included)."""
+        V = self.anywhere.shape[1]
+        return np.eye(V, dtype=bool)[None] | self.anywhere[:, None, :]
+
+    @property
+    def lost(self) -> bool:
+        """Whether any item is redrawn (:meth:`redraw` is not the identity)."""
+        return bool(self.carried.any())
+
+    def redraw(self) -> FloatArray:
+        """``(K, V_i, V_j)`` the carried items' redraw: from a held value ``j`` the person lost
+        sight of, every held value out of view alike (``j`` itself when none is); the identity
+        elsewhere (columns sum to one)."""
+        K, V = self.carried.shape
+        to = is_held(np.arange(V)) & self.hidden
+        if not to.any():
+            return np.broadcast_to(np.eye(V), (K, V, V)).copy()
+        spread = np.repeat((to / to.sum())[:, None], V, axis=1)  # (V_i, V_j)
+        return np.where(self.carried[:, None, :], spread[None], np.eye(V)[None])
+
+
+def redrawn(tensor: FloatArray, ch: Changes, first_axis: int = 1) -> FloatArray:
+    """``tensor`` ``(N, V, ..., V)`` (one ``V`` axis per item from ``first_axis``) with each
+    carried item's axis taken through :meth:`Changes.redraw` (a new array; ``tensor`` when
+    nothing is redrawn)."""
+    if not ch.lost:
+        return tensor
+    u = ch.redraw()
+    for k in np.nonzero(ch.carried.any(axis=1))[0]:
+        axis = first_axis + int(k)
+        tensor = np.moveaxis(np.tensordot(tensor, u[k], axes=([axis], [1])), -1, axis)
+    return tensor
+
+
+def changes(model: WorldModel, p: Percept) -> Changes:
+    """Which believed values may change on percept ``p`` (:class:`Changes`): an item the
+    person overlooks changes not at all; one they just lost sight of in someone's hands
+    (``p.lost``) may be held anywhere out of view."""
+    values = np.arange(model.n_values)
+    seen = np.array(p.seen)[:, None]  # (K, 1)
+    visible = model.sees[p.cell][location_of(values)][None, :]  # (1, V)
+    anywhere = (seen >= 0) | (visible & (seen != UNNOTICED))
+    lost = np.isin(np.arange(model.n_items), p.lost)[:, None]  # (K, 1)
+    carried = lost & (seen == NOT_IN_VIEW) & is_held(values)[None, :]
+    return Changes(anywhere, carried, ~visible[0])
+
+
+def carried_off(before: Percept | None, now: Percept, own: int | None, moved: Collection[int]) -> Percept:
+    """``now``, with ``lost`` the items ``before`` (the person's last percept) saw held by
+    someone else (not the person, who holds item index ``own`` or nothing), that ``now`` does
+    not see and whose carrier moved (``moved``: item indices): carried off out of sight. A
+    person who walks away from someone playing with an item loses nothing: it is where they
+    left it."""
+    if before is None:
+        return now
+    lost = tuple(
+        k
+        for k, (was, is_) in enumerate(zip(before.seen, now.seen, strict=True))
+        if k != own and k in moved and was >= 0 and is_held(was) and is_ == NOT_IN_VIEW
+    )
+    return now if lost == now.lost else Percept(now.cell, now.seen, lost)
+
+
 def told(p: Percept, item: int, value: int) -> Percept:
     """``p`` plus being told that ``item`` has ``value`` (speech overrides sight)."""
     seen = list(p.seen)
     seen[item] = value
-    return Percept(cell=p.cell, seen=tuple(seen))
+    return Percept(cell=p.cell, seen=tuple(seen), lost=tuple(k for k in p.lost if k != item))
 
 
 class BeliefModel:
@@ -154,15 +244,22 @@ class BeliefModel:
     def in_pw(self, p: Percept) -> npt.NDArray[np.bool_]:
         """``(W_i, W_j)`` whether ``i`` is in ``PW(j)``: it differs from ``j`` only in items the
         person at ``p.cell`` can see now (in view, or believed by ``j`` to be at a visible spot)."""
-        affected = self.affected(p)  # (W_j, K)
-        fixed = np.bitwise_or.reduce(np.where(affected, 0, self.bit), axis=1)  # (W_j,) must stay put
+        anywhere = changes(self.model, p).anywhere
+        changing = anywhere[np.arange(self.model.n_items)[None, :], self.model.worlds]  # (W_j, K)
+        fixed = np.bitwise_or.reduce(np.where(changing, 0, self.bit), axis=1)  # (W_j,) must stay put
         return (self.differ & fixed[None, :]) == 0
 
-    def affected(self, p: Percept) -> npt.NDArray[np.bool_]:
-        """``(W_j, K)`` the items a person at ``p.cell`` may find changed in world ``j``: in
-        view, or believed by ``j`` to be at a visible spot."""
-        seen = np.array(p.seen)[None, :]
-        return (seen >= 0) | (self.model.sees[p.cell][self.model.place] & (seen != UNNOTICED))
+    def redraw(self, p: Percept) -> FloatArray | None:
+        """``(W_i, W_j)`` the redraw of the items the person just lost sight of in someone's
+        hands (:meth:`Changes.redraw`, over whole worlds), or ``None`` when there is none."""
+        ch = changes(self.model, p)
+        if not ch.lost:
+            return None
+        u, worlds = ch.redraw(), self.model.worlds
+        out = np.ones((len(worlds), len(worlds)))
+        for k in range(self.model.n_items):
+            out *= u[k][worlds[:, None, k], worlds[None, :, k]]
+        return out
 
     def apply_change(self, beliefs: FloatArray, p: Percept, *, predict: bool) -> FloatArray:
         """``beliefs @ g.T`` for ``(N, W)`` beliefs, ``g`` the paper's change weights
@@ -175,12 +272,12 @@ class BeliefModel:
         place), never a view of ``beliefs``."""
         model = self.model
         K, V = model.n_items, model.n_values
-        seen = np.array(p.seen)[:, None]
-        visible = model.sees[p.cell][location_of(np.arange(V))][None, :]  # (1, V)
-        may_change = (seen >= 0) | (visible & (seen != UNNOTICED))  # (K, V)
+        ch = changes(model, p)
         x = beliefs
+        if ch.lost:  # first the redraw of what was carried off (columns of one: no normalising)
+            x = redrawn(x.reshape(len(x), *([V] * K)), ch).reshape(len(x), -1)
         if predict:  # column j of g sums to 1 + r (|PW(j)| - 1)
-            reach = np.where(may_change[np.arange(K)[None, :], model.worlds], float(V), 1.0).prod(axis=1)
+            reach = np.where(ch.anywhere[np.arange(K)[None, :], model.worlds], float(V), 1.0).prod(axis=1)
             x = x / (1.0 + self.r * (reach - 1.0))[None, :]
         tensor = x.reshape(len(x), *([V] * K))
         fresh = False  # whether ``tensor`` is an array of our own (else a view of ``x``)
@@ -188,7 +285,7 @@ class BeliefModel:
             # M_k[i, j] is 1 for every i where value j may change, else only for i = j: so the
             # product is, at every value, the sum over the changeable values (one matrix-vector
             # product), plus the value's own mass where it cannot change
-            movable = may_change[k]
+            movable = ch.anywhere[k]
             if not movable.any():
                 continue
             total = np.tensordot(tensor, movable.astype(np.float64), axes=([1 + k], [0]))
@@ -210,7 +307,8 @@ class BeliefModel:
         0 outside."""
         g = np.where(self.in_pw(p), self.r, 0.0)
         np.fill_diagonal(g, 1.0)
-        return g
+        u = self.redraw(p)
+        return g if u is None else g @ u
 
     def transition(self, p: Percept) -> FloatArray:
         """``(W, W)`` matrix ``T[i, j] = P(b_t = i | b_{t-1} = j, o_t)``; columns sum to 1, but
@@ -219,6 +317,9 @@ class BeliefModel:
         likelihood = self.percept_likelihood(p)
         t = self.in_pw(p) * (self.r * likelihood)[:, None]
         np.fill_diagonal(t, likelihood)
+        u = self.redraw(p)
+        if u is not None:  # what was carried off is redrawn first
+            t = t @ u
         total = t.sum(axis=0, keepdims=True)
         t /= np.where(total > 0, total, 1.0)
         return t

@@ -32,7 +32,7 @@ from protocol import Scene
 
 from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
-from .belief import UNNOTICED, Percept
+from .belief import UNNOTICED, Percept, changes
 from .estimates import Estimate, point_false_belief
 from .inference import hazard_matrix
 from .planner import (
@@ -185,8 +185,10 @@ class FactoredBeliefs:
         blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
         match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)  # (K, V)
         likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok  # (K, V)
-        affected = (seen[:, None] >= 0) | (visible[None, :] & (seen[:, None] != UNNOTICED))  # (K, V_j)
-        g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
+        ch = changes(self.model, p)
+        g = np.where(self.same[None], 1.0, np.where(ch.allowed(), self.r, 0.0))  # (K, V_i, V_j)
+        if ch.lost:  # what was carried off is redrawn first
+            g = g @ ch.redraw()
         t = likelihood[:, :, None] * g
         total = t.sum(axis=1, keepdims=True)  # 0 for a value ruled out with none in reach
         return t / np.where(total > 0, total, 1.0)
@@ -202,10 +204,12 @@ class FactoredBeliefs:
         blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
         match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)
         likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok  # (K, V)
-        affected = (seen[:, None] >= 0) | (visible[None, :] & (seen[:, None] != UNNOTICED))
-        g = np.where(self.same[None], 1.0, np.where(affected[:, None, :], self.r, 0.0))  # (K, V_i, V_j)
+        ch = changes(self.model, p)
+        g = np.where(self.same[None], 1.0, np.where(ch.allowed(), self.r, 0.0))  # (K, V_i, V_j)
         if predict:
             g = g / g.sum(axis=1, keepdims=True)
+        if ch.lost:  # what was carried off is redrawn first
+            g = g @ ch.redraw()
         new = (beliefs @ g.transpose(0, 2, 1)) * likelihood[:, None, :]  # batched (N, V) @ (V, V)
         total = new.sum(axis=2, keepdims=True)
         return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)

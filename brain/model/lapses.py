@@ -172,7 +172,7 @@ class LapseFilter:
         if row.told is not None:  # hearsay: taken in as speech is
             seen[row.told[0]] = row.told[1]
             row.told = None
-        return Percept(cell=p.cell, seen=tuple(seen))
+        return Percept(cell=p.cell, seen=tuple(seen), lost=p.lost)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
         weights = np.array([r.log_weight for r in self.rows])

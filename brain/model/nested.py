@@ -25,7 +25,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 
 from .arrays import FloatArray
-from .belief import UNNOTICED, Percept
+from .belief import UNNOTICED, Percept, changes
 from .world import RESTING, VALUES_PER_LOCATION, WorldModel, location_of
 
 
@@ -39,11 +39,11 @@ def item_transitions(model: WorldModel, p: Percept, r: float, delta: float) -> F
     visible = model.sees[p.cell][location_of(values)][None, :]  # (1, V): the value's place is in view
     match = np.where(seen >= 0, values[None, :] == seen, (seen == UNNOTICED) | ~visible)  # (K, V)
     likelihood = np.where(match, 1.0 - delta, delta)
-    may_change = (seen >= 0) | (visible & (seen != UNNOTICED))  # (K, V) by the old value j
-    change = (
-        np.where(may_change[:, None, :], r, 0.0)
-        + np.eye(V)[None, :, :] * np.where(may_change, 1.0 - r, 1.0)[:, None, :]
-    )
+    ch = changes(model, p)
+    same = np.eye(V, dtype=bool)[None]
+    change = np.where(ch.allowed() & ~same, r, 0.0) + same  # by the old value j
+    if ch.lost:  # what was carried off is redrawn first
+        change = change @ ch.redraw()
     t = likelihood[:, :, None] * change  # (K, V_i, V_j)
     return t / t.sum(axis=1, keepdims=True)
 

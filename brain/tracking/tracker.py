@@ -21,7 +21,7 @@ from protocol import Activity, AgentKind, Event, EventKind, Observer, Perception
 
 from ..memory.snapshot import Snapshot
 from ..model.arrays import FloatArray
-from ..model.belief import Percept, percept, told, true_values
+from ..model.belief import Percept, carried_off, percept, told, true_values
 from ..model.estimates import Estimate, mix, reread
 from ..model.gradedperson import GradedFilter, GradedModel
 from ..model.inference import switch_probability
@@ -34,6 +34,7 @@ from ..model.revisions import SharedRevisions
 from ..model.world import held_value, value_of
 from ..settings import ModelSettings
 from .decisions import decided_action
+from .hearsay import rumours
 from .remembering import remembered_people, robot_items, start_view
 from .statecheck import check_items
 from .track import Chain, PersonTrack
@@ -87,6 +88,10 @@ class MindTracker:
         self.tracks = {p: PersonTrack(p, chains=[Chain() for _ in range(branches)]) for p in self.people}
         self.ticks: list[int] = []
         self.truth: tuple[int, ...] = ()
+        self.carriers: tuple[int, ...] = ()
+        """Per item, the cell index of whoever carries it now (-1: nobody)."""
+        self.carriers_moved: frozenset[int] = frozenset()
+        """The items whose carrier moved (or put them down) at the last tick."""
         """The true item values at the last tick observed (the likeliest branch's, embodied)."""
         self.truths: dict[int, tuple[int, ...]] = {}
         """The true item values at every tick observed (for reading false beliefs then)."""
@@ -125,7 +130,11 @@ class MindTracker:
         model = self.model
         cell_of = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in state.agents}
         holders = {i.id: cell_of.get(i.held_by) if i.held_by else None for i in state.items}
-        self.carriers = tuple(-1 if (c := holders.get(k)) is None else c for k in model.items)  # -1: none
+        before, self.carriers = (
+            self.carriers,
+            tuple(-1 if (c := holders.get(k)) is None else c for k in model.items),
+        )
+        self.carriers_moved = frozenset(k for k, c in enumerate(before) if c >= 0 and c != self.carriers[k])
         if self.view is None:
             truths = [true_values(model, {i.id: i.location for i in state.items}, holders)]
         else:
@@ -220,6 +229,9 @@ class MindTracker:
         tick = state.tick
         held = 0 if holding is None else model.items.index(holding) + 1
         seen = [self._percept(track.agent, cell, held, truth, events) for truth in truths]
+        if self.carriers_moved:  # an item they saw carried off: the carrier may take it anywhere
+            own, moved = held - 1 if held else None, self.carriers_moved
+            seen = [carried_off(c.percept, p, own, moved) for c, p in zip(track.chains, seen, strict=True)]
         if track.cell is None:  # first sight of this person: the percept alone
             self._push(track, tick, seen, None, truths, switch=0.0, now=state.time)
             # no wait is read before their first decision: since when they could act is unknown
@@ -267,27 +279,12 @@ class MindTracker:
         return now - track.last_step >= self.settings.decision_seconds
 
     def _rumours(self, person: str, state: State, seconds: float) -> tuple[tuple[int, int, float], ...]:
-        """What the others in ``person``'s region probably believe (more likely than not) of
-        each item, and the chance one of them told ``person`` in the last ``seconds``
-        (``ModelSettings.hearsay`` per second per pair; one item and one direction at a time)."""
-        rate = self.settings.hearsay
-        region = next((a.region for a in state.agents if a.id == person), None)
-        if rate <= 0 or region is None:
-            return ()
-        heard = []
-        for other in state.agents:
-            if other.id == person or other.id not in self.tracks or other.region != region:
-                continue
-            est = self.online(other.id)
-            if est is not None:
-                places = np.argmax(est.beliefs, axis=1)
-                heard += [
-                    (k, value_of(int(places[k])))
-                    for k in range(self.model.n_items)
-                    if est.beliefs[k, places[k]] > 0.5
-                ]
-        chance = (1.0 - np.exp(-rate * max(seconds, 0.0))) / (2 * max(len(heard), 1))
-        return tuple((k, value, float(chance)) for k, value in heard)
+        """What ``person`` may have heard from the others in their region (:func:`.hearsay.rumours`)."""
+
+        def estimate_of(other: str) -> Estimate | None:
+            return self.online(other) if other in self.tracks else None
+
+        return rumours(state, person, estimate_of, self.settings.hearsay, seconds)
 
     def _wait(
         self, track: PersonTrack, state: State, cell: int, action: int | None, truths: list[tuple[int, ...]]

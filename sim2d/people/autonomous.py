@@ -37,7 +37,7 @@ from collections import deque
 
 import numpy as np
 
-from protocol import AgentKind, EventKind, NestedBelief, Pursuit, TrueMind
+from protocol import AgentKind, EventKind, GridCell, NestedBelief, Pursuit, TrueMind
 
 from ..scenario.autonomy import Autonomy
 from ..scenario.scenario import AgentSetup
@@ -70,6 +70,8 @@ class AutonomousPerson:
         self.started = False
         self.attention: dict[str, tuple[str, bool]] = {}
         """Item in view -> (where it is seen, whether the person noticed it there)."""
+        self.carrying: dict[str, tuple[str, GridCell]] = {}
+        """Item -> (who carries it, their cell), for the items seen carried by others."""
         self.first_jobs = FirstJobs(setup.jobs)
         """The first jobs of a task episode (:class:`~sim2d.scenario.jobs.Jobs`) yet to plan."""
         self.tells, self.tell_after = setup.jobs.tells, setup.jobs.tell_after
@@ -112,8 +114,24 @@ class AutonomousPerson:
     def perceive(self, world: World) -> None:
         """Update the true belief on what the person sees now (idempotent within a tick)."""
         visible, seen = world.percept(self.id)
-        self.belief.perceive(visible, seen, self._missed(world, seen))
+        self.belief.perceive(visible, seen, self._missed(world, seen), self._carried_off(world, seen))
         self._saw(world, seen)
+
+    def _carried_off(self, world: World, seen: dict[str, str]) -> set[str]:
+        """The items this person saw someone else carry at their last percept that they see
+        no more, because the carrier moved (or put it down) out of sight; then remembers who
+        carries what in view now."""
+        lost = {
+            item
+            for item, (holder, cell) in self.carrying.items()
+            if item not in seen and (world.items[item].holder != holder or world.agents[holder].cell != cell)
+        }
+        self.carrying = {
+            item: (holder, world.agents[holder].cell)
+            for item in seen
+            if (holder := world.items[item].holder) is not None and holder != self.id
+        }
+        return lost
 
     def _saw(self, world: World, seen: dict[str, str]) -> None:
         """After perceiving the items in view, ``seen`` (where each is): nothing more here."""

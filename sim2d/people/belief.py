@@ -5,7 +5,9 @@ unseen things stay put.
 Perception is exact: an item in view is where it is seen (a carried item counts at its
 carrier's location, as the brain reads it); an item not in view is not at any visible
 location, so the probability there moves to the locations out of view, in proportion to
-what they had. Speech replaces the belief about the item it names.
+what they had. An item the person saw carried, whose carrier then moved out of sight with
+it, may be anywhere out of view (evenly): it went with its carrier. Speech replaces the
+belief about the item it names.
 
 Rich minds (``Autonomy.forget_per_tick``, ``Autonomy.miss``) add two imperfections: an item the person
 failed to notice is left out of the percept (its belief stays as it was), and beliefs drift
@@ -52,13 +54,19 @@ class PersonBelief:
         return cached
 
     def perceive(
-        self, visible: Collection[str], seen: Mapping[str, str], missed: Collection[str] = ()
+        self,
+        visible: Collection[str],
+        seen: Mapping[str, str],
+        missed: Collection[str] = (),
+        carried_off: Collection[str] = (),
     ) -> None:
         """Update on a percept: ``visible`` location ids, and where each item in view is;
-        the beliefs about items in ``missed`` (in view, not noticed) are left alone. The same
-        percept meeting the same belief again (someone standing still) gives the same result
-        without the arithmetic."""
-        key = (tuple(visible), tuple(seen.items()), frozenset(missed))
+        the beliefs about items in ``missed`` (in view, not noticed) are left alone; an item
+        of ``carried_off`` (seen carried by someone who has since moved out of sight with it)
+        may be anywhere out of view, evenly: it went with its carrier, it does not rest where
+        the person saw it pass. The same percept meeting the same belief again (someone
+        standing still) gives the same result without the arithmetic."""
+        key = (tuple(visible), tuple(seen.items()), frozenset(missed), frozenset(carried_off))
         before = self.p
         met = before.tobytes()
         if self._last is not None and self._last[0] == key and self._last[1] == met:
@@ -70,6 +78,8 @@ class PersonBelief:
         after = np.divide(kept, totals[:, None], out=before.copy(), where=totals[:, None] > 0)
         if elsewhere is not None:  # believed in view but gone: anywhere out of view
             after[totals <= 0] = elsewhere
+            for item in carried_off:  # went with its carrier: anywhere out of view
+                after[self._row[item]] = elsewhere
         for item, where in seen.items():
             k = self._row[item]
             after[k] = 0.0

@@ -79,7 +79,7 @@ def helpfulness(
                     help_.wasted_trips += 1
             if cell is not None:
                 previous[mind.agent] = (cell, truth)
-    spoken: set[tuple[int, str, str | None, EventKind]] = set()  # one say of several items: one event each
+    spoken: set[tuple[int, str, str, str]] = set()  # one say of several items: one event each
     for event in sorted(events, key=lambda e: e.tick):
         if (
             event.actor in robots

@@ -76,3 +76,44 @@ def test_same_seed_same_minds_other_seed_other_story() -> None:
     assert story(4) == story(4)
     assert story(4) != story(5)
     assert np.isfinite(len(story(6)))
+
+
+def test_an_item_carried_off_out_of_sight_may_be_anywhere_out_of_view() -> None:
+    belief = PersonBelief(["ball"], LOCS)
+    belief.perceive({"P1", "S1"}, {"ball": "S1"})  # someone carries it in S1
+    belief.perceive({"P1", "S1"}, {}, carried_off={"ball"})  # ... and walks out of sight with it
+    assert belief.of("ball").tolist() == [0, 0, 0.5, 0.5], "it went with its carrier: anywhere out of view"
+    belief.perceive({"P1"}, {"ball": "P1"})
+    belief.perceive(set(), {}, carried_off={"ball"})  # from outside nothing is in view: evenly anywhere
+    assert belief.of("ball").tolist() == [0.25] * 4, f"expected even odds, got {belief.of('ball')}"
+
+
+@pytest.mark.parametrize("seed", [0, 1, 4, 6])  # seeds where someone sees it happen
+def test_people_who_see_an_item_carried_off_do_not_believe_it_where_it_passed(seed: int) -> None:
+    """Each tick, for every autonomous person who saw someone else carry an item at the tick
+    before and sees it no more because the carrier moved: they believe it evenly anywhere out
+    of view, not at the location it counted at when they last saw it."""
+    engine = Engine("paper-auto", seed=seed)
+    world = engine.world
+    carried: dict[str, dict[str, tuple[str, tuple[int, int]]]] = {}
+    checked = 0
+    while not engine.done and world.tick < 1500:
+        result = engine.step()
+        assert result.truth is not None
+        for mind in result.truth.agents:
+            visible, seen = world.percept(mind.agent)
+            for item, (holder, cell) in carried.get(mind.agent, {}).items():
+                moved = world.items[item].holder != holder or world.agents[holder].cell != cell
+                if item in seen or not moved:
+                    continue
+                probs = {p.id: p.p for b in mind.beliefs if b.item == item for p in b.locations}
+                hidden = [loc for loc in LOCS if loc not in visible]
+                expected = {loc: (1 / len(hidden) if loc in hidden else 0.0) for loc in LOCS}
+                assert probs == pytest.approx(expected, abs=1e-5), (world.tick, mind.agent, item, probs)
+                checked += 1
+            carried[mind.agent] = {
+                item: (holder, world.agents[holder].cell)
+                for item in seen
+                if (holder := world.items[item].holder) is not None and holder != mind.agent
+            }
+    assert checked > 0, "no one saw an item carried off out of sight: the test exercised nothing"
