@@ -59,6 +59,7 @@ from .replies import ControlReply, ErrorCode, ErrorReply
 from .robot import (
     COMMAND_KINDS,
     Action,
+    Ask,
     Cancel,
     CommandState,
     CommandStatus,
@@ -123,6 +124,7 @@ __all__ = [
     "AgentSpec",
     "AgentState",
     "BY_TAG",
+    "Ask",
     "Cancel",
     "Capability",
     "Cell",

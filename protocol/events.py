@@ -25,6 +25,10 @@ class EventKind(enum.StrEnum):
       or ``detail`` ``"occupied by <id>"``).
     - ``request``: ``actor`` asked ``target`` for ``item``, offering ``offer`` (or nothing).
     - ``reply``: ``actor`` answered ``target``'s request: ``answer`` true (yes) or false.
+    - ``ask`` (from 1.6): ``actor`` asked ``target`` what they want (``item`` null) or
+      whether they want ``item``.
+    - ``answer`` (from 1.6): ``actor`` answered ``target``'s ``ask``: they want ``item``
+      (``answer`` true) or not (false); ``item`` null and ``answer`` false: nothing.
     - ``waypoint``: a scripted ``actor`` completed the scenario step ``label``.
     """
 
@@ -39,6 +43,8 @@ class EventKind(enum.StrEnum):
     SAY = "say"
     REQUEST = "request"
     REPLY = "reply"
+    ASK = "ask"
+    ANSWER = "answer"
     WAYPOINT = "waypoint"
 
 

@@ -107,13 +107,28 @@ class Request(msgspec.Struct, frozen=True, tag_field="kind", tag="request"):
     offer: Id | None = None
 
 
+class Ask(msgspec.Struct, frozen=True, tag_field="kind", tag="ask"):
+    """Ask ``person`` what they are looking for (``item`` null: an open question) or whether
+    they want ``item`` (a yes/no question); from 1.6.
+
+    Within earshot (as ``say``). Succeeds when the person answers: an ``answer`` event
+    (``actor`` the person, ``target`` the robot) carries it, ``item`` the item the answer is
+    about and ``answer`` whether they want it (an open question: the item they want and true,
+    or ``item`` null and false: nothing); the status' ``answer`` is the same yes or no. Fails
+    when they cannot be asked (unknown, out of earshot) or do not answer (``no answer: ...``).
+    """
+
+    person: Id
+    item: Id | None = None
+
+
 class Cancel(msgspec.Struct, frozen=True, tag_field="kind", tag="cancel"):
     """Cancel command ``command``, running or still queued; it ends with status ``cancelled``."""
 
     command: Id
 
 
-Action = Navigate | Pick | Place | Give | Say | Request | Cancel
+Action = Navigate | Pick | Place | Give | Say | Request | Ask | Cancel
 """Every command kind the robot body executes (the known set of an open vocabulary: a
 command of another kind decodes to an :class:`UnknownAction`)."""
 COMMAND_KINDS: tuple[str, ...] = tuple(str(t.__struct_config__.tag) for t in Action.__args__)

@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from protocol import (
     COMMAND_KINDS,
     AgentKind,
+    Ask,
     Cancel,
     CommandState,
     CommandStatus,
@@ -40,6 +41,8 @@ SPEECH_TICKS = 10
 """Ticks saying something or asking (and getting the answer) takes."""
 EARSHOT_CELLS = 2
 """A person hears the robot in the same region or within this many cells (Manhattan)."""
+ASK_PUPPET = "a participant cannot be asked yet: toyroom play has no answer keys (issue 52)"
+"""Why an ``ask`` of a puppet fails at once (a participant's page has no way to answer it)."""
 ANSWER_TICKS = 300
 """Ticks a ``request`` or ``give`` to a puppet (a participant, :mod:`sim2d.people.puppet`)
 waits for the participant's answer beyond its own duration; then the answer is no."""
@@ -118,6 +121,8 @@ class RobotBody:
                 or unknown("item", action.item, world.items)
                 or unknown("item", action.offer, world.items)
             )
+        if isinstance(action, Ask):
+            return unknown("person", action.person, people) or unknown("item", action.item, world.items)
         return None
 
     def receive(self, world: World, command: RobotCommand) -> None:
@@ -198,7 +203,7 @@ class RobotBody:
                 return
             self.running = self.queue.popleft()
             self._status(world, self.running, CommandState.RUNNING)
-            problem = self._start(world, self.running)
+            problem = self._start(world, self.running, people)
             if problem is not None:
                 self._finish(world, CommandState.FAILED, problem)
                 return
@@ -254,13 +259,23 @@ class RobotBody:
             self.asking.question = self.asking.reply = None
             self.asking = None
 
+    def _answered(self, world: World, action: Ask, person: Person | None) -> tuple[str | None, bool | None]:
+        """The person's answer to an ``ask``: an ``answer`` event and the status' yes or no;
+        ``no answer`` when they give none (busy, ``Autonomy.silent``)."""
+        said = person.says_wanted(world, action.item) if person is not None else None
+        if said is None:
+            return f"no answer: {action.person} did not answer", None
+        item, wants = said
+        world.emit(EventKind.ANSWER, action.person, item=item, target=self.id, answer=wants)
+        return None, wants
+
     def _reach(self, world: World, person: str) -> str | None:
         me, them = world.agents[self.id].cell, world.agents[person].cell
         if not world.within_reach(me, them):
             return f"out of reach: {person} is at ({them[0]},{them[1]}), the robot at ({me[0]},{me[1]})"
         return None
 
-    def _start(self, world: World, command: RobotCommand) -> str | None:
+    def _start(self, world: World, command: RobotCommand, people: Mapping[str, Person]) -> str | None:
         """Check preconditions and set the command going; the reason when it cannot start."""
         action = command.action
         me = world.agents[self.id]
@@ -268,17 +283,21 @@ class RobotBody:
             if not world.plan_to(self.id, (action.cell.col, action.cell.row)):
                 return f"unreachable: no path to ({action.cell.col},{action.cell.row})"
             return None
-        if isinstance(action, (Say, Request)):
+        if isinstance(action, (Say, Request, Ask)):
             self.ticks_left = SPEECH_TICKS
             person = world.agents[action.person]
             near = abs(person.cell[0] - me.cell[0]) + abs(person.cell[1] - me.cell[1]) <= EARSHOT_CELLS
-            if isinstance(action, Say):
+            if isinstance(action, (Say, Ask)):
                 if not near and person.region != me.region:
                     return (
                         f"out of earshot: {action.person} is in {person.region} "
                         f"({person.cell[0]},{person.cell[1]}), "
                         f"the robot in {me.region} ({me.cell[0]},{me.cell[1]})"
                     )
+                if isinstance(action, Ask):
+                    if isinstance(people.get(action.person), PuppetPerson):
+                        return ASK_PUPPET
+                    world.emit(EventKind.ASK, self.id, item=action.item, target=action.person)
                 return None
             if person.holding != action.item:
                 return f"{action.person} does not hold '{action.item}'"
@@ -360,6 +379,8 @@ class RobotBody:
                     detail=f"occupied by {action.holder}",
                 )
             return None, None
+        if isinstance(action, Ask):
+            return self._answered(world, action, people.get(action.person))
         assert isinstance(action, Request)
         person = people.get(action.person)
         still = world.agents[action.person].holding == action.item

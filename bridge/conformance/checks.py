@@ -63,6 +63,7 @@ CHECK_NAMES = (
     "events",
     "robot commands",
     "say several",
+    "ask",
     "navigation",
     "pick place give",
     "cancel",

@@ -1,5 +1,5 @@
 """The conformance checks of robot commands: every kind ending properly, a say of several
-items at once (1.6), a real navigation
+items at once and an ask (1.6), a real navigation
 to a far cell (pick, place and give are :mod:`.items`'), cancel of a running command, a
 command sent while another runs, a kind the engine does not know, impossible commands, and
 the order of every status seen."""
@@ -9,6 +9,7 @@ from __future__ import annotations
 from protocol import (
     Action,
     AgentKind,
+    Ask,
     Cancel,
     Capability,
     Cell,
@@ -148,6 +149,38 @@ class CommandChecks(Probe):
         if got != expected:
             raise CheckFailed(f"expected a say event per item on one tick, {expected}, got {got}")
         return f"told {people[0]} of '{first}' and '{second}' in one say: two say events at tick {tick}"
+
+    def check_ask(self) -> str:
+        """An ``ask`` (from 1.6), open: an ``ask`` event, then the person's ``answer`` event
+        (to the robot) whose yes or no the status repeats."""
+        self._need_acting_robot()
+        assert self.info is not None and self.robot is not None
+        if Version.parse(self.info.protocol) < Version(1, 6):
+            raise NotApplicable(f"the engine speaks {self.info.protocol}; ask is from 1.6")
+        people = [a.id for a in self.info.scene.agents if a.kind is AgentKind.PERSON]
+        if not people:
+            raise CheckSkipped("the scene has no person to ask")
+        self._go(self.cell_of(people[0]), f"to {people[0]}")
+        mark = len(self.stream.events)
+        statuses = self.command(Ask(person=people[0]))
+        final = statuses[-1]
+        if final.state is CommandState.FAILED and ("earshot" in final.reason or "no answer" in final.reason):
+            raise CheckSkipped(f"{people[0]} could not be asked: {shown(statuses)}")
+        if final.state is not CommandState.SUCCEEDED or final.answer is None:
+            raise CheckFailed(f"ask {people[0]}: expected succeeded with an answer, got {shown(statuses)}")
+
+        def heard() -> list[Event]:
+            return [e for e in self.stream.events[mark:] if e.kind in (EventKind.ASK, EventKind.ANSWER)]
+
+        self.stream.wait(lambda: len(heard()) >= 2, self.timeout)
+        got = [(e.kind, e.actor, e.target) for e in heard()]
+        expected = [(EventKind.ASK, self.robot, people[0]), (EventKind.ANSWER, people[0], self.robot)]
+        if got != expected or heard()[1].answer is not final.answer:
+            raise CheckFailed(
+                f"expected an ask and an answer event ({expected}, answer {final.answer}), got {got}"
+            )
+        answer = heard()[1]
+        return f"asked {people[0]}: wants {answer.item!r} ({'yes' if answer.answer else 'no'})"
 
     def check_navigation(self) -> str:
         self._need_acting_robot()

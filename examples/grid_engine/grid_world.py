@@ -412,6 +412,9 @@ class GridWorld:
                 None if action["person"] in people else f"unknown id '{action['person']}': no such person"
             ),
             "request": lambda: None if action["person"] in people else f"unknown id '{action['person']}'",
+            "ask": lambda: (  # from 1.6
+                None if action["person"] in people else f"unknown id '{action['person']}': no such person"
+            ),
         }
         if kind == "cancel":
             victim = (
@@ -483,6 +486,8 @@ class GridWorld:
                 self.people[person].replace([{"do": "goto"}, {"do": "play"}])
         elif kind == "say":
             reason = self.tell(me, action)
+        elif kind == "ask":
+            return self.ask(me, action)
         else:  # request
             person = action["person"]
             if self.holding[person] != action["item"]:
@@ -526,6 +531,18 @@ class GridWorld:
                     ]
                 )
         return None
+
+    def ask(self, me: str, action: dict[str, Any]) -> None:
+        """The robot's ``ask`` (1.6), within earshot: the person says truthfully what they
+        want (an ``answer`` event; an open question when ``item`` is null)."""
+        person, item = action["person"], action.get("item")
+        if not within_earshot(self.cells[me], self.regions[me], self.cells[person], self.regions[person]):
+            return self.finish("failed", f"out of earshot: {person}")
+        wanted = self.people[person].wants
+        said, wants = (item, item == wanted) if item is not None else (wanted, wanted is not None)
+        self.event("ask", me, item=item, target=person)
+        self.event("answer", person, item=said, target=me, answer=wants)
+        return self.finish("succeeded", answer=wants)
 
     def finish(self, state: str, reason: str = "", answer: bool | None = None) -> None:
         assert self.running is not None

@@ -62,6 +62,7 @@ def rich_autonomy(seed: int) -> list[str]:
         f"replan = {rng.uniform(0.0, 0.02):.4f}",
         f"knows = {rng.uniform(0.3, 0.7):.3f}",
         f"stale = {rng.uniform(0.1, 0.3):.3f}",
+        f"silent = {rng.uniform(0.2, 0.5):.3f}",  # drawn last: the draws before are as they were
     ]
 
 

@@ -365,6 +365,19 @@ class AutonomousPerson:
         if item == self.preference and world.agents[self.id].holding is None and not busy:
             self._stop(world)
 
+    def says_wanted(self, world: World, item: str | None) -> tuple[str | None, bool] | None:
+        """Truthfully, when free; busy (carrying something, playing, or on an errand), no
+        answer at all with chance ``Autonomy.silent`` (drawn per question)."""
+        agent = world.agents[self.id]
+        errand = (self.current is not None and self.current.errand) or any(p.errand for p in self.plan)
+        busy = agent.holding is not None or agent.playing or errand
+        if busy and self.rng.random() < self.autonomy.silent:
+            return None
+        wanted = None if self.preference == OUT else self.preference
+        if item is not None:
+            return item, item == wanted
+        return (wanted, True) if wanted is not None else (None, False)
+
     def answer(self, world: World, item: str, offer: str | None = None) -> bool:
         """Swap when the offer is worth more to them than what they hold."""
 

@@ -25,4 +25,9 @@ class Person(Protocol):
 
     def answer(self, world: World, item: str, offer: str | None = None) -> bool: ...
 
+    def says_wanted(self, world: World, item: str | None) -> tuple[str | None, bool] | None:
+        """The answer to a robot's ``ask``: ``(item, wants it)`` (an open question, ``item``
+        ``None``: what they want and true, or ``(None, False)``: nothing); ``None``: no answer."""
+        ...
+
     def on_handed_over(self, world: World) -> None: ...

@@ -223,6 +223,11 @@ class PuppetPerson:
         """Hand over ``item``? The participant's answer (as the person still holds it)."""
         return self.close_question() and world.agents[self.id].holding == item
 
+    def says_wanted(self, world: World, item: str | None) -> tuple[str | None, bool] | None:
+        """Not asked: the robot body fails an ``ask`` of a participant before it starts
+        (:data:`sim2d.robot.ASK_PUPPET`)."""
+        return None
+
     def on_given(self, world: World) -> None:
         """Handed an item: the participant decides what to do with it."""
 

@@ -219,6 +219,13 @@ class ScriptedPerson:
         """Answer a request to hand over ``item`` (as the scenario says, whatever the offer)."""
         return self.setup.answers and world.agents[self.id].holding == item
 
+    def says_wanted(self, world: World, item: str | None) -> tuple[str | None, bool] | None:
+        """The scenario's ``wants``, truthfully (an open question: ``(wants, True)``)."""
+        wanted = self.setup.wants
+        if item is not None:
+            return item, item == wanted
+        return (wanted, True) if wanted is not None else (None, False)
+
     def on_handed_over(self, world: World) -> None:
         """Gave away what they held: stop and wait."""
         world.stop(self.id)

@@ -22,6 +22,7 @@ RATES = (
     "replan",
     "knows",
     "stale",
+    "silent",
 )
 """The probabilities of :class:`Autonomy`."""
 RENAMED = {"forget": "forget_per_tick"}
@@ -72,6 +73,9 @@ class Autonomy:
     """Chance, per person and item, of starting sure the item is at another of the item
     locations (drawn uniformly): a false belief from before the episode. Otherwise (and at
     ``knows = stale = 0``) a person starts not knowing: uniform over the locations."""
+    silent: float = 0.0
+    """Chance that a person who is busy (carrying something, playing, or on an errand) does
+    not answer a robot's question (``ask``) at all; free, they always answer, truthfully."""
     planner: str = "own"
     """``own`` habits (:mod:`sim2d.people.autonomous`) or the brain's planner (``model``:
     :mod:`sim2d.people.planned`)."""

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from protocol import (
+    Ask,
     Cancel,
     Cell,
     CommandState,
@@ -235,3 +236,32 @@ def test_one_say_tells_of_several_items(engine: Engine) -> None:
     )
     wrong = Say(person="A1", item="ball", topic=SayTopic.LOCATION, location="S1", also=(Told("kite", "P2"),))
     assert run(engine, wrong)[-1].reason.startswith("unknown id 'kite': no such item")
+
+
+def test_ask_gets_an_answer_in_earshot_and_fails_out_of_it(engine: Engine) -> None:
+    """``ask`` (protocol 1.6): A1 (who wants the skate) answers an open question with the
+    skate, a yes/no one truthfully; an ``ask`` event when asked, an ``answer`` event with the
+    answer; out of earshot it fails, naming the person."""
+    run(engine, Navigate(cell=Cell(12, 9)))
+    far = run(engine, Ask(person="A1"))
+    assert far[-1].state is CommandState.FAILED and far[-1].reason.startswith("out of earshot: A1"), far
+    run(engine, Navigate(cell=Cell(4, 6)))
+    events: list = []
+    for question, expected in (
+        (None, ("skate", True)),
+        ("ball", ("ball", False)),
+        ("skate", ("skate", True)),
+    ):
+        command = RobotCommand(id=f"ask-{question}", robot="robot", action=Ask(person="A1", item=question))
+        statuses = [s for s in engine.command(command) if s.command == command.id]
+        while not (statuses and statuses[-1].state.final):
+            step = engine.step()
+            events += [e for e in step.events if e.kind in (EventKind.ASK, EventKind.ANSWER)]
+            statuses += [s for s in step.statuses if s.command == command.id]
+        assert statuses[-1].state is CommandState.SUCCEEDED and statuses[-1].answer is expected[1], statuses
+        asked, answered = events[-2:]
+        assert (asked.kind, asked.actor, asked.target, asked.item) == (EventKind.ASK, "robot", "A1", question)
+        got = (answered.kind, answered.actor, answered.target, answered.item, answered.answer)
+        assert got == (EventKind.ANSWER, "A1", "robot", *expected), (
+            f"expected the answer {expected}, got {got}"
+        )

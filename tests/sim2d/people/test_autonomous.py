@@ -3,6 +3,8 @@ their true minds on the truth channel."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -117,3 +119,20 @@ def test_people_who_see_an_item_carried_off_do_not_believe_it_where_it_passed(se
                 if (holder := world.items[item].holder) is not None and holder != mind.agent
             }
     assert checked > 0, "no one saw an item carried off out of sight: the test exercised nothing"
+
+
+def test_a_person_answers_what_they_want_truthfully_when_free_and_may_not_when_busy() -> None:
+    engine = Engine("paper-auto", seed=0)
+    person = next(p for p in engine.people.values() if hasattr(p, "autonomy"))
+    person.preference = "ball"
+    person.autonomy = dataclasses.replace(person.autonomy, silent=1.0)
+    world = engine.world
+    agent = world.agents[person.id]
+    assert agent.holding is None and not agent.playing, "the person should start free"
+    person.current, person.plan = None, type(person.plan)()
+    assert person.says_wanted(world, None) == ("ball", True)
+    assert person.says_wanted(world, "skate") == ("skate", False)
+    person.preference = "out"
+    assert person.says_wanted(world, None) == (None, False), "wanting nothing: no item, and no"
+    agent.playing = True
+    assert person.says_wanted(world, None) is None, "busy playing, with silent = 1: no answer"

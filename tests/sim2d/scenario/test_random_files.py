@@ -2,7 +2,7 @@
 (:mod:`protocol.limits`), and with numbers that are NaN, infinite, fractional where an
 integer is due or of the wrong type. Each is either accepted and runs (the engine builds the
 world, its scene passes the handshake's check, it steps a few ticks) or refused by the loader
-in one line (:class:`~sim2d.errors.ScenarioError`), within a time and a memory bound: nothing
+in one line (:class:`~sim2d.errors.ScenarioError`), within a CPU-time and a memory bound: nothing
 else (no traceback of another kind, no hang, no gigabytes)."""
 
 from __future__ import annotations
@@ -102,10 +102,10 @@ def test_random_files_are_run_or_refused_in_one_line(tmp_path_factory: Any, draw
     folder: Path = tmp_path_factory.mktemp("random")
     (folder / "random.map.toml").write_text(drawn[0])
     (folder / "random.toml").write_text(drawn[1])
-    start = time.monotonic()
+    start = time.process_time()  # CPU time: a loaded machine's waits do not count against the file
     outcome = _runs(folder / "random.toml")
     event(outcome)
-    took = time.monotonic() - start
+    took = time.process_time() - start
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    assert took < SECONDS, f"expected the file {outcome} within {SECONDS} s, took {took:.1f} s"
+    assert took < SECONDS, f"expected the file {outcome} within {SECONDS} CPU s, took {took:.1f} s"
     assert rss_mb < MAX_RSS_MB, f"expected the process under {MAX_RSS_MB} MB, it reached {rss_mb:.0f} MB"

@@ -110,6 +110,7 @@ def test_a_malformed_frame_gets_an_error_and_the_world_runs_on(server: Server) -
         if key.endswith("/person/A1/command")
     ]
     assert keys == ["ArrowRight"], f"expected the good key press after the bad frames recorded, got {keys}"
-    assert server.process.wait(timeout=60) == 0, "the server did not exit 0 once the world ended"
+    code = server.process.wait(timeout=60)
+    assert code == 0, f"the server did not exit 0 once the world ended (got {code}): {server.lines[-30:]}"
     tracebacks = [line for line in server.lines if "Traceback" in line]
     assert tracebacks == [], f"expected no traceback from the server, got: {server.lines}"

@@ -45,6 +45,7 @@ namespace Toyroom.Protocol
             System.Type concrete = null;
             switch (kind)
             {
+                case "ask": concrete = typeof(Ask); break;
                 case "cancel": concrete = typeof(Cancel); break;
                 case "give": concrete = typeof(Give); break;
                 case "navigate": concrete = typeof(Navigate); break;
@@ -187,6 +188,29 @@ namespace Toyroom.Protocol
         public string Region { get; set; }
         [JsonProperty("velocity")]
         public Vec2 Velocity { get; set; }
+    }
+
+    /// <summary>
+    /// Ask <c>person</c> what they are looking for (<c>item</c> null: an open question) or whether
+    /// they want <c>item</c> (a yes/no question); from 1.6.
+    ///
+    /// Within earshot (as <c>say</c>). Succeeds when the person answers: an <c>answer</c> event
+    /// (<c>actor</c> the person, <c>target</c> the robot) carries it, <c>item</c> the item the answer is
+    /// about and <c>answer</c> whether they want it (an open question: the item they want and true,
+    /// or <c>item</c> null and false: nothing); the status' <c>answer</c> is the same yes or no. Fails
+    /// when they cannot be asked (unknown, out of earshot) or do not answer (<c>no answer: ...</c>).
+    /// </summary>
+    public sealed class Ask : RobotAction
+    {
+        [JsonProperty("item")]
+        public string Item { get; set; }
+        public const string Tag = "ask";
+        public Ask() { Kind = Tag; }
+        /// <summary>
+        /// An identifier: a letter, then up to 63 letters, digits, '_' or '-'.
+        /// </summary>
+        [JsonProperty("person")]
+        public string Person { get; set; }
     }
 
     /// <summary>
@@ -438,7 +462,7 @@ namespace Toyroom.Protocol
         [JsonProperty("item")]
         public string Item { get; set; }
         /// <summary>
-        /// A event kind: one of 'enter', 'leave', 'take', 'drop', 'play', 'stop', 'use', 'give', 'say', 'request', 'reply', 'waypoint', or another value from a peer of a newer minor version (kept, and warned about once).
+        /// A event kind: one of 'enter', 'leave', 'take', 'drop', 'play', 'stop', 'use', 'give', 'say', 'request', 'reply', 'ask', 'answer', 'waypoint', or another value from a peer of a newer minor version (kept, and warned about once).
         /// </summary>
         [JsonProperty("kind")]
         public string Kind { get; set; }

@@ -451,6 +451,8 @@ namespace Toyroom.Samples.GridEngine
             if (say != null) return people.ContainsKey(say.Person) ? null : "unknown id '" + say.Person + "': no such person";
             var request = action as Request;
             if (request != null) return people.ContainsKey(request.Person) ? null : "unknown id '" + request.Person + "'";
+            var ask = action as Ask;  // from 1.6
+            if (ask != null) return people.ContainsKey(ask.Person) ? null : "unknown id '" + ask.Person + "': no such person";
             return "unknown command kind '" + action.Kind + "'";
         }
 
@@ -496,6 +498,11 @@ namespace Toyroom.Samples.GridEngine
                 }
             }
             else if (action is Say) reason = Tell(me, (Say)action);
+            else if (action is Ask)
+            {
+                AskOf(me, (Ask)action);
+                return;
+            }
             else
             {
                 var request = (Request)action;
@@ -523,6 +530,28 @@ namespace Toyroom.Samples.GridEngine
                 }
             }
             Finish(reason != null ? CommandState.Failed : CommandState.Succeeded, reason ?? "");
+        }
+
+        // The robot's ask (1.6), within earshot: the person says truthfully what they want
+        // (an open question when Item is null): an "ask" event, then an "answer" event.
+        private void AskOf(string me, Ask ask)
+        {
+            var person = ask.Person;
+            if (!cells[me].WithinEarshot(cells[person]) && regions[me] != regions[person])
+            {
+                Finish(CommandState.Failed, "out of earshot: " + person);
+                return;
+            }
+            var wanted = people[person].Wants;
+            var asked = Emit("ask", me);
+            asked.Item = ask.Item;
+            asked.Target = person;
+            var answered = Emit("answer", person);
+            answered.Target = me;
+            answered.Item = ask.Item ?? wanted;
+            var wants = ask.Item != null ? ask.Item == wanted : wanted != null;
+            answered.Answer = wants;
+            Finish(CommandState.Succeeded, "", wants);
         }
 
         private string Tell(string me, Say say)
