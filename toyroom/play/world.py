@@ -123,6 +123,11 @@ class PlayWorld:
         """The engine's tick, in seconds (from its handshake)."""
         self._send: Send | None = None
         self._lock = threading.RLock()
+        self._closed = threading.Event()
+        """Set once :meth:`end` has closed the recording, the nodes and the session: a second
+        caller (the server stopping while a page's end is under way) waits for it, so the
+        process never exits with the Zenoh session half closed (a native abort: 'FATAL:
+        exception not rethrown', exit -6)."""
         self._seq = 0
         self._state: State | None = None
         self._episode = -1
@@ -342,12 +347,18 @@ class PlayWorld:
         """Stop the nodes and finish the recording (``complete`` or marked incomplete with
         ``reason``); the page is told. Safe to call twice."""
         with self._lock:
-            if self.ended is not None:
-                return
-            self.ended, self.complete = reason, complete
-        if self.recorder is not None:
-            self.recorder.close()
-        stop_nodes(list(reversed(self.nodes)))
-        if self.bridge is not None:
-            self.bridge.close()
+            first = self.ended is None
+            if first:
+                self.ended, self.complete = reason, complete
+        if not first:  # another thread is ending it: wait until it has (the server may be exiting)
+            self._closed.wait(timeout=60.0)
+            return
+        try:
+            if self.recorder is not None:
+                self.recorder.close()
+            stop_nodes(list(reversed(self.nodes)))
+            if self.bridge is not None:
+                self.bridge.close()
+        finally:
+            self._closed.set()
         self._push(self._heard_view() | {"type": "view"})
