@@ -17,6 +17,7 @@ from bridge.flags import (
     add_settings_args,
     configure_logging,
     log_level,
+    non_negative_int,
     out_file_problem,
     out_folder_problem,
 )
@@ -147,7 +148,9 @@ def _replay_command(command: Command) -> None:
         "--speed", type=float, default=1.0, help="times real time (at least 0.001); 0: as fast as possible"
     )
     replaying.add_argument(
-        "--until-tick", type=int, help="stop after this tick (and keep serving the handshake)"
+        "--until-tick",
+        type=non_negative_int,
+        help="stop after this tick, a whole number >= 0 (and keep serving the handshake)",
     )
     replaying.add_argument("--hold", action="store_true", help="keep serving the handshake until interrupted")
     replaying.add_argument(

@@ -86,6 +86,21 @@ def test_a_lease_out_of_range_is_refused_by_argparse(tmp_path: Path, lease: str)
     assert not out.exists(), "a refused run wrote its folder"
 
 
+@pytest.mark.parametrize(("tick", "shown"), [("-5", "-5"), ("soon", "'soon'")])
+def test_a_replay_to_a_tick_before_the_first_is_refused(tmp_path: Path, tick: str, shown: str) -> None:
+    """``--until-tick -5`` sent nothing and exited 0; now argparse refuses it (exit 2, one line
+    naming the value)."""
+    argv = ["replay", str(tmp_path / "run.mcap"), "--until-tick", tick]
+    result = subprocess.run(
+        [sys.executable, "-m", "toyroom", *argv], capture_output=True, text=True, timeout=120
+    )
+    last = result.stderr.strip().splitlines()[-1]
+    expected = f"toyroom replay: error: argument --until-tick: expected a whole number >= 0, got {shown}"
+    assert (result.returncode, last) == (2, expected), (
+        f"expected exit 2 and {expected!r}, got exit {result.returncode}:\n{result.stderr}"
+    )
+
+
 def _metrics(failed: list[int], episodes: int) -> dict:
     return {"episodes": episodes, "conditions": [{"episodes_failed": n} for n in failed]}
 
