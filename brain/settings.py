@@ -97,6 +97,9 @@ class ModelSettings:
         hearsay: the rate (per second) at which someone in a person's region tells them where
             they believe an item is, unheard by the robot (rows of who was told what, like
             ``miss``); 0 (the default) turns it off.
+        answer_reliability: the probability that a person's answer to the robot's question
+            (protocol 1.6's ``ask``) is true to what they want (:mod:`brain.model.answers`):
+            evidence, not an overwrite; in (0.5, 1].
         forget_per_s: the rate (per second) at which a person's belief about each item
             drifts toward uniform over the locations (graded beliefs in the exact model; what
             is in view is put right by the next percept); 0 (the default): people never
@@ -145,6 +148,7 @@ class ModelSettings:
     perception: str = Perception.OMNISCIENT.value
     miss: float = 0.0
     hearsay: float = 0.0
+    answer_reliability: float = 0.9
     forget_per_s: float = 0.0
     nested_peek: float = 0.002
     memory_drift: float = 0.1
@@ -174,6 +178,7 @@ class ModelSettings:
             "perception": self.perception in Perception.names(),
             "miss": 0.0 <= self.miss < 1.0,
             "hearsay": self.hearsay >= 0.0,
+            "answer_reliability": 0.5 < self.answer_reliability <= 1.0,
             "forget_per_s": self.forget_per_s >= 0.0,
             "nested_peek": self.nested_peek >= 0.0,
             "vi_tolerance": self.vi_tolerance >= 0.0,
@@ -207,6 +212,7 @@ ALLOWED = {
     "perception": f"one of {', '.join(Perception.names())}",
     "miss": "0 <= miss < 1",
     "hearsay": "hearsay >= 0",
+    "answer_reliability": "0.5 < answer_reliability <= 1",
     "forget_per_s": "forget_per_s >= 0",
     "nested_peek": "nested_peek >= 0",
     "vi_tolerance": "vi_tolerance >= 0",

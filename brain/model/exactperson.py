@@ -13,6 +13,7 @@ import numpy as np
 from protocol import Scene
 
 from ..settings import ModelSettings
+from .answers import said_over
 from .arrays import FloatArray
 from .belief import BeliefModel
 from .desires import Desires
@@ -52,7 +53,12 @@ class ExactModel:
             transition = self.beliefs.true_world(record.truth, record.percept)
         else:
             transition = self.beliefs.transition(record.percept)
-        return HmmStep(record.tick, transition, record.likelihood, record.switch)
+        likelihood = record.likelihood
+        if record.said is not None:  # the person's answer: evidence over the desires alone
+            said = said_over(self.desires, record.said)[None, :]
+            likelihood = said if likelihood is None else likelihood * said
+            likelihood = np.broadcast_to(likelihood, (self.model.n_worlds, said.shape[1]))
+        return HmmStep(record.tick, transition, likelihood, record.switch)
 
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
         posteriors = smooth(self.prior(), [self.hmm_step(r) for r in records])

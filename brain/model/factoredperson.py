@@ -7,6 +7,8 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from protocol import Scene
 
 from ..settings import ModelSettings
@@ -53,18 +55,30 @@ class FactoredModel:
             return self.beliefs.true_world(record.truth, record.percept)
         return self.beliefs.transition(record.percept)
 
+    def likelihood_of(self, record: StepRecord) -> FloatArray | None:
+        """``(D, V)`` the record's action likelihood times the person's answer's (``None``:
+        neither)."""
+        if record.said is None:
+            return record.likelihood
+        said = record.said[:, None]
+        if record.likelihood is None:
+            return np.repeat(said, self.model.n_values, axis=1)
+        return record.likelihood * said
+
     def smoothed(
         self, records: Sequence[StepRecord], online: Sequence[Estimate], lag: int | None = None
     ) -> list[Estimate]:
         """Each step's estimate given every step (``lag``: given the next ``lag`` only)."""
         posterior, forward = factored_prior(self.model), []
         for record in records:
-            posterior = factored_step(posterior, self.transition(record), record.likelihood, record.switch)
+            posterior = factored_step(
+                posterior, self.transition(record), self.likelihood_of(record), record.switch
+            )
             forward.append(ProductPosterior(posterior.alpha, posterior.beliefs))
 
         def step_at(t: int) -> BackwardStep:
             record = records[t]
-            return BackwardStep(record.likelihood, record.switch, self.transition(record))
+            return BackwardStep(self.likelihood_of(record), record.switch, self.transition(record))
 
         return [
             dataclasses.replace(
@@ -92,7 +106,7 @@ class FactoredFilter:
 
     def step(self, record: StepRecord) -> None:
         self.posterior, evidence = factored_filter_step(
-            self.posterior, self.owner.transition(record), record.likelihood, record.switch
+            self.posterior, self.owner.transition(record), self.owner.likelihood_of(record), record.switch
         )
         if record.likelihood is not None:  # the decision's evidence, after the pause's switch
             self.log_evidence += log_of(evidence)

@@ -174,12 +174,19 @@ class GradedFactoredFilter:
         likelihood = None
         if record.decision is not None:
             likelihood = self.owner.decision_likelihood(self.beliefs, *record.decision)  # (D, P)
+        if record.said is not None:  # the person's answer: evidence over the preference alone
+            said = record.said[:, None]
+            likelihood = (
+                np.repeat(said, self.weights.shape[-1], axis=1) if likelihood is None else likelihood * said
+            )
+        if likelihood is not None:
             K = self.owner.model.n_items
             items = np.arange(K)
             wanted = self.weights[items, items] * likelihood[:K]  # (K, P)
             evidence = np.append(wanted.sum(axis=1), likelihood[K].mean())
             weighted = self.alpha * evidence
-            self.log_evidence += log_of(float(weighted.sum()))
+            if record.decision is not None:
+                self.log_evidence += log_of(float(weighted.sum()))
             if weighted.sum() > 0:
                 self.weights = self.weights.copy()
                 self.weights[items, items] = wanted / np.where(

@@ -14,6 +14,7 @@ import numpy as np
 from protocol import Scene
 
 from ..settings import ModelSettings
+from .answers import said_over
 from .arrays import FloatArray
 from .belief import BeliefModel
 from .desires import Desires
@@ -108,8 +109,17 @@ class GradedModel:
         return self.policy.action_likelihood(cell, held, action)
 
     def decision_likelihood(self, beliefs: Beliefs, record: StepRecord) -> FloatArray | None:
-        """``(G, U)`` QMDP likelihood of the record's decision (``None`` for a percept alone),
-        from ``(G, W)`` beliefs or their :class:`Mixture`."""
+        """``(G, U)`` QMDP likelihood of the record's decision, times the person's answer's
+        over the desires (``None`` for a percept alone), from ``(G, W)`` beliefs or their
+        :class:`Mixture`."""
+        action = self._action_likelihood(beliefs, record)
+        if record.said is None:
+            return action
+        said = said_over(self.desires, record.said)[None, :]
+        return np.repeat(said, len(beliefs), axis=0) if action is None else action * said
+
+    def _action_likelihood(self, beliefs: Beliefs, record: StepRecord) -> FloatArray | None:
+        """``(G, U)`` QMDP likelihood of the record's decision (``None`` for a percept alone)."""
         if record.decision is None:
             return None
         cell, held, action = record.decision

@@ -50,6 +50,9 @@ class StepRecord:
     item, and the chance they told it since the last step (``ModelSettings.hearsay``)."""
     elapsed: float = 0.0
     """Decision times since the previous decision (``switch``: the hazard over them)."""
+    said: FloatArray | None = None
+    """``(D,)`` the likelihood of what the person answered the robot at this step, over their
+    favourite goal (:func:`brain.model.answers.answer_likelihood`); ``None``: nothing."""
 
 
 class PersonFilter(Protocol):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ..model.arrays import FloatArray
 from ..model.belief import Percept
 from ..model.estimates import Estimate
 from ..model.personinterface import PersonFilter, StepRecord
@@ -40,6 +41,9 @@ class PersonTrack:
     settled: bool = False
     """Whether the person played or left, or has not acted since first seen: no decision is
     due (no wait is read) until they act."""
+    said: FloatArray | None = None
+    """``(D,)`` what the person answered the robot since their last step (evidence for the
+    next one), or ``None``."""
     chains: list[Chain] = field(default_factory=lambda: [Chain()])
     steps: list[StepRecord] = field(default_factory=list)
     """The steps of the likeliest branch (every branch steps at the same ticks)."""

@@ -33,6 +33,7 @@ from ..model.remembered import Remembered
 from ..model.revisions import SharedRevisions
 from ..model.world import held_value, value_of
 from ..settings import ModelSettings
+from .answered import answered
 from .decisions import decided_action
 from .hearsay import rumours
 from .remembering import remembered_people, robot_items, start_view
@@ -117,8 +118,6 @@ class MindTracker:
         """Where the robot itself believes each item rests (:func:`.remembering.robot_items`)."""
         weights = None if self.view is None else self.branch_weights()
         return robot_items(self.model, self.truth, self.branch_truths, weights)
-
-    # ----- feeding --------------------------------------------------------------------
 
     def observe(self, state: State, events: Sequence[Event]) -> None:
         """Take in one tick: the state at its end and the events that happened during it.
@@ -229,6 +228,7 @@ class MindTracker:
         tick = state.tick
         held = 0 if holding is None else model.items.index(holding) + 1
         seen = [self._percept(track.agent, cell, held, truth, events) for truth in truths]
+        track.said = answered(model.items, track.agent, self.robot, events, self.settings, track.said)
         if self.carriers_moved:  # an item they saw carried off: the carrier may take it anywhere
             own, moved = held - 1 if held else None, self.carriers_moved
             seen = [carried_off(c.percept, p, own, moved) for c, p in zip(track.chains, seen, strict=True)]
@@ -262,6 +262,7 @@ class MindTracker:
                     and any(t != c.steps[-1].truth for t, c in zip(truths, track.chains, strict=True))
                 )
                 or self._forgetting_due(track, state.time)
+                or track.said is not None
             ):
                 # a new percept; to an observer without theory of mind, any change of the world;
                 # or, for people who forget, a decision time without a step
@@ -280,11 +281,10 @@ class MindTracker:
 
     def _rumours(self, person: str, state: State, seconds: float) -> tuple[tuple[int, int, float], ...]:
         """What ``person`` may have heard from the others in their region (:func:`.hearsay.rumours`)."""
+        return rumours(state, person, self._tracked_online, self.settings.hearsay, seconds)
 
-        def estimate_of(other: str) -> Estimate | None:
-            return self.online(other) if other in self.tracks else None
-
-        return rumours(state, person, estimate_of, self.settings.hearsay, seconds)
+    def _tracked_online(self, person: str) -> Estimate | None:
+        return self.online(person) if person in self.tracks else None
 
     def _wait(
         self, track: PersonTrack, state: State, cell: int, action: int | None, truths: list[tuple[int, ...]]
@@ -339,6 +339,7 @@ class MindTracker:
                 forget=forget,
                 rumours=rumours,
                 elapsed=elapsed,
+                said=track.said,
             )
             if chain.filter is None:
                 chain.filter = self.person_model.new_filter()
@@ -348,6 +349,7 @@ class MindTracker:
             chain.steps.append(record)
             chain.estimates.append(chain.filter.estimate(truth))
             chain.percept = percept_
+        track.said = None
         weights = self.branch_weights()
         track.steps.append(track.chains[int(np.argmax(weights))].steps[-1])
         track.estimates.append(mix([c.estimates[-1] for c in track.chains], weights))

@@ -1,0 +1,28 @@
+"""A person's answer to the robot's question (protocol 1.6's ``ask`` and ``answer``) as
+evidence about what they want: a likelihood over their favourite goal with a stated
+reliability, not an overwrite (people may say one thing and do another). Pure."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .arrays import FloatArray
+from .desires import Desires
+
+
+def answer_likelihood(n_goals: int, item: int | None, wants: bool, reliability: float) -> FloatArray:
+    """``(D,)`` P(the answer | the person's favourite goal is ``d``), goals the ``D - 1`` items
+    then ``out``. The answer is about item index ``item`` (``None``: no item, "nothing": it
+    points at ``out``) and says whether they want it. A true answer has probability
+    ``reliability``; the rest is spread evenly over the goals it would be false for."""
+    goals = np.arange(n_goals)
+    if item is None or wants:  # "I want <item>" (or "nothing": out)
+        target = n_goals - 1 if item is None else item
+        return np.where(goals == target, reliability, (1.0 - reliability) / max(n_goals - 1, 1))
+    return np.where(goals == item, 1.0 - reliability, reliability)  # "not <item>"
+
+
+def said_over(desires: Desires | None, said: FloatArray) -> FloatArray:
+    """``said`` ``(D,)`` over a model's candidate desires: ``(U,)`` by each candidate's most
+    wanted goal (ties split), or ``said`` itself for a model whose desires are the goals."""
+    return said if desires is None else desires.wanted @ said
