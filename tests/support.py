@@ -82,7 +82,21 @@ def toyroom_run(out: Path, scenario: str, *extra: str) -> Path:
     import sys
 
     result = subprocess.run(
-        [sys.executable, "-m", "toyroom", "run", "--scenario", scenario, "--out", str(out), *extra],
+        # a loaded machine may take seconds to answer one request: wait up to 60 s (a request
+        # answered sooner takes no longer; a test's own --timeout, later, overrides this one)
+        [
+            sys.executable,
+            "-m",
+            "toyroom",
+            "run",
+            "--scenario",
+            scenario,
+            "--out",
+            str(out),
+            "--timeout",
+            "60",
+            *extra,
+        ],
         capture_output=True,
         text=True,
         timeout=300,
