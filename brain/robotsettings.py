@@ -36,6 +36,7 @@ ROBOT_ALLOWED = {
     "robot_step_cost": "robot_step_cost >= 0 (steps)",
     "put_back_slack": "put_back_slack >= 0 (steps)",
     "tell_item_cost": "tell_item_cost >= 0 (steps)",
+    "ask_again_after": "ask_again_after >= 0 (engine seconds)",
     "search_factor": "search_factor >= 1",
 }
 """What the robot's settings allow of each value they check that is not a share of one."""
@@ -127,6 +128,9 @@ class RobotSettings:
             top of ``interruption_cost`` (one utterance may tell where several items are: the
             ``benefit`` robot names an item only when the steps its word is expected to save
             exceed this).
+        ask_again_after: engine seconds before the ``benefit`` robot may ask a person it has
+            asked what they are looking for again (it asks only when what it expects to learn
+            is worth more steps than the interruption: :func:`brain.robot.benefit.ask_worth`).
         put_back_slack: steps a put-back may land after the person it is for could reach
             the place and still be counted as in time (they may dawdle).
         lasting_want: weigh help by P(the person wants the item | they want some item), so
@@ -154,6 +158,7 @@ class RobotSettings:
     search_factor: float = 2.5
     put_back_slack: float = 0.0
     tell_item_cost: float = 0.25
+    ask_again_after: float = 60.0
     lasting_want: bool = False
 
     def __post_init__(self) -> None:
@@ -169,7 +174,7 @@ class RobotSettings:
         checks |= {"confirm_seconds": self.confirm_seconds >= 0, "attempts": self.attempts >= 1}
         checks |= {"navigate_timeout": self.navigate_timeout > 0, "action_timeout": self.action_timeout > 0}
         checks |= {name: getattr(self, name) >= 0 for name in ROBOT_COSTS}
-        checks |= {"search_factor": self.search_factor >= 1}
+        checks |= {"search_factor": self.search_factor >= 1, "ask_again_after": self.ask_again_after >= 0}
         check_values("robot", self, checks, ROBOT_ALLOWED)
 
 

@@ -34,9 +34,11 @@ class PersonAction(enum.Enum):
     PLAY = "play"
     """Start playing with the carried item where the person stands, or stop when playing."""
     ACCEPT = "accept"
-    """Say yes to the robot's open question: a ``request`` (hand over, or swap), or a ``give``."""
+    """Say yes to the robot's open question: a ``request`` (hand over, or swap), a ``give``, or
+    an ``ask`` about an item; to an open ``ask`` ("what are you looking for?", from 1.6),
+    name the item wanted in ``item``."""
     DECLINE = "decline"
-    """Say no to the robot's open question."""
+    """Say no to the robot's open question (to an open ``ask``: nothing)."""
 
 
 class Direction(enum.Enum):
@@ -74,7 +76,8 @@ class PersonCommand(Message, frozen=True, kw_only=True, tag="person_command"):
     target: Id | None = None
     """For ``goto``: a location or region id."""
     item: Id | None = None
-    """For ``take``: the item (``None``: any within reach)."""
+    """For ``take``: the item (``None``: any within reach); for ``accept`` of an open ``ask``:
+    the item the person wants."""
     key: str = ""
     pressed: Annotated[float, msgspec.Meta(ge=0.0)] = 0.0
     participant: str = ""

@@ -41,11 +41,10 @@ SPEECH_TICKS = 10
 """Ticks saying something or asking (and getting the answer) takes."""
 EARSHOT_CELLS = 2
 """A person hears the robot in the same region or within this many cells (Manhattan)."""
-ASK_PUPPET = "a participant cannot be asked yet: toyroom play has no answer keys (issue 52)"
-"""Why an ``ask`` of a puppet fails at once (a participant's page has no way to answer it)."""
 ANSWER_TICKS = 300
-"""Ticks a ``request`` or ``give`` to a puppet (a participant, :mod:`sim2d.people.puppet`)
-waits for the participant's answer beyond its own duration; then the answer is no."""
+"""Ticks a ``request``, ``give`` or ``ask`` to a puppet (a participant,
+:mod:`sim2d.people.puppet`) waits for the participant's answer beyond its own duration; then a
+request's or give's answer is no, and an ask has none."""
 
 
 class RobotBody:
@@ -227,11 +226,14 @@ class RobotBody:
             self._finish(world, CommandState.SUCCEEDED, answer=answer)
 
     def _ask(self, world: World, action: object, people: Mapping[str, Person]) -> None:
-        """A request or a give to a puppet (a participant) opens its question at the start."""
+        """A request, a give or an ask to a puppet (a participant) opens its question at the
+        start."""
         person = people.get(getattr(action, "person", ""))
-        if isinstance(person, PuppetPerson) and isinstance(action, (Request, Give)):
+        if isinstance(person, PuppetPerson) and isinstance(action, (Request, Give, Ask)):
             if isinstance(action, Request):
                 person.ask("request", action.item, action.offer)
+            elif isinstance(action, Ask):
+                person.ask("ask" if action.item is not None else "what", action.item or "")
             else:
                 person.ask("give", world.agents[self.id].holding or "")
             self.asking = person
@@ -295,8 +297,6 @@ class RobotBody:
                         f"the robot in {me.region} ({me.cell[0]},{me.cell[1]})"
                     )
                 if isinstance(action, Ask):
-                    if isinstance(people.get(action.person), PuppetPerson):
-                        return ASK_PUPPET
                     world.emit(EventKind.ASK, self.id, item=action.item, target=action.person)
                 return None
             if person.holding != action.item:

@@ -26,3 +26,17 @@ def said_over(desires: Desires | None, said: FloatArray) -> FloatArray:
     """``said`` ``(D,)`` over a model's candidate desires: ``(U,)`` by each candidate's most
     wanted goal (ties split), or ``said`` itself for a model whose desires are the goals."""
     return said if desires is None else desires.wanted @ said
+
+
+def open_answers(preference: FloatArray, reliability: float) -> tuple[FloatArray, FloatArray]:
+    """What an open question ("what are you looking for?") may bring, over the favourite goal
+    ``preference`` ``(D,)`` (the items, then ``out``): ``(odds, after)``, ``odds`` ``(D,)``
+    P(the answer names goal ``a``; ``out``: "nothing") and ``after`` ``(D, D)`` the preference
+    once answer ``a`` is heard (row ``a``; a row of an answer that cannot come is ``preference``
+    itself). The answers' likelihood is :func:`answer_likelihood`'s."""
+    n = len(preference)
+    said = np.stack([answer_likelihood(n, None if a == n - 1 else a, True, reliability) for a in range(n)])
+    joint = said * preference[None, :]
+    odds = joint.sum(axis=1)
+    after = np.divide(joint, odds[:, None], out=np.tile(preference, (n, 1)), where=odds[:, None] > 0)
+    return odds, after

@@ -16,6 +16,9 @@ item ``k`` resting at ``t``:
 - a **put-back** to ``b`` lands after the robot's walk to the item and on to ``b``: it saves the
   search from ``b`` when it lands before they reach ``b``; it misleads everyone else who wants
   the item and believes it at ``t`` (their search from ``t``);
+- an **ask** ("what are you looking for?", :func:`ask_worth`): the value of what the answer
+  would teach, the robot's best help for the person after each answer weighted by its odds,
+  against its best help now, less one interruption;
 - a **look** at an unseen place (the robot is not sure where the item rests): its worth is
   the inform it makes possible, against informing now of the likeliest place (a wrong word
   sends the person to an empty place).
@@ -219,3 +222,14 @@ def look_or_guess(
     )
     look = Worth(saved, 0.0, settings.interruption_cost + settings.robot_step_cost * walk)
     return look, guess
+
+
+def ask_worth(odds: FloatArray, after: FloatArray, now: float, settings: RobotSettings) -> Worth:
+    """Asking a person what they are looking for, as the value of information: ``odds`` ``(A,)``
+    P(each answer), ``after`` ``(A,)`` the net worth (steps) of the robot's best help for them
+    once it has heard that answer (0 when nothing is worth doing), ``now`` that of its best
+    help without asking. Saves the expected gain of acting on the answer; costs one
+    interruption (the walk to the person is charged in ``after``: the help that follows the
+    answer walks there too)."""
+    gain = float(odds @ np.maximum(after, 0.0)) - max(now, 0.0)
+    return Worth(gain, 0.0, settings.interruption_cost)

@@ -8,12 +8,12 @@ from collections.abc import Callable
 import numpy as np
 import py_trees
 
-from protocol import Cell, Give, GridCell, Navigate, Pick, Place, Policy, Request, Say, SayTopic, Told
+from protocol import Ask, Cell, Give, GridCell, Navigate, Pick, Place, Policy, Request, Say, SayTopic, Told
 
 from ..robotsettings import ROBOT_POLICIES, RobotSettings
 from .behaviours import Act, FindTask, GoHome, TaskBranch
 from .benefit import cell_distances
-from .choice import look_chosen
+from .choice import look_chosen, question_chosen
 from .context import RobotContext, Skip, Step
 from .deception import benefit_inform, benefit_put_back, inform_or_deceived, put_back_unless_deceived
 from .situation import (
@@ -22,6 +22,7 @@ from .situation import (
     Look,
     Occupied,
     PutBack,
+    Question,
     announce_tasks,
     occupied_tasks,
     tidy_tasks,
@@ -259,10 +260,36 @@ def look_branch(ns: str) -> TaskBranch:
     )
 
 
+def _question(ctx: RobotContext) -> Question:
+    assert isinstance(ctx.task, Question)
+    return ctx.task
+
+
+def ask_branch(ns: str) -> TaskBranch:
+    """The robot cannot tell what a person is looking for, and what they would answer is worth
+    more than the interruption: go to them and ask (their answer is evidence about what they
+    want: :mod:`brain.model.answers`)."""
+    ask = Act(
+        "ask what they want",
+        lambda c: Ask(person=_question(c).person),
+        ns,
+        says=lambda c: f"{_question(c).person}, what are you looking for?",
+    )
+    return TaskBranch(
+        "ask",
+        ns,
+        [
+            FindTask("worth asking?", "ask", question_chosen, ns),
+            go_to("go to the person", lambda c: c.cell_of(_question(c).person), ns, guarded=True),
+            ask,
+        ],
+    )
+
+
 POLICIES = ROBOT_POLICIES
 """The robot's policies: ``tom`` (the paper's tree, acting on the people's inferred minds),
-``benefit`` (the same minds, each task chosen by its expected benefit, and looking where that
-is worth it),
+``benefit`` (the same minds, each task chosen by its expected benefit, and asking or looking
+where that is worth it),
 and two without theory of mind to measure it against: ``tidy`` (put every moved item back
 where it was) and ``announce`` (tell everyone about every move)."""
 
@@ -275,6 +302,7 @@ def build_tree(namespace: str, policy: str = "tom") -> py_trees.behaviour.Behavi
         branches = [inform_branch(namespace, announce_tasks)]
     elif policy == Policy.BENEFIT.value:
         branches = [
+            ask_branch(namespace),
             inform_branch(namespace, benefit_inform),
             swap_branch(namespace),
             put_back_branch(namespace, benefit_put_back),

@@ -9,7 +9,10 @@ can guess) it is:
 - **put it back** where they believe it (:class:`~brain.robot.situation.PutBack`), when the
   robot is sure where it rests;
 - **look** first at the likeliest place (:class:`~brain.robot.situation.Look`), when the robot
-  cannot rule out other places and looking is worth more than guessing.
+  cannot rule out other places and looking is worth more than guessing;
+- **ask** them what they are looking for (:class:`~brain.robot.situation.Question`), when what
+  the answer would teach is worth more than the interruption
+  (:func:`~brain.robot.benefit.ask_worth`), and not within ``ask_again_after`` of asking them.
 
 Swaps (:func:`~brain.robot.situation.occupied_tasks`) and the ``tidy`` and ``announce``
 baselines keep their own rules. Pure: a snapshot in, tasks out (one pass per snapshot, shared
@@ -18,15 +21,26 @@ by the tree's branches).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.answers import open_answers
+from ..model.estimates import Estimate
 from ..model.world import ABSENT
 from ..settings import RobotSettings
-from .benefit import Worth, cell_distances, inform_worth, look_or_guess, put_back_worth, tell_worth
-from .situation import Inform, Look, PutBack, Snapshot, Task, _believed_why
+from .benefit import (
+    Worth,
+    ask_worth,
+    cell_distances,
+    inform_worth,
+    look_or_guess,
+    put_back_worth,
+    tell_worth,
+)
+from .situation import Inform, Look, PutBack, Question, Snapshot, Task, _believed_why
 
 SURE = 0.999
 """The robot treats an item's place as known when it gives it at least this."""
@@ -49,19 +63,56 @@ def chosen(snap: Snapshot, settings: RobotSettings) -> list[Scored]:
     global _LAST
     if _LAST is not None and _LAST[0] is snap and _LAST[1] is settings:
         return _LAST[2]
-    best: dict[tuple[str, str], Scored] = {}
-    for scored in candidates(snap, settings):
-        task = scored.task
-        key = (task.owner if isinstance(task, PutBack) else task.person, task.item)
-        if key not in best or scored.worth.net > best[key].worth.net:
-            best[key] = scored
+    best = _best(candidates(snap, settings))
+    for asked in questions(snap, settings):
+        assert isinstance(asked.task, Question)
+        best[(asked.task.person, "?")] = asked
     kept = sorted((s for s in best.values() if s.worth.net > 0), key=lambda s: -s.worth.net)
     _LAST = (snap, settings, kept)
     return kept
 
 
-def candidates(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
-    """Every inform, put-back and look the robot could do now, scored."""
+def _best(scored: Iterator[Scored]) -> dict[tuple[str, str], Scored]:
+    """The best of ``scored`` per person (a put-back's owner) and item."""
+    best: dict[tuple[str, str], Scored] = {}
+    for one in scored:
+        task = one.task
+        assert not isinstance(task, Question)
+        key = (task.owner if isinstance(task, PutBack) else task.person, task.item)
+        if key not in best or one.worth.net > best[key].worth.net:
+            best[key] = one
+    return best
+
+
+def questions(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
+    """Asking each person with empty hands what they are looking for, scored as the value of
+    its answer (:func:`~brain.robot.benefit.ask_worth`): the best help for them after each
+    answer, by its odds (``snap.answer_reliability``), against the best help now. Not a person
+    asked within ``settings.ask_again_after`` seconds."""
+    for person in snap.people:
+        est = snap.estimates.get(person)
+        if est is None or snap.holding(person) is not None:
+            continue
+        times, last = snap.asked.get(person, (0, -np.inf))
+        if snap.state.time - last < settings.ask_again_after:
+            continue
+        odds, after = open_answers(est.preference, snap.answer_reliability)
+        helped = [_help(snap, settings, person, dataclasses.replace(est, preference=p)) for p in after]
+        now = _help(snap, settings, person, est)
+        yield Scored(Question(person, times), ask_worth(odds, np.array(helped), now, settings))
+
+
+def _help(snap: Snapshot, settings: RobotSettings, person: str, est: Estimate) -> float:
+    """The net worth of the robot's best help for ``person`` were their mind ``est`` (0 when
+    nothing is worth doing)."""
+    mind = dataclasses.replace(snap, estimates={**snap.estimates, person: est})
+    best = _best(candidates(mind, settings, only=person))
+    return max((s.worth.net for s in best.values()), default=0.0)
+
+
+def candidates(snap: Snapshot, settings: RobotSettings, only: str | None = None) -> Iterator[Scored]:
+    """Every inform, put-back and look the robot could do now, scored (``only``: for that
+    person alone)."""
     model = snap.model
     cells = _cells(snap)
     robot = cells.get(snap.robot or "")
@@ -73,7 +124,7 @@ def candidates(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
         where = _where(snap, k)
         if where is None:
             continue
-        for person in snap.people:
+        for person in snap.people if only is None else [only]:
             est, cell = snap.estimates.get(person), cells.get(person)
             if est is None or cell is None or snap.holding(person) is not None:
                 continue
@@ -168,6 +219,11 @@ def inform_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
 def put_back_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
     """The ``put back`` branch's tasks under ``tom``: the put-backs worth doing, best first."""
     yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, PutBack))
+
+
+def question_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Question]:
+    """The ``ask`` branch's tasks: the questions worth asking, best first."""
+    yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, Question))
 
 
 def look_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Look]:

@@ -46,11 +46,17 @@ class RobotBrain:
         """Item -> ``(from, to, mover)`` of the last time a person took it from one spot and
         put it down at another."""
         self.people = {a.id for a in tracker.scene.agents if a.kind is AgentKind.PERSON}
+        self.asked: dict[str, tuple[int, float]] = {}
+        """Person -> ``(questions, time)``: how often the robot asked them what they are looking
+        for, and the engine time of the last question (its ``ask`` events)."""
 
     def observe(self, events: Iterable[Event]) -> None:
         """Remember who left each item where: the person who put it down, unless it was
-        then moved by someone else (who took it from there and put it elsewhere)."""
+        then moved by someone else (who took it from there and put it elsewhere); and whom the
+        robot asked what they are looking for, when."""
         for event in events:
+            if event.kind is EventKind.ASK and event.actor == self.robot and event.target in self.people:
+                self.asked[event.target] = (self.asked.get(event.target, (0, 0.0))[0] + 1, event.time)
             if event.item is None or event.actor not in self.people:
                 continue
             if event.kind is EventKind.TAKE:
@@ -82,6 +88,8 @@ class RobotBrain:
             nested=self.tracker.nested,
             robot=self.robot,
             where=self.where(),
+            asked=self.asked,
+            answer_reliability=self.tracker.settings.answer_reliability,
         )
         self.tree.tick(snapshot)
         return self.tree.context.book.drain()

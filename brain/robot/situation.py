@@ -71,7 +71,17 @@ class Look:
     person: str
 
 
-Task = Inform | Occupied | PutBack | Look
+@dataclass(frozen=True)
+class Question:
+    """Ask ``person`` what they are looking for (an open question: protocol 1.6's ``ask``),
+    so as to help them with what they answer (:func:`brain.robot.benefit.ask_worth`);
+    ``round``: how often the robot has asked them before (a later question is a new task)."""
+
+    person: str
+    round: int = 0
+
+
+Task = Inform | Occupied | PutBack | Look | Question
 
 
 @dataclass(frozen=True)
@@ -95,6 +105,12 @@ class Snapshot:
     where: FloatArray | None = None
     """``(K, L)`` the robot's own P(item ``k`` rests at location ``l``) over the branches of the
     world it cannot see (``None``: it sees everything, and ``state`` says where items are)."""
+    asked: Mapping[str, tuple[int, float]] = dataclasses.field(default_factory=dict)
+    """Person id -> ``(questions, time)``: how often the robot has asked them what they are
+    looking for, and the engine time (s) of the last question."""
+    answer_reliability: float = 0.9
+    """P(a person's answer is true), as the brain's model reads answers
+    (:attr:`brain.settings.ModelSettings.answer_reliability`)."""
 
     @property
     def people(self) -> list[str]:
@@ -295,6 +311,10 @@ def still_needed(finder: Finder, task: Task, snap: Snapshot, settings: RobotSett
 def why_unneeded(task: Task, snap: Snapshot, settings: RobotSettings) -> str:
     """Why a begun ``task`` is no longer called for, in words for ``events.csv``: the first of
     the checks its finder makes that the world as it is now fails."""
+    if isinstance(task, Question):
+        if snap.holding(task.person) is not None:
+            return f"{task.person} is carrying the {snap.holding(task.person)}"
+        return f"asking {task.person} is no longer worth more than helping them as they are"
     item = task.item
     location, holder = snap.item(item)
     if isinstance(task, Look):

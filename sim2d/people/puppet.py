@@ -4,8 +4,9 @@
 Moves (``move``, ``goto``, ``stop``) take effect on the next tick; the discrete actions
 (``take``, ``drop``, ``play``) wait, as a scripted person's do, until the person stands on a
 cell centre, one per tick. The robot's questions (a ``request`` to hand over or swap, a
-``give``) stay open until the participant answers (``accept``, ``decline``; the robot body
-waits, :mod:`sim2d.robot`). The person's scenario labels are completed as the person reaches
+``give``, an ``ask``) stay open until the participant answers (``accept``, ``decline``; to
+"what are you looking for?", ``accept`` names the item; the robot body waits,
+:mod:`sim2d.robot`). The person's scenario labels are completed as the person reaches
 them (entering the region, dropping, playing...), in order (a missed action is skipped when
 the next is reached), so that the other people's ``until`` steps fire as they would with the script.
 """
@@ -36,7 +37,9 @@ QUEUED_CELLS = 2
 @dataclass(frozen=True)
 class Question:
     """The robot's open question to the puppet: ``request`` (hand over ``item``, for
-    ``offer``) or ``give`` (take ``item`` from the robot)."""
+    ``offer``), ``give`` (take ``item`` from the robot), ``ask`` (do you want ``item``?) or
+    ``what`` (what are you looking for?: answered by accepting with an item, or declining for
+    nothing)."""
 
     kind: str
     item: str
@@ -57,6 +60,8 @@ class PuppetPerson:
         self.labels: list[tuple[Step, str]] = [(s, s.label) for s in setup.script if s.label is not None]
         self.question: Question | None = None
         self.reply: bool | None = None
+        self.named: str | None = None
+        """The item the participant named in answer to a ``what`` question."""
         self._done_now: set[tuple[str, str | None]] = set()
         """This tick's actions, as ``(kind, item)``, for the labels."""
 
@@ -82,8 +87,7 @@ class PuppetPerson:
             if command.action in MOVES:
                 self._move(world, command)
             elif command.action in ANSWERS:
-                if self.question is not None:
-                    self.reply = command.action is PersonAction.ACCEPT
+                self._reply(world, command)
             elif acted or not world.arrived(self.id):
                 break
             else:
@@ -93,6 +97,19 @@ class PuppetPerson:
         self._complete_labels(world)
 
     # ----- commands -------------------------------------------------------------------
+
+    def _reply(self, world: World, command: PersonCommand) -> None:
+        """A yes or a no to the open question; to a ``what`` question, a yes names the item
+        wanted (an unknown or missing item is no answer: the question stays open)."""
+        if self.question is None:
+            return
+        yes = command.action is PersonAction.ACCEPT
+        if self.question.kind == "what" and yes:
+            if command.item not in world.items:
+                log.info("%s: answer names '%s', which is not an item", self.id, command.item)
+                return
+            self.named = command.item
+        self.reply = yes
 
     def _stop_playing(self, world: World) -> None:
         agent = world.agents[self.id]
@@ -216,7 +233,7 @@ class PuppetPerson:
     def close_question(self) -> bool:
         """The answer to the open question (no answer: no), the question closed."""
         answer = bool(self.reply)
-        self.question, self.reply = None, None
+        self.question, self.reply, self.named = None, None, None
         return answer
 
     def answer(self, world: World, item: str, offer: str | None = None) -> bool:
@@ -224,9 +241,16 @@ class PuppetPerson:
         return self.close_question() and world.agents[self.id].holding == item
 
     def says_wanted(self, world: World, item: str | None) -> tuple[str | None, bool] | None:
-        """Not asked: the robot body fails an ``ask`` of a participant before it starts
-        (:data:`sim2d.robot.ASK_PUPPET`)."""
-        return None
+        """The participant's answer to the robot's ``ask`` (``None``: they gave none in time):
+        about ``item``, yes or no; to an open question, the item they named (and yes), or
+        nothing (``None`` and no)."""
+        if self.question is None or self.reply is None:
+            self.close_question()
+            return None
+        named, yes = self.named, self.close_question()
+        if item is not None:
+            return item, yes
+        return (named, True) if yes else (None, False)
 
     def on_given(self, world: World) -> None:
         """Handed an item: the participant decides what to do with it."""

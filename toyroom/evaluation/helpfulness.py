@@ -9,8 +9,8 @@ evaluator heard):
   they played with that item (``None``: never);
 - ``wasted_trips``: arrivals at an item location that their true belief, the tick before,
   gave at least one half of holding the item they wanted, when it did not hold it;
-- ``interruptions``: what the robot said to them or asked of them (``say``, ``request``; one
-  utterance telling of several items counts once);
+- ``interruptions``: what the robot said to them or asked of them (``say``, ``request``,
+  ``ask``; one utterance telling of several items counts once);
 - ``acted_tick``: when a robot first acted for them (:attr:`PersonHelp.acted_tick`): with
   ``false_belief_tick`` and ``goal_tick``, where the ticks to the goal went (the loss table).
 """
@@ -83,7 +83,7 @@ def helpfulness(
     for event in sorted(events, key=lambda e: e.tick):
         if (
             event.actor in robots
-            and event.kind in (EventKind.SAY, EventKind.REQUEST)
+            and event.kind in (EventKind.SAY, EventKind.REQUEST, EventKind.ASK)
             and event.target in people
             and (event.tick, event.actor, event.target, event.kind) not in spoken
         ):
@@ -112,6 +112,7 @@ def _acted(
         help_ = people[person]
         if help_.acted_tick is not None or event.tick < tick:
             continue
-        spoke = event.kind in (EventKind.SAY, EventKind.REQUEST, EventKind.GIVE) and event.target == person
+        spoke = event.kind in (EventKind.SAY, EventKind.REQUEST, EventKind.ASK, EventKind.GIVE)
+        spoke = spoke and event.target == person
         if spoke or (event.kind is EventKind.TAKE and event.item == item):
             help_.acted_tick = event.tick

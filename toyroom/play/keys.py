@@ -2,10 +2,14 @@
 
 Arrows step one cell; the digits walk to the places the page numbers (locations, then rooms
 without one); ``t`` takes, ``d`` drops, ``p`` plays (or stops), ``y`` and ``n`` answer the
-robot, space stops. Any other key does nothing (and is not sent).
+robot, space stops. While the robot asks what the person is looking for, the digits name the
+items instead (:func:`answer_keys`; ``n``: nothing). Any other key does nothing (and is not
+sent).
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
 
 from protocol import Direction, PersonAction, PersonCommand
 
@@ -31,17 +35,31 @@ INSTRUCTIONS = (
     ("d", "drop what you hold here"),
     ("p", "play with what you hold (again: stop)"),
     ("y / n", "answer the robot: yes / no"),
+    ("1-9, n", "asked what you look for: name the item / nothing"),
     ("space", "stop walking"),
 )
 """The keys, as the page lists them."""
 
 
+def answer_keys(items: Sequence[str]) -> dict[str, str]:
+    """The digit key that names each item in answer to "what are you looking for?" (``"1"``
+    the first, up to ``"9"``)."""
+    return {str(n + 1): item for n, item in enumerate(items[:9])}
+
+
 def command_for(
-    key: str, person: str, seq: int, goto: dict[str, str], pressed: float = 0.0, participant: str = ""
+    key: str,
+    person: str,
+    seq: int,
+    goto: dict[str, str],
+    pressed: float = 0.0,
+    participant: str = "",
+    answers: Mapping[str, str] | None = None,
 ) -> PersonCommand | None:
     """The command for ``key`` (the browser's ``KeyboardEvent.key``), or ``None`` when the
-    key means nothing; ``goto`` maps digit keys to places; ``pressed`` is when (seconds since
-    the page opened)."""
+    key means nothing; ``goto`` maps digit keys to places, and ``answers`` (while the robot
+    asks what the person is looking for) digit keys to the items they name; ``pressed`` is
+    when (seconds since the page opened)."""
     common = {
         "person": person,
         "seq": seq,
@@ -51,6 +69,8 @@ def command_for(
     }
     if key in ARROWS:
         return PersonCommand(action=PersonAction.MOVE, direction=ARROWS[key], **common)  # type: ignore[arg-type]
+    if answers and key in answers:
+        return PersonCommand(action=PersonAction.ACCEPT, item=answers[key], **common)  # type: ignore[arg-type]
     if key in goto:
         return PersonCommand(action=PersonAction.GOTO, target=goto[key], **common)  # type: ignore[arg-type]
     action = LETTERS.get(key.lower() if len(key) == 1 else key)

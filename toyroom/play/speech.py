@@ -1,9 +1,10 @@
 """The robot's words as one person hears them (pure: no I/O).
 
-The robot's ``say``, ``request`` and ``give`` commands are on the wire (``robot/<id>/command``)
-and so is the moment each starts (its ``running`` status): that is when the person hears it,
-if it is said to them or in a room they are in. A ``request`` or a ``give`` to the person is
-an open question until the command ends (the engine waits for the person's answer).
+The robot's ``say``, ``request``, ``give`` and ``ask`` commands are on the wire
+(``robot/<id>/command``) and so is the moment each starts (its ``running`` status): that is
+when the person hears it, if it is said to them or in a room they are in. A ``request``, a
+``give`` or an ``ask`` to the person is an open question until the command ends (the engine
+waits for the person's answer).
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from protocol import CommandState, CommandStatus, Give, Request, RobotCommand, Say, SayTopic
+from protocol import Ask, CommandState, CommandStatus, Give, Request, RobotCommand, Say, SayTopic
 
 
 @dataclass
@@ -21,7 +22,9 @@ class Heard:
     lines: list[dict[str, Any]] = field(default_factory=list)
     """``{"tick", "text", "to_you"}``, oldest first."""
     question: dict[str, Any] | None = None
-    """``{"command", "kind", "text"}`` while the robot waits for the person's answer."""
+    """``{"command", "kind", "text"}`` while the robot waits for the person's answer; ``kind``
+    ``request``, ``give``, ``ask`` (yes or no) or ``what`` (what are you looking for?: with
+    ``"answers"``, ``[{"key", "item", "name"}]``, the keys that name each item)."""
 
 
 class Speech:
@@ -31,12 +34,21 @@ class Speech:
         person: the participant's person id.
         names: display names of agents and items, by id.
         region_name: display names of the location ids said (their region's name).
+        answers: the digit key that names each item in answer to "what are you looking
+            for?" (:func:`toyroom.play.keys.answer_keys`).
     """
 
-    def __init__(self, person: str, names: dict[str, str], region_name: dict[str, str]) -> None:
+    def __init__(
+        self,
+        person: str,
+        names: dict[str, str],
+        region_name: dict[str, str],
+        answers: dict[str, str] | None = None,
+    ) -> None:
         self.person = person
         self.names = names
         self.region_name = region_name
+        self.answers = answers or {}
         self.commands: dict[str, RobotCommand] = {}
         self.heard = Heard()
 
@@ -65,6 +77,10 @@ class Speech:
             return f"{self._name(action.person)}, may I have the {self._name(action.item)}?{offer}"
         if isinstance(action, Give):
             return f"{self._name(action.person)}, here is the {self._name(robot_holds)}."
+        if isinstance(action, Ask):
+            if action.item is None:
+                return f"{self._name(action.person)}, what are you looking for?"
+            return f"{self._name(action.person)}, do you want the {self._name(action.item)}?"
         return None
 
     def on_status(self, status: CommandStatus, tick: int, hears: bool, robot_holds: str | None) -> bool:
@@ -87,7 +103,15 @@ class Speech:
         if text is None or not (to_you or hears):
             return False
         self.heard.lines.append({"tick": tick, "text": text, "to_you": to_you})
-        if to_you and isinstance(command.action, (Request, Give)):
-            kind = "request" if isinstance(command.action, Request) else "give"
-            self.heard.question = {"command": command.id, "kind": kind, "text": text}
+        if to_you and isinstance(command.action, (Request, Give, Ask)):
+            self.heard.question = self._question(command, text)
         return True
+
+    def _question(self, command: RobotCommand, text: str) -> dict[str, Any]:
+        """The open question of ``command`` as the page shows it (:attr:`Heard.question`)."""
+        action = command.action
+        kind = {Request: "request", Give: "give"}.get(type(action), "ask")
+        if isinstance(action, Ask) and action.item is None:
+            answers = [{"key": k, "item": i, "name": self._name(i)} for k, i in self.answers.items()]
+            return {"command": command.id, "kind": "what", "text": text, "answers": answers}
+        return {"command": command.id, "kind": kind, "text": text}

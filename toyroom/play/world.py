@@ -42,7 +42,7 @@ from protocol import (
     State,
 )
 
-from .keys import command_for
+from .keys import answer_keys, command_for
 from .sight import Memory, Sight
 from .speech import Speech
 
@@ -175,14 +175,25 @@ class PlayWorld:
         whether the key meant one."""
         layout = self.layout or {}
         with self._lock:
+            goto = layout.get("goto_keys", {})
+            answers = self._answer_keys()
             command = command_for(
-                key, self.config.person, self._seq, layout.get("goto_keys", {}), pressed, self.participant
+                key, self.config.person, self._seq, goto, pressed, self.participant, answers
             )
             if command is None or self._publisher is None or self.ended is not None:
                 return False
             self._seq += 1
             self._publisher.put(command)
         return True
+
+    def _answer_keys(self) -> dict[str, str] | None:
+        """The digit keys that name items while the robot asks what the person is looking for
+        (``None``: no such question is open)."""
+        speech = self.speech
+        question = speech.heard.question if speech is not None else None
+        if speech is None or question is None or question["kind"] != "what":
+            return None
+        return speech.answers
 
     # ----- the world --------------------------------------------------------------------
 
@@ -237,7 +248,7 @@ class PlayWorld:
             raise RuntimeError(f"scenario '{info.scenario}' has no person '{person}'")
         regions = {r.id: r.name or r.id for r in info.scene.regions}
         places = {loc.id: regions.get(loc.region, loc.region) for loc in info.scene.locations}
-        self.speech = Speech(person, sight.names, places)
+        self.speech = Speech(person, sight.names, places, answer_keys([i.id for i in info.scene.items]))
         with self._lock:
             self.layout = sight.layout(self.participant) | {"world": self.world, "scenario": info.scenario}
             if self._send is not None:

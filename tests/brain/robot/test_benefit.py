@@ -1,19 +1,23 @@
 """Each candidate's expected benefit on hand-built situations of the paper scene (rooms P1, S1,
 S2, P2 in a row along row 9, the entrance below, outside at the bottom): informing beats
 putting back for a person heading to the wrong room; nothing is put back for a person who saw
-the move; looking beats guessing when the robot cannot rule out an unseen room."""
+the move; looking beats guessing when the robot cannot rule out an unseen room; asking what a
+person is looking for beats a guess at even odds, and is not done when the answer is known."""
 
 from __future__ import annotations
+
+import dataclasses
 
 import msgspec
 import numpy as np
 import pytest
 
+from brain.model.answers import open_answers
 from brain.model.estimates import Estimate
 from brain.model.world import build_world_model
 from brain.robot.benefit import cell_distances, inform_worth, look_or_guess
-from brain.robot.choice import candidates, chosen
-from brain.robot.situation import Inform, Look, PutBack, Snapshot
+from brain.robot.choice import candidates, chosen, questions
+from brain.robot.situation import Inform, Look, PutBack, Question, Snapshot
 from brain.settings import RobotSettings
 from protocol import Cell
 from sim2d.engine import Engine
@@ -191,4 +195,79 @@ def test_an_item_the_person_knows_where_is_not_named(world) -> None:
     tells = [s.task for s in chosen(snap, RobotSettings()) if isinstance(s.task, Inform)]
     assert tells == [Inform("A1", "ball", "S2")] and tells[0].also == (), (
         f"A1 knows the skate is at S1: expected a tell of the ball alone, got {tells}"
+    )
+
+
+def ball_unseen(world, a1: Estimate, asked: dict[str, tuple[int, float]] | None = None) -> Snapshot:
+    """A1 (in S1's room) believes both items at S2; the skate rests at S1, in the robot's
+    sight, and the ball at P1 or at P2, rooms the robot (in the corridor) cannot see: a wrong
+    word about the ball sends A1 across the house."""
+    where = np.zeros((2, 4))
+    where[0, LOCATIONS.index("S1")] = 1.0
+    where[BALL, [LOCATIONS.index("P1"), LOCATIONS.index("P2")]] = 0.5
+    snap = both_resting(world, a1, {"skate": "S1", "ball": "P1"})
+    cells = {"A1": (5, 9), "A2": (1, 1), "robot": (7, 9)}
+    agents = tuple(msgspec.structs.replace(a, cell=Cell(*cells[a.id])) for a in snap.state.agents)
+    state = msgspec.structs.replace(snap.state, agents=agents)
+    return dataclasses.replace(snap, state=state, where=where, asked=asked or {})
+
+
+def wanting(p_ball: float, p_skate: float) -> Estimate:
+    """A1 believes both items at S2 and wants the ball with ``p_ball``, the skate with
+    ``p_skate`` (the rest: going out)."""
+    beliefs = np.zeros((2, 4))
+    beliefs[:, LOCATIONS.index("S2")] = 1.0
+    preference = np.array([p_skate, p_ball, 1.0 - p_ball - p_skate])
+    return Estimate(beliefs, preference, (BALL, LOCATIONS.index("S2"), p_ball), np.zeros(2))
+
+
+def question_net(snap: Snapshot, settings: RobotSettings | None = None) -> float:
+    """The net worth of asking A1 what they are looking for (``-inf``: not a candidate)."""
+    nets = [s.worth.net for s in questions(snap, settings or RobotSettings()) if s.task.person == "A1"]
+    return max(nets, default=-np.inf)
+
+
+def test_open_answers_are_the_odds_of_each_answer_and_what_it_leaves() -> None:
+    preference = np.array([0.5, 0.3, 0.2])
+    odds, after = open_answers(preference, 0.9)
+    assert odds.sum() == pytest.approx(1.0) and odds[0] > odds[1] > odds[2], f"odds {odds}"
+    assert np.allclose(odds @ after, preference), "the answers' posteriors average back to the prior"
+    assert after[0, 0] > 0.9 and after[1, 1] > 0.8, f"an answer moves the preference towards it: {after}"
+    assert after[0].sum() == pytest.approx(1.0) and after[2].sum() == pytest.approx(1.0)
+
+
+def test_asking_beats_a_guess_when_two_items_are_equally_likely_wanted(world) -> None:
+    snap = ball_unseen(world, wanting(0.5, 0.5))
+    settings = RobotSettings()
+    guess = max(
+        (s.worth.net for s in candidates(snap, settings) if s.task == Inform("A1", "ball", "P1")),
+        default=-np.inf,
+    )
+    asked = question_net(snap)
+    assert asked > 0, f"asking A1 what they are looking for should be worth doing, got net {asked:.2f}"
+    assert asked > guess, (
+        f"asking ({asked:.2f}) should beat telling A1 the ball's likelier room ({guess:.2f})"
+    )
+    assert Question("A1") in [s.task for s in chosen(snap, settings)], "expected the question to be chosen"
+    # with the odds uneven, what the answer can teach is worth less
+    assert question_net(ball_unseen(world, wanting(0.8, 0.2))) < asked
+
+
+@pytest.mark.parametrize("p_ball", [0.91, 0.95, 0.99])
+def test_no_question_when_the_desire_is_already_known(world, p_ball: float) -> None:
+    snap = ball_unseen(world, wanting(p_ball, 1.0 - p_ball))
+    asked = question_net(snap)
+    assert asked <= 0, f"A1 wants the ball with p = {p_ball}: asking should not pay, got net {asked:.2f}"
+    assert not any(isinstance(s.task, Question) for s in chosen(snap, RobotSettings()))
+
+
+def test_a_person_is_not_asked_twice_within_ask_again_after(world) -> None:
+    settings = RobotSettings(ask_again_after=60.0)
+    now = ball_unseen(world, wanting(0.5, 0.5)).state.time
+    recently = ball_unseen(world, wanting(0.5, 0.5), {"A1": (1, now - 59.0)})
+    assert question_net(recently, settings) == -np.inf, "A1 was asked 59 s ago: no question yet"
+    later = ball_unseen(world, wanting(0.5, 0.5), {"A1": (1, now - 61.0)})
+    questions_now = [s.task for s in questions(later, settings) if s.task.person == "A1"]
+    assert questions_now == [Question("A1", 1)], (
+        f"61 s later the robot may ask again, as its second question: got {questions_now}"
     )

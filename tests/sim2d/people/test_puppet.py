@@ -1,6 +1,6 @@
 """The puppet person (``toyroom play``'s participant) in the engine core: commands move it and
 act, its scenario labels are completed in order so the scripted others go on, and the robot's
-request or give waits for its answer (real pymunk world)."""
+request, give or question waits for its answer (real pymunk world)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import itertools
 import pytest
 
 from protocol import (
+    Ask,
     Cell,
     CommandState,
     CommandStatus,
@@ -122,3 +123,49 @@ def test_an_unknown_person_is_refused_by_name() -> None:
     engine = Engine("paper-robot")
     with pytest.raises(Sim2dError, match=r"--puppet A9: no such person .*people: A1, A2"):
         install_puppets(engine.people, engine.scenario, engine.world, ["A9"])
+
+
+def _answers(engine: Engine, command: str, ticks: int) -> tuple[CommandStatus | None, list[tuple]]:
+    """Step until ``command`` ends (at most ``ticks``): its final status, and the ``answer``
+    events meanwhile as ``(actor, item, answer, target)``."""
+    said = []
+    for _ in range(ticks):
+        out = engine.step()
+        said += [(e.actor, e.item, e.answer, e.target) for e in out.events if e.kind is EventKind.ANSWER]
+        final = [s for s in out.statuses if s.command == command and s.state.final]
+        if final:
+            return final[0], said
+    return None, said
+
+
+def test_the_participant_answers_the_robots_questions() -> None:
+    engine, puppet = _engine()
+    _command(engine, Navigate(cell=Cell(2, 9)))  # beside A1
+    _run(engine, 60)
+    what = _command(engine, Ask(person="A1"))
+    status, said = _answers(engine, what, 60)
+    assert status is None and puppet.question is not None and puppet.question.kind == "what", (
+        f"expected the open question to wait for the participant, got {status} and {puppet.question}"
+    )
+    _do(puppet, PersonAction.ACCEPT, item="kite")  # no such item: no answer, the question stays
+    _run(engine, 2)
+    assert puppet.deciding, "an answer naming no item of the scene closed the question"
+    _do(puppet, PersonAction.ACCEPT, item="ball")
+    status, said = _answers(engine, what, 20)
+    assert status is not None and status.state is CommandState.SUCCEEDED and status.answer is True, status
+    assert said == [("A1", "ball", True, "robot")], f"expected A1 to name the ball, got {said}"
+    yes_no = _command(engine, Ask(person="A1", item="skate"))
+    _run(engine, 3)
+    _do(puppet, PersonAction.DECLINE)
+    status, said = _answers(engine, yes_no, 20)
+    assert status is not None and status.answer is False, status
+    assert said == [("A1", "skate", False, "robot")], f"expected a no about the skate, got {said}"
+    nothing = _command(engine, Ask(person="A1"))
+    _run(engine, 3)
+    _do(puppet, PersonAction.DECLINE)
+    status, said = _answers(engine, nothing, 20)
+    assert said == [("A1", None, False, "robot")], f"expected 'nothing', got {said}"
+    unanswered = _command(engine, Ask(person="A1"))
+    status, said = _answers(engine, unanswered, 400)
+    assert status is not None and status.state is CommandState.FAILED and "no answer" in status.reason, status
+    assert said == [] and not puppet.deciding, f"no answer expected, got {said}"

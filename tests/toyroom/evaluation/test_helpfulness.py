@@ -65,6 +65,12 @@ def test_a_wasted_trip_a_false_belief_and_an_interruption_by_hand() -> None:
     assert help_.interruptions == 2, (
         f"a say of two items is one interruption, a later say another: expected 2, got {help_.interruptions}"
     )
+    asked = Event(episode=1, tick=2, time=1.4, kind=EventKind.ASK, actor="r", target="p")
+    help_ = helpfulness(scene, states, truths, [asked, later, played])["p"]
+    assert (help_.interruptions, help_.acted_tick) == (2, 2), (
+        f"a question is an interruption and an act for p: expected 2 interruptions, acted at tick 2, "
+        f"got {help_.interruptions}, {help_.acted_tick}"
+    )
 
 
 def test_no_false_belief_no_trip_wasted() -> None:

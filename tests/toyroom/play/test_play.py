@@ -6,7 +6,9 @@ One server, two participants at the same time: p1 plays ``paper-robot`` as A1 th
 keyboard (plays with the skate, leaves it in Storage 1, goes out, comes back), hears the
 robot, accepts the skate it brings and plays with it; the recording is complete and
 ``toyroom infer`` reads it. p2 opens their page meanwhile, in a world of their own, reloads
-it (the same world, resumed) and closes it: their recording is kept, marked incomplete.
+it (the same world, resumed), walks A1 to the robot, is asked what they are looking for and
+names the ball with a key (the answer in the recording, the brain's P(ball) up), and closes
+it: their recording is kept, marked incomplete.
 A wrong token and a foreign origin are refused; OCR reads the room names and the person's
 label on a screenshot of the page.
 """
@@ -33,7 +35,7 @@ from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
 from bridge import Bridge
-from protocol import Event
+from protocol import Ask, Event, Mind, PersonAction, PersonCommand, RobotCommand
 from tests.toyroom.devtools import Browser, Tab, wait_until
 from tests.toyroom.view.test_framing import ocr
 from toyroom.play import held_rate, play_metadata
@@ -194,7 +196,50 @@ def _second_participant(browser: Browser, served: Served) -> Tab:
         f"{VIEW} && window.playState.scene && {VIEW}.tick >= {before}", 60, "p2's page after a reload"
     )
     served.notes["p2_reload"] = (before, _view(p2)["tick"], p2.evaluate("window.playState.scene.world"))
+    _asked(p2, world, served)
     return p2
+
+
+def _p_ball(mind: Mind) -> float | None:
+    """A1's P(the ball is their favourite) in a mind message (``None``: not there)."""
+    a1 = next((a for a in mind.agents if a.agent == "A1"), None)
+    return None if a1 is None else next((p.p for p in a1.preference if p.id == "ball"), 0.0)
+
+
+def _asked(p2: Tab, world: str, served: Served) -> None:
+    """p2 walks A1 into the entrance, where the robot stands; a robot command asks A1 what
+    they are looking for; the page shows the question with a key per item, and p2 presses 2
+    (the ball). Notes the question, the answer event and the brain's P(ball) either side."""
+    entered, answered, minds = threading.Event(), [], []
+    with Bridge(world) as bridge:
+        bridge.subscribe(
+            bridge.keys.events,
+            lambda e, _: (
+                (entered.set() if (e.kind, e.actor, e.location) == ("enter", "A1", "E") else None)
+                or (answered.append(e) if e.kind == "answer" else None)
+            ),
+            expected=Event,
+        )
+        bridge.subscribe(bridge.keys.mind, lambda m, _: minds.append(m), expected=Mind)
+        p2.press("5")
+        if not entered.wait(15):  # as a participant would, press once more (see _goto)
+            p2.press("5")
+            assert entered.wait(60), "A1 never entered the entrance, where the robot stands"
+        wait_until(lambda: minds, 30, "the brain's minds")
+        publisher = bridge.publisher(bridge.keys.command("robot"))
+        publisher.put(RobotCommand(id="test-ask", robot="robot", action=Ask(person="A1")))
+        question = p2.wait_for(
+            f"{VIEW}.question && {VIEW}.question.kind === 'what' && {VIEW}.question", 60, "the question"
+        )
+        served.notes["ask_question"] = question
+        served.notes["ask_text"] = p2.evaluate("document.getElementById('question').textContent")
+        before = [_p_ball(m) for m in minds if m.tick <= _view(p2)["tick"]]
+        p2.press("2")
+        wait_until(lambda: answered, 30, "A1's answer")
+        after_tick = answered[0].tick + 20
+        wait_until(lambda: any(m.tick >= after_tick for m in minds), 30, "the brain's mind after the answer")
+        after = [_p_ball(m) for m in minds if m.tick >= after_tick]
+        served.notes["ask"] = (answered[0], before[-1], after[0])
 
 
 def test_a_wrong_token_and_a_foreign_origin_are_refused(served: Served) -> None:
@@ -241,6 +286,29 @@ def test_the_recording_is_complete_with_the_key_presses_and_infers(played: Serve
     assert result.returncode == 0, result.stdout + result.stderr
     mind = (tmp_path / "infer" / "mind.csv").read_text(encoding="utf-8")
     assert "A1" in mind and "skate" in mind, f"mind.csv has no A1 or skate: {mind[:300]}"
+
+
+def test_the_participant_answers_the_robots_question_with_a_key(played: Served) -> None:
+    question = played.notes["ask_question"]
+    assert question["text"] == "Agent 1, what are you looking for?", question
+    text = played.notes["ask_text"]
+    assert "1 for the skate" in text and "2 for the ball" in text and "n for nothing" in text, (
+        f"the page should list a key per item, got {text!r}"
+    )
+    answer, before, after = played.notes["ask"]
+    assert (answer.actor, answer.item, answer.answer, answer.target) == ("A1", "ball", True, "robot"), answer
+    assert before is not None and after is not None and after > before + 0.2, (
+        f"A1's answer 'the ball' should raise the brain's P(ball) by more than 0.2: {before} then {after}"
+    )
+    from bridge.recording.readable import read_recording
+
+    messages = [m for _, m in read_recording(played.out / "p2.mcap").messages()]
+    presses = [m for m in messages if isinstance(m, PersonCommand) and m.key == "2"]
+    assert any(p.action is PersonAction.ACCEPT and p.item == "ball" for p in presses), (
+        f"p2's recording should hold the key press naming the ball, got {presses}"
+    )
+    recorded = [m for m in messages if isinstance(m, Event) and m.kind == "answer"]
+    assert [(e.actor, e.item, e.answer) for e in recorded] == [("A1", "ball", True)], recorded
 
 
 def test_the_engine_held_real_time_beside_a_second_world(played: Served) -> None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import pytest
 
 from protocol import (
+    Ask,
     CommandState,
     CommandStatus,
     Direction,
@@ -16,7 +17,7 @@ from protocol import (
     SayTopic,
 )
 from sim2d.engine import Engine
-from toyroom.play import Memory, Sight, Speech, command_for, goto_keys
+from toyroom.play import Memory, Sight, Speech, answer_keys, command_for, goto_keys
 
 
 @pytest.fixture
@@ -80,3 +81,31 @@ def test_keys_become_commands_with_their_time() -> None:
         PersonAction.TAKE, PersonAction.DROP, PersonAction.PLAY, PersonAction.ACCEPT, PersonAction.DECLINE,
     ]  # fmt: skip
     assert command_for("q", "A1", 0, goto) is None and command_for("9", "A1", 0, goto) is None
+
+
+def test_the_robots_question_names_the_items_and_digits_answer_it() -> None:
+    answers = answer_keys(["skate", "ball"])
+    assert answers == {"1": "skate", "2": "ball"}, answers
+    speech = Speech("A1", {"A1": "Agent 1", "ball": "ball", "skate": "skate"}, {}, answers)
+    what = RobotCommand(id="c1", robot="robot", action=Ask(person="A1"))
+    yes_no = RobotCommand(id="c2", robot="robot", action=Ask(person="A1", item="ball"))
+    for command in (what, yes_no):
+        speech.on_command(command)
+    running = CommandStatus(command="c1", robot="robot", state=CommandState.RUNNING, tick=5)
+    assert speech.on_status(running, 5, hears=True, robot_holds=None)
+    question = speech.heard.question
+    assert question is not None and question["kind"] == "what", question
+    assert question["text"] == "Agent 1, what are you looking for?", question
+    assert [(a["key"], a["item"]) for a in question["answers"]] == [("1", "skate"), ("2", "ball")], question
+    named = command_for("2", "A1", 0, {"2": "S1"}, answers=answers)
+    assert named is not None and (named.action, named.item) == (PersonAction.ACCEPT, "ball"), (
+        f"while asked what A1 looks for, 2 names the ball (not a walk to S1): got {named}"
+    )
+    nothing = command_for("n", "A1", 0, {"2": "S1"}, answers=answers)
+    assert nothing is not None and nothing.action is PersonAction.DECLINE
+    done = CommandStatus(command="c1", robot="robot", state=CommandState.SUCCEEDED, tick=8)
+    speech.on_status(done, 8, hears=True, robot_holds=None)
+    running = CommandStatus(command="c2", robot="robot", state=CommandState.RUNNING, tick=9)
+    speech.on_status(running, 9, hears=True, robot_holds=None)
+    assert speech.heard.question is not None and speech.heard.question["kind"] == "ask"
+    assert speech.heard.question["text"] == "Agent 1, do you want the ball?", speech.heard.question
