@@ -133,10 +133,10 @@ class RobotSettings:
             is worth more steps than the interruption: :func:`brain.robot.benefit.ask_worth`).
         put_back_slack: steps a put-back may land after the person it is for could reach
             the place and still be counted as in time (they may dawdle).
-        lasting_want: weigh help by P(the person wants the item | they want some item), so
-            that going out on an errand reads as passing and leaves the want for an item
-            where it was (else by the preference posterior, in which an errand reads as
-            wanting to leave).
+        lasting_want: read going out as an errand: weigh help by P(the person wants the
+            item) plus P(they head out) times what they wanted over the items the last time
+            they were not heading out (:func:`brain.robot.benefit.lasting_preference`; else by
+            the preference posterior, in which an errand reads as wanting to leave).
     """
 
     preference_threshold: float = 0.6

@@ -92,6 +92,17 @@ def wants(est: Estimate, k: int, lasting: bool = True) -> float:
     return float(items[k] / max(float(items.sum()), 1e-12))
 
 
+def lasting_preference(preference: FloatArray, before: FloatArray | None) -> FloatArray:
+    """``(D,)`` the preference as help is weighed with ``RobotSettings.lasting_want``: going out
+    reads as an errand, after which the person wants what they wanted before they set out, so
+    P(out) goes back to the items in the shares of ``before`` (``(D - 1,)``, what they wanted
+    over the items the last time they were not heading out; ``None``: in proportion to the
+    items' own posterior)."""
+    items, out = preference[:-1], float(preference[-1])
+    share = before if before is not None else items / max(float(items.sum()), 1e-12)
+    return np.append(items + out * share, 0.0)
+
+
 def _via(model: WorldModel, person_cell: int, t: int, search: float) -> FloatArray:
     """``(L,)`` steps for a person at ``person_cell`` to reach an item at location ``t`` when
     they first go to location ``l``: straight there when ``l`` is ``t``, else on to ``t``."""

@@ -36,6 +36,7 @@ from .benefit import (
     ask_worth,
     cell_distances,
     inform_worth,
+    lasting_preference,
     look_or_guess,
     put_back_worth,
     tell_worth,
@@ -63,13 +64,27 @@ def chosen(snap: Snapshot, settings: RobotSettings) -> list[Scored]:
     global _LAST
     if _LAST is not None and _LAST[0] is snap and _LAST[1] is settings:
         return _LAST[2]
+    key, snap = snap, _lasting(snap) if settings.lasting_want else snap
     best = _best(candidates(snap, settings))
     for asked in questions(snap, settings):
         assert isinstance(asked.task, Question)
         best[(asked.task.person, "?")] = asked
     kept = sorted((s for s in best.values() if s.worth.net > 0), key=lambda s: -s.worth.net)
-    _LAST = (snap, settings, kept)
+    _LAST = (key, settings, kept)
     return kept
+
+
+def _lasting(snap: Snapshot) -> Snapshot:
+    """``snap`` with every person's preference as help weighs it under ``lasting_want``
+    (:func:`~brain.robot.benefit.lasting_preference`: an errand out ends in the want they set
+    out with)."""
+    minds = {
+        person: dataclasses.replace(
+            est, preference=lasting_preference(est.preference, snap.before_out.get(person))
+        )
+        for person, est in snap.estimates.items()
+    }
+    return dataclasses.replace(snap, estimates=minds)
 
 
 def _best(scored: Iterator[Scored]) -> dict[tuple[str, str], Scored]:

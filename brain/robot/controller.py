@@ -46,6 +46,8 @@ class RobotBrain:
         """Item -> ``(from, to, mover)`` of the last time a person took it from one spot and
         put it down at another."""
         self.people = {a.id for a in tracker.scene.agents if a.kind is AgentKind.PERSON}
+        self.before_out: dict[str, FloatArray] = {}
+        """Person -> ``(K,)`` their want over the items the last tick they were not heading out."""
         self.asked: dict[str, tuple[int, float]] = {}
         """Person -> ``(questions, time)``: how often the robot asked them what they are looking
         for, and the engine time of the last question (its ``ask`` events)."""
@@ -77,6 +79,10 @@ class RobotBrain:
     def tick(self, state: State) -> list[RobotCommand]:
         """Tick the tree on the world as it is now; return the commands to send."""
         estimates = {p: e for p in self.tracker.people if (e := self.tracker.online(p)) is not None}
+        for person, est in estimates.items():
+            items = est.preference[:-1]
+            if est.preference[-1] < 0.5 and items.sum() > 0:
+                self.before_out[person] = items / items.sum()
         snapshot = Snapshot(
             scene=self.tracker.scene,
             model=self.tracker.model,
@@ -89,6 +95,7 @@ class RobotBrain:
             robot=self.robot,
             where=self.where(),
             asked=self.asked,
+            before_out=self.before_out,
             answer_reliability=self.tracker.settings.answer_reliability,
         )
         self.tree.tick(snapshot)

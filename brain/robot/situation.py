@@ -108,6 +108,9 @@ class Snapshot:
     asked: Mapping[str, tuple[int, float]] = dataclasses.field(default_factory=dict)
     """Person id -> ``(questions, time)``: how often the robot has asked them what they are
     looking for, and the engine time (s) of the last question."""
+    before_out: Mapping[str, FloatArray] = dataclasses.field(default_factory=dict)
+    """Person id -> ``(K,)`` what they wanted, over the items (normalised), the last tick they
+    were not heading out (P(out) below one half): the want an errand out ends in."""
     answer_reliability: float = 0.9
     """P(a person's answer is true), as the brain's model reads answers
     (:attr:`brain.settings.ModelSettings.answer_reliability`)."""

@@ -22,6 +22,7 @@ METRICS = (
     "goal_false_belief_f1",
     "knowable_false_belief_f1",
     "revealed_detection",
+    "revealed_detection_any",
     "brier",
     "log_loss",
     "brier_skill",

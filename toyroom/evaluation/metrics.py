@@ -26,6 +26,8 @@ Per tick, person and item, from the brain's online ``mind`` and the engine's ``t
   other false beliefs count neither way, every tick without one is a negative;
 - ``revealed_detection``: the share of revealed stretches the observer flagged before the
   person reached the place, and the median lead in ticks (:mod:`toyroom.evaluation.revealed`);
+  ``revealed_detection_any``: the same, item-agnostic (the observer read the person as
+  heading for a place where they falsely believe some wanted item rests, above 0.5);
 - ``brier``, ``log_loss`` (probabilities clipped to ``[EPS, 1 - EPS]``) of the observer's
   P(false belief) over every person-item-tick, and ``brier_skill``: 1 - Brier / the Brier of
   always answering the base rate of these ticks (0: no better than the base rate).
@@ -119,8 +121,12 @@ class Counts:
     many of them held a false belief."""
     stretches: int = 0
     detected: int = 0
+    detected_any: int = 0
     leads: list[int] = field(default_factory=list)
-    """Revealed stretches, how many were detected in time, and each detection's lead (ticks)."""
+    leads_any: list[int] = field(default_factory=list)
+    """Revealed stretches, how many were detected in time (item by item, and item-agnostic:
+    :func:`~toyroom.evaluation.revealed.detection_lead_any`), and each detection's lead
+    (ticks)."""
     nested_n: int = 0
     nested_right: int = 0
     nested_first_right: int = 0
@@ -139,6 +145,7 @@ class Counts:
             for key, n in theirs.items():
                 mine[key] = mine.get(key, 0) + n
         self.leads = [*self.leads, *other.leads]
+        self.leads_any = [*self.leads_any, *other.leads_any]
 
     def recall_by_cause(self) -> dict[str, dict[str, float | int | None]]:
         """Per cause of :data:`CAUSES`: its false-belief ticks, their share of all, and the
@@ -171,6 +178,8 @@ class Counts:
             "knowable_false_belief_f1": _f1(self.known_tp, self.known_fp, self.known_fn)[2],
             "revealed_detection": self.detected / self.stretches if self.stretches else None,
             "revealed_lead_median": float(statistics.median(self.leads)) if self.leads else None,
+            "revealed_detection_any": self.detected_any / self.stretches if self.stretches else None,
+            "revealed_lead_any_median": float(statistics.median(self.leads_any)) if self.leads_any else None,
             **self.nested_scores(),
             **self.proper_scores(),
         }
@@ -209,8 +218,8 @@ class Counts:
 
 SUMS = tuple(f.name for f in fields(Counts) if isinstance(f.default, int | float))
 """The fields of :class:`Counts` that add up: the numbers (in their order), not the tallies
-by key (``pref_truth``, ``cause_fb``, ``cause_tp``) nor ``leads``, which :meth:`Counts.add`
-merges itself."""
+by key (``pref_truth``, ``cause_fb``, ``cause_tp``) nor ``leads`` and ``leads_any``, which
+:meth:`Counts.add` merges itself."""
 
 
 def _f1(tp: int, fp: int, fn: int) -> tuple[float | None, float | None, float | None]:

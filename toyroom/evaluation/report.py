@@ -24,6 +24,8 @@ BEHAVIOUR = (
     "knowable_false_belief_f1",
     "revealed_detection",
     "revealed_lead_median",
+    "revealed_detection_any",
+    "revealed_lead_any_median",
     "brier",
     "log_loss",
     "brier_skill",
@@ -33,7 +35,9 @@ BEHAVIOUR_NOTE = (
     "the false beliefs caused by a move the robot perceived or revealed by a pursuit (from its "
     "first revealed tick); `revealed_detection`: the share of revealed stretches (a person after "
     "an item, heading for a place their belief gives it, where it is not) whose P(false belief) "
-    "passed 0.5 before they reached the place, and the median lead in ticks; `brier`, `log_loss` "
+    "passed 0.5 before they reached the place, and the median lead in ticks; "
+    "`revealed_detection_any` and its lead: the same, item-agnostic (P(they head for a place "
+    "where they falsely believe some item they want rests) passed 0.5); `brier`, `log_loss` "
     "(lower is better) and `brier_skill` (1 - Brier / the base rate's; above 0 beats always "
     "answering the base rate) of P(false belief) over every person-item-tick."
 )

@@ -13,7 +13,10 @@ the person takes at least :data:`MIN_MOVES` steps before reaching the place (a p
 ends before the person has moved, say because a plan is dropped at once, shows nothing to
 anyone). It is detected when the observer's P(false belief) for that person and item passes 0.5 before the
 person reaches the place (stands on or next to it), in time for a robot to help; its lead is
-how many ticks before that.
+how many ticks before that. ``revealed_detection_any`` counts it detected when the observer
+reads the person as heading for a place where they falsely believe *some* wanted item rests
+(:func:`heading_wrong` above 0.5), whichever item: a walk to an empty place shows that the
+person believes something they want is there, not which item.
 
 A false belief is *knowable* at a tick when the robot could know of it: it began with a move
 (cause ``moved``: the robot perceived the move), or a pursuit has revealed it (from the
@@ -25,7 +28,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from protocol import Truth, believes_falsely
+from protocol import AgentMind, Mind, Truth, believes_falsely
+
+from .scoredminds import ScoredAgent, ScoredMind
 
 MIN_MOVES = 2
 """Steps (cells entered) a person must take in a stretch, before reaching its place, for it to
@@ -121,3 +126,47 @@ def knowable(
         shown |= {key for key in held if tick in starts.get(key, ())}
         out[tick] = {key for key, cause in held.items() if cause == "moved" or key in shown}
     return out
+
+
+def detection_lead(minds: Mapping[int, Mind | ScoredMind], stretch: Stretch) -> int | None:
+    """Ticks from the observer's first flag of ``stretch``'s false belief (P above 0.5, in
+    the stretch) to the person reaching the place; ``None`` when not flagged before then."""
+    for tick in range(stretch.first, stretch.deadline):
+        mind = minds.get(tick)
+        agent = next((a for a in mind.agents if a.agent == stretch.person), None) if mind else None
+        if agent is not None and stretch.item in agent.false_beliefs:
+            return stretch.deadline - tick
+    return None
+
+
+def detection_lead_any(
+    minds: Mapping[int, Mind | ScoredMind], stretch: Stretch, truths: Mapping[int, Truth]
+) -> int | None:
+    """Ticks from the observer's first reading of ``stretch``'s person as heading for a place
+    where they falsely believe a wanted item rests (:func:`heading_wrong` of the stretch's
+    place above 0.5, in the stretch) to the person reaching it; ``None`` when not before then.
+    Item-agnostic: which item they are after need not be known."""
+    for tick in range(stretch.first, stretch.deadline):
+        mind, truth = minds.get(tick), truths.get(tick)
+        agent = next((a for a in mind.agents if a.agent == stretch.person), None) if mind else None
+        if agent is None or truth is None:
+            continue
+        where = {place.item: place.location for place in truth.items}
+        if heading_wrong(agent, stretch.location, where) > 0.5:
+            return stretch.deadline - tick
+    return None
+
+
+def heading_wrong(agent: AgentMind | ScoredAgent, location: str, where: Mapping[str, str | None]) -> float:
+    """The observer's P(the person wants an item they believe rests at ``location``, where it
+    does not rest): over the items ``k`` not resting there (``where``: the true resting place
+    of each item, ``None`` when carried), P(wants k) x P(believes k at ``location``), each as
+    the observer reads them (their product: the observer's marginals)."""
+    wants = {chance.id: chance.p for chance in agent.preference}
+    total = 0.0
+    for belief in agent.beliefs:
+        if where.get(belief.item) == location:
+            continue
+        there = next((chance.p for chance in belief.locations if chance.id == location), 0.0)
+        total += wants.get(belief.item, 0.0) * there
+    return total

@@ -26,7 +26,7 @@ from .interrupt import NODES
 from .metrics import Counts, Outcome, false_belief_causes, score_tick
 from .nestedscore import score_nested
 from .outcome import judge
-from .revealed import Stretch, knowable, stretches
+from .revealed import Stretch, detection_lead, detection_lead_any, knowable, stretches
 from .scoredminds import ScoredMind, read_scored_minds
 from .truths import subscribe_truths
 
@@ -301,18 +301,11 @@ def _score(minds: Mapping[int, Mind | ScoredMind], truth: TruthView, outcome: Ou
         if lead is not None:
             result.counts.detected += 1
             result.counts.leads.append(lead)
+        lead = detection_lead_any(minds, stretch, truth.truths)
+        if lead is not None:
+            result.counts.detected_any += 1
+            result.counts.leads_any.append(lead)
     return result
-
-
-def detection_lead(minds: Mapping[int, Mind | ScoredMind], stretch: Stretch) -> int | None:
-    """Ticks from the observer's first flag of ``stretch``'s false belief (P above 0.5, in
-    the stretch) to the person reaching the place; ``None`` when not flagged before then."""
-    for tick in range(stretch.first, stretch.deadline):
-        mind = minds.get(tick)
-        agent = next((a for a in mind.agents if a.agent == stretch.person), None) if mind else None
-        if agent is not None and stretch.item in agent.false_beliefs:
-            return stretch.deadline - tick
-    return None
 
 
 def settle(

@@ -15,7 +15,7 @@ import pytest
 from brain.model.answers import open_answers
 from brain.model.estimates import Estimate
 from brain.model.world import build_world_model
-from brain.robot.benefit import cell_distances, inform_worth, look_or_guess
+from brain.robot.benefit import cell_distances, inform_worth, lasting_preference, look_or_guess
 from brain.robot.choice import candidates, chosen, questions
 from brain.robot.situation import Inform, Look, PutBack, Question, Snapshot
 from brain.settings import RobotSettings
@@ -271,3 +271,12 @@ def test_a_person_is_not_asked_twice_within_ask_again_after(world) -> None:
     assert questions_now == [Question("A1", 1)], (
         f"61 s later the robot may ask again, as its second question: got {questions_now}"
     )
+
+
+def test_an_errand_out_ends_in_the_want_the_person_set_out_with() -> None:
+    # out 0.9 while on an errand; before setting out they wanted the ball (items: skate, ball)
+    preference = np.array([0.05, 0.05, 0.9])
+    lasting = lasting_preference(preference, np.array([0.1, 0.9]))
+    assert lasting == pytest.approx([0.05 + 0.09, 0.05 + 0.81, 0.0]), lasting
+    even = lasting_preference(preference, None)
+    assert even == pytest.approx([0.5, 0.5, 0.0]), f"no want before: the items' own shares, got {even}"

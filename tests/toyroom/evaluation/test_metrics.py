@@ -166,7 +166,8 @@ def test_false_beliefs_by_how_they_arose() -> None:
 
 
 def test_sums_are_the_number_fields_of_counts_as_the_hand_list_had_them() -> None:
-    """``SUMS``, derived from :class:`Counts`' fields, is the tuple once written out by hand."""
+    """``SUMS``, derived from :class:`Counts`' fields, is the tuple once written out by hand
+    (with ``detected_any``, issue 53, since)."""
     assert SUMS == (
         "tv_sum",
         "tv_n",
@@ -190,6 +191,7 @@ def test_sums_are_the_number_fields_of_counts_as_the_hand_list_had_them() -> Non
         "fb_n",
         "stretches",
         "detected",
+        "detected_any",
         "nested_n",
         "nested_right",
         "nested_first_right",

@@ -1,5 +1,6 @@
 """The metrics of false beliefs read from behaviour, on a hand-built episode whose scores are
-computed by hand: ``revealed_detection`` and its lead, ``knowable_false_belief_f1``, and the
+computed by hand: ``revealed_detection`` and its lead (item by item and item-agnostic),
+``knowable_false_belief_f1``, and the
 Brier score, log loss and Brier skill of P(false belief)."""
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ import pytest
 
 from protocol import ItemBelief, ItemPlace, Prob, Pursuit, TrueMind, Truth
 from toyroom.evaluation.metrics import EPS, Counts, Outcome, majority_counts
-from toyroom.evaluation.revealed import Stretch, knowable, stretches
+from toyroom.evaluation.revealed import Stretch, heading_wrong, knowable, stretches
 from toyroom.evaluation.runs import TruthView, _score
 from toyroom.evaluation.scoredminds import Chance, ScoredAgent, ScoredBelief, ScoredMind
 
@@ -112,3 +113,45 @@ def test_a_majority_observer_never_flags_and_scores_the_base_rate_worse() -> Non
     total.add(counts)
     total.add(counts)
     assert total.metrics()["brier"] == pytest.approx(counts.metrics()["brier"]) and total.leads == [3, 3]
+
+
+def reading(tick: int, wants: dict[str, float], ball_at_l2: float) -> ScoredMind:
+    """An observer that never flags an item (no false belief named) but reads A1 as wanting
+    ``wants`` and believing the ball at L2 with ``ball_at_l2`` from tick 4 (at L1 before) and
+    the skate at L2 (where it rests: no mistake)."""
+    ball = ball_at_l2 if tick >= 4 else 0.0
+    agent = ScoredAgent(
+        agent="A1",
+        beliefs=(
+            ScoredBelief("ball", (Chance("L1", 1.0 - ball), Chance("L2", ball))),
+            ScoredBelief("skate", (Chance("L2", 1.0),)),
+        ),
+        preference=tuple(Chance(item, p) for item, p in wants.items()),
+    )
+    return ScoredMind(tick=tick, agents=(agent,))
+
+
+def test_an_item_agnostic_reading_detects_a_walk_to_the_wrong_place() -> None:
+    view = TruthView(TRUTHS, {}, stretches(TRUTHS, CELLS, SPOTS))
+    # wants the ball 0.6, believes it at L2 0.9 from tick 4: 0.54 > 0.5, lead 6 - 4 = 2 ticks,
+    # though the observer never names the ball's false belief
+    read = {t: reading(t, {"ball": 0.6, "skate": 0.4}, 0.9) for t in range(7)}
+    scores = _score(read, view, Outcome()).counts.metrics()
+    assert (scores["revealed_detection_any"], scores["revealed_lead_any_median"]) == (1.0, 2.0), scores
+    assert scores["revealed_detection"] == 0.0, "no item was flagged: the item-specific metric misses it"
+    # the skate rests at L2: wanting it more (0.6) is no mistake, and the ball's 0.4 x 0.9 = 0.36
+    skate = {t: reading(t, {"ball": 0.4, "skate": 0.6}, 0.9) for t in range(7)}
+    assert _score(skate, view, Outcome()).counts.metrics()["revealed_detection_any"] == 0.0
+    # the item-specific flag of the first fixture also reads as heading wrong? Its beliefs put
+    # the ball at L1, so no: the two metrics measure different readings
+    flagged = _score({t: mind(t) for t in range(7)}, view, Outcome()).counts.metrics()
+    assert flagged["revealed_detection_any"] == 0.0 and flagged["revealed_detection"] == 1.0
+
+
+def test_heading_wrong_sums_over_the_items_not_resting_there() -> None:
+    agent = reading(5, {"ball": 0.3, "skate": 0.3, "kite": 0.3}, 1.0).agents[0]
+    kite = ScoredBelief("kite", (Chance("L2", 1.0),))
+    agent = ScoredAgent("A1", (*agent.beliefs, kite), agent.preference)
+    where = {"ball": "L1", "skate": "L2", "kite": None}  # the kite is carried by someone
+    assert heading_wrong(agent, "L2", where) == pytest.approx(0.6), "ball 0.3 + kite 0.3; the skate is there"
+    assert heading_wrong(agent, "L1", where) == 0.0
