@@ -67,6 +67,8 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
             "knowable_false_belief_f1",
             "revealed_detection",
             "revealed_lead_median",
+            "revealed_detection_any",
+            "revealed_lead_any_median",
             "brier",
             "log_loss",
             "brier_skill",
