@@ -44,6 +44,10 @@ class Estimate:
         worlds: ``(W,)`` the person's belief over whole worlds as the robot expects it (so
             "nothing is at that spot" is read exactly, not from marginals); ``None`` for the
             factored model.
+        false_table: ``(K, L)`` P(false belief about item ``k`` | it truly rests at ``l``):
+            what a :func:`slim` estimate keeps of its hypotheses, so that its false beliefs can
+            still be read against any world (:func:`false_belief_probability`); ``None`` until
+            slimmed.
     """
 
     beliefs: FloatArray
@@ -54,6 +58,7 @@ class Estimate:
     desire: DesireSummary | None = None
     worlds: FloatArray | None = None
     log_evidence: float = 0.0
+    false_table: FloatArray | None = None
 
     def top_worlds(self, k: int) -> list[tuple[int, float]]:
         """The ``k`` most probable ``(world index, probability)`` of the person's belief
@@ -120,6 +125,9 @@ def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float)
     location less than ``mass`` times what it gives its likeliest location
     (:func:`protocol.is_false_belief`, the rule the evaluation scores with): a false belief,
     not mere ignorance. With point beliefs this is ``1 - P(believed at the true location)``."""
+    if est.hypotheses is None and est.false_table is not None:
+        true = location_of(np.array(truth, dtype=np.int64))
+        return est.false_table[np.arange(len(true)), true]
     if est.hypotheses is None:
         return point_false_belief(est.beliefs, truth)
     true = location_of(np.array(truth, dtype=np.int64))
@@ -142,6 +150,29 @@ def world_text(model: WorldModel, world: int) -> str:
         f"{item}@{model.locations[location_of(value)]}{'+held' if is_held(value) else ''}"
         for item, value in zip(model.items, model.worlds[world], strict=True)
     )
+
+
+def false_table(est: Estimate, mass: float) -> FloatArray | None:
+    """``(K, L)`` P(false belief about item ``k`` | it truly rests at ``l``) under ``est``'s
+    graded hypotheses (``None`` without them): :func:`false_belief_probability` for every
+    world at once."""
+    if est.hypotheses is None:
+        return None
+    weights, beliefs = est.hypotheses
+    false = is_false_belief(beliefs, beliefs.max(axis=-1, keepdims=True), mass)
+    if weights.ndim == 2:  # per item (the factored model): (K, P) weights, (K, P, L) beliefs
+        return np.einsum("kp,kpl->kl", weights, false)
+    return np.tensordot(weights, false, axes=1)  # (G,) weights, (G, K, L) beliefs
+
+
+def slim(est: Estimate, mass: float) -> Estimate:
+    """``est`` with its graded hypotheses, ``(G, K, L)`` marginals that are most of an
+    estimate's memory, replaced by their :func:`false_table` (``(K, L)``): what a step's
+    estimate keeps once a later one has come, its false beliefs still readable against any
+    world (``mass``: ``ModelSettings.false_belief_mass``)."""
+    if est.hypotheses is None:
+        return est
+    return dataclasses.replace(est, hypotheses=None, false_table=false_table(est, mass))
 
 
 def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
@@ -171,8 +202,10 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
         )
     evidence = np.array([e.log_evidence for e in estimates])
     top = evidence.max()
+    tables = [e.false_table for e in estimates]
     return dataclasses.replace(
         best,
+        false_table=None if any(t is None for t in tables) else average(tables),  # type: ignore[arg-type]
         beliefs=average([e.beliefs for e in estimates]),
         preference=average([e.preference for e in estimates]),
         false_belief=average([e.false_belief for e in estimates]),

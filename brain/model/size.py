@@ -29,6 +29,13 @@ about 30 MB; a brain process holds a model per observer (shadows too), so a larg
 would crowd out a laptop's memory rather than run."""
 
 
+MEMORY_BUDGET_GB = 2.0
+"""The resident memory (GiB) a brain process keeps to with lapses (``miss``) and an embodied
+robot on the bundled houses, measured by ``toyroom bench --memory``; the tracker refuses a
+scene whose branches of the unseen world, people and lapse rows could not fit in it even at
+their smallest (:func:`check_tracking_size`)."""
+
+
 @dataclass(frozen=True)
 class ModelSize:
     """A scene's model: which form, how many bytes, and the product that gives them."""

@@ -22,7 +22,7 @@ from protocol import Activity, AgentKind, Event, EventKind, Observer, Perception
 from ..memory.snapshot import Snapshot
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, carried_off, percept, told, true_values
-from ..model.estimates import Estimate, mix, reread
+from ..model.estimates import Estimate, mix, reread, slim
 from ..model.gradedperson import GradedFilter, GradedModel
 from ..model.inference import switch_probability
 from ..model.nested import NestedBeliefs
@@ -38,7 +38,7 @@ from .decisions import decided_action
 from .hearsay import rumours
 from .remembering import remembered_people, robot_items, start_view
 from .statecheck import check_items
-from .track import Chain, PersonTrack
+from .track import Chain, PersonTrack, add
 from .waits import stays_due
 from .worldview import WorldView
 
@@ -327,7 +327,7 @@ class MindTracker:
             likelihood, decision = None, None
         seconds = 0.0 if now is None or track.last_step is None else max(now - track.last_step, 0.0)
         forget = float(1.0 - np.exp(-self.settings.forget_per_s * seconds))
-        track.last_step = now if now is not None else track.last_step
+        track.last_step, mass = now if now is not None else track.last_step, self.settings.false_belief_mass
         for chain, percept_, truth in zip(track.chains, seen, truths, strict=True):
             record = StepRecord(
                 tick=tick,
@@ -347,12 +347,11 @@ class MindTracker:
                     chain.filter.memory = self.remembered.get(track.agent)
             chain.filter.step(record)
             chain.steps.append(record)
-            chain.estimates.append(chain.filter.estimate(truth))
+            add(chain.estimates, chain.filter.estimate(truth), mass)
             chain.percept = percept_
-        track.said = None
-        weights = self.branch_weights()
+        track.said, weights = None, self.branch_weights()
         track.steps.append(track.chains[int(np.argmax(weights))].steps[-1])
-        track.estimates.append(mix([c.estimates[-1] for c in track.chains], weights))
+        add(track.estimates, mix([c.estimates[-1] for c in track.chains], weights), mass)
 
     # ----- reading ----------------------------------------------------------------------
 
@@ -396,4 +395,5 @@ class MindTracker:
             return self.person_model.smoothed(track.chains[0].steps, track.chains[0].estimates)
         per_branch = [self.person_model.smoothed(c.steps, c.estimates) for c in track.chains]
         weights = self.branch_weights()
-        return [mix(list(step), weights) for step in zip(*per_branch, strict=True)]
+        mass = self.settings.false_belief_mass
+        return [mix([slim(e, mass) for e in step], weights) for step in zip(*per_branch, strict=True)]

@@ -1,6 +1,7 @@
-"""``python -m toyroom.bench [--quick] [--out DIR]`` (what ``toyroom bench`` runs): every
-performance number in one run; prints tables, writes ``DIR/bench.json``, ``DIR/perf.md``
-and ``DIR/scaling.png``."""
+"""``python -m toyroom.bench [--quick] [--memory] [--out DIR]`` (what ``toyroom bench`` runs):
+every performance number in one run; prints tables, writes ``DIR/bench.json``, ``DIR/perf.md``
+and ``DIR/scaling.png``; with ``--memory``, only the brain's peak memory (:mod:`.memory`,
+``DIR/memory.json``; exit 1 when a run failed or went over the budget)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,15 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
+from brain.model.size import MEMORY_BUDGET_GB
+
+from .memory import main as memory
 from .suite import main as suite
+
+SEEDS = (2, 4, 7)
+"""The memory runs' episode seeds: with ``miss = 0.2``, embodied, the two heaviest house-b task
+episodes of seeds 1-4 before issue 53's slim history (2.71 and 2.02 GiB then), and seed 7, the
+heaviest of seeds 5-12 after it (0.56 GiB)."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -18,8 +27,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         prog="toyroom bench", description="toyroom's performance numbers, measured in one run."
     )
     parser.add_argument("--quick", action="store_true", help="fewer repeats and houses (under 3 minutes)")
+    parser.add_argument("--memory", action="store_true", help="only the brain's peak memory (memory.py)")
     parser.add_argument("--out", type=Path, default=Path(tempfile.gettempdir()) / "toyroom-bench")
     args = parser.parse_args(argv)
+    if args.memory:
+        runs = memory(args.out, SEEDS)
+        return 0 if all(r.code == 0 and r.peak_gb <= MEMORY_BUDGET_GB for r in runs) else 1
     suite(args.quick, args.out)
     return 0
 

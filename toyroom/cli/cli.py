@@ -185,6 +185,12 @@ def _bench_command(command: Command) -> None:
     bench = command("bench", "measure the transport, lock-step and brain speeds in one run")
     bench.add_argument("--quick", action="store_true", help="fewer repeats and houses (under 3 minutes)")
     bench.add_argument(
+        "--memory",
+        action="store_true",
+        help="only the brain's peak resident memory with miss = 0.2 and an embodied robot on house-a "
+        "and house-b task episodes (about 3 minutes)",
+    )
+    bench.add_argument(
         "--out", type=Path, default=Path("out/bench"), help="directory for bench.json and plots"
     )
 

@@ -276,8 +276,8 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    quick = ["--quick"] if args.quick else []
-    os.execv(sys.executable, [sys.executable, "-m", "toyroom.bench", *quick, "--out", str(args.out)])
+    flags = (["--quick"] if args.quick else []) + (["--memory"] if args.memory else [])
+    os.execv(sys.executable, [sys.executable, "-m", "toyroom.bench", *flags, "--out", str(args.out)])
     return 0  # pragma: no cover - execv does not return
 
 

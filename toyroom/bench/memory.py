@@ -1,0 +1,88 @@
+"""The brain's peak resident memory with lapses and an embodied robot (issue 53):
+``toyroom bench --memory`` runs ``toyroom run`` on generated task episodes of ``house-a`` and
+``house-b`` (rich minds) with ``miss = 0.2`` and ``perception = embodied``, and prints the
+peak resident set size of the run's largest process (the brain), against the budget the
+brain checks at start (:data:`brain.model.size.MEMORY_BUDGET_GB`).
+
+Each run is measured in a fresh interpreter that starts ``toyroom run`` and reads
+``getrusage(RUSAGE_CHILDREN).ru_maxrss`` once it has ended: the largest resident set of any
+process of the run (on Linux, in KiB), which is the brain's on these houses.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from sim2d.generation.episodes import write_episode
+
+HOUSES = ("house-a", "house-b")
+SETTINGS = ("miss=0.2", "perception=embodied")
+TASKS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
+_PROBE = """
+import resource, subprocess, sys
+done = subprocess.run(sys.argv[1:], capture_output=True, text=True)
+print(done.returncode, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+sys.stderr.write(done.stdout[-2000:] + done.stderr[-2000:])
+"""
+
+
+@dataclass(frozen=True)
+class MemoryRun:
+    """One run's peak resident memory (GiB) and how the run ended (``code`` 0: it ran to its
+    end; 2: the brain refused the setting at start, ``message`` says why)."""
+
+    house: str
+    seed: int
+    peak_gb: float
+    code: int
+    message: str
+
+
+def measure(house: str, seed: int, folder: Path, max_ticks: int = 1500) -> MemoryRun:
+    """Run one generated task episode of ``house`` with :data:`SETTINGS`; its peak memory."""
+    scenario = write_episode(
+        folder / "episodes", house, seed, max_ticks, minds="rich", kind="tasks", tasks=TASKS
+    )
+    sets = [arg for setting in SETTINGS for arg in ("--set", setting)]
+    run = [
+        sys.executable,
+        "-m",
+        "toyroom",
+        "run",
+        "--scenario",
+        str(scenario),
+        "--out",
+        str(folder / f"{house}-{seed}"),
+    ]
+    done = subprocess.run(
+        [sys.executable, "-c", _PROBE, *run, *sets, "--no-live", "--timeout", "60"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    code, kib = (int(v) for v in done.stdout.split()[:2])
+    message = next((line for line in done.stderr.splitlines() if "refused" in line or "error" in line), "")
+    return MemoryRun(house, seed, kib / 2**20, code, message.strip())
+
+
+def main(out: Path, seeds: tuple[int, ...] = (1,)) -> list[MemoryRun]:
+    """Measure every house and seed; print a table and write ``out/memory.json``."""
+    from brain.model.size import MEMORY_BUDGET_GB
+
+    out.mkdir(parents=True, exist_ok=True)
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for house in HOUSES:
+            for seed in seeds:
+                runs.append(measure(house, seed, Path(tmp)))
+                r = runs[-1]
+                end = "ran to its end" if r.code == 0 else f"exit {r.code}: {r.message}"
+                print(f"{house} seed {seed}: peak resident {r.peak_gb:.2f} GiB ({end})", flush=True)
+    print(f"budget: {MEMORY_BUDGET_GB:.1f} GiB per brain ({', '.join(SETTINGS)})")
+    (out / "memory.json").write_text(json.dumps([r.__dict__ for r in runs], indent=2))
+    return runs
