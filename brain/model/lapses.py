@@ -225,6 +225,12 @@ def _pruned(rows: list[Row]) -> list[Row]:
     return rows[:LAPSE_ROWS] + untested[:UNTESTED_ROWS]
 
 
+def lapse_rows(model: object) -> int:
+    """The most rows one person's filter under ``model`` keeps: :data:`LAPSE_ROWS` plus
+    :data:`UNTESTED_ROWS` for a :class:`LapseModel`, else one."""
+    return LAPSE_ROWS + UNTESTED_ROWS if isinstance(model, LapseModel) else 1
+
+
 class LapseModel:
     """A person model whose filters allow lapses (:class:`LapseFilter`) around ``inner``."""
 

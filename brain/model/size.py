@@ -15,10 +15,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from math import comb
 
-from protocol import RegionKind, Scene
+from protocol import AgentKind, RegionKind, Scene
 
 from ..errors import ModelTooLarge
 from ..settings import ModelSettings
+from .lapses import lapse_rows
 from .planner import n_actions
 from .world import VALUES_PER_LOCATION
 
@@ -94,3 +95,43 @@ def check_model_size(scene: Scene, settings: ModelSettings) -> ModelSize:
             "(MAX_MODEL_BYTES): fewer cells, item spots or items"
         )
     return size
+
+
+def row_floor(scene: Scene, settings: ModelSettings) -> int:
+    """The fewest bytes one filter row of one person holds (a lower bound: the factored
+    rows are these arrays, 17.8 kB on an 8-room house and 53 kB on a 12-room one as measured;
+    an exact graded row on ``house-b`` holds 724 kB against its 57 kB). Factored: its
+    ``(K + 1) x K x V`` beliefs per preference, graded the ``(K + 1) x K x P`` weights and
+    ``K x P x V`` beliefs of its hypotheses; exact: the
+    ``(G, U)`` posterior and the ``G + W`` of a one-component mixture of beliefs, graded, or
+    the ``(W, U)`` posterior."""
+    L = len(scene.locations) + any(item.absent for item in scene.items)
+    K, V = len(scene.items), VALUES_PER_LOCATION * L
+    W, graded = V**K, settings.belief_model == "graded"
+    P = grid_points(L, settings.prior_resolution, settings.ignorance) if graded else 0
+    if W > settings.exact_max_worlds:
+        return ((K + 1) * K * P + K * P * V if graded else (K + 1) * K * V) * 8
+    U = _candidates(settings, K, any(r.kind == RegionKind.OUTSIDE for r in scene.regions))
+    return (P**K * U + P**K + W if graded else W * U) * 8
+
+
+def check_tracking_size(scene: Scene, settings: ModelSettings, branches: int, model: object) -> None:
+    """Refuse a scene whose filters could not fit in :data:`MEMORY_BUDGET_GB` even at their
+    smallest: ``branches`` of the robot's unseen world, times its people, times the rows of a
+    person's filter under ``model`` (:func:`~brain.model.lapses.lapse_rows`: with lapses, up to
+    ``LAPSE_ROWS + UNTESTED_ROWS``), times :func:`row_floor`.
+
+    Raises:
+        ModelTooLarge: one line naming the scene, each factor, the total and the budget.
+    """
+    people, rows = sum(1 for a in scene.agents if a.kind is AgentKind.PERSON), lapse_rows(model)
+    floor = row_floor(scene, settings)
+    need = branches * people * rows * floor
+    if need > MEMORY_BUDGET_GB * 2**30:
+        raise ModelTooLarge(
+            f"scene '{scene.name}': {branches} branches of the unseen world x {people} people x "
+            f"{rows} lapse rows x at least {floor / 2**20:.2f} MiB per row would take "
+            f"{need / 2**30:.3g} GiB, above the brain's budget of {MEMORY_BUDGET_GB:.0f} GiB "
+            "(MEMORY_BUDGET_GB): turn lapses off (miss = 0, hearsay = 0) or let the robot see "
+            "more (perception = omniscient)"
+        )

@@ -31,6 +31,7 @@ from ..model.personmodel import person_model
 from ..model.planner import Move, play_action
 from ..model.remembered import Remembered
 from ..model.revisions import SharedRevisions
+from ..model.size import check_tracking_size
 from ..model.world import held_value, value_of
 from ..settings import ModelSettings
 from .answered import answered
@@ -93,7 +94,6 @@ class MindTracker:
         """Per item, the cell index of whoever carries it now (-1: nobody)."""
         self.carriers_moved: frozenset[int] = frozenset()
         """The items whose carrier moved (or put them down) at the last tick."""
-        """The true item values at the last tick observed (the likeliest branch's, embodied)."""
         self.truths: dict[int, tuple[int, ...]] = {}
         """The true item values at every tick observed (for reading false beliefs then)."""
         self.branch_truths: list[tuple[int, ...]] = []
@@ -129,10 +129,8 @@ class MindTracker:
         model = self.model
         cell_of = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in state.agents}
         holders = {i.id: cell_of.get(i.held_by) if i.held_by else None for i in state.items}
-        before, self.carriers = (
-            self.carriers,
-            tuple(-1 if (c := holders.get(k)) is None else c for k in model.items),
-        )
+        before = self.carriers
+        self.carriers = tuple(-1 if (c := holders.get(k)) is None else c for k in model.items)
         self.carriers_moved = frozenset(k for k, c in enumerate(before) if c >= 0 and c != self.carriers[k])
         if self.view is None:
             truths = [true_values(model, {i.id: i.location for i in state.items}, holders)]
@@ -140,6 +138,8 @@ class MindTracker:
             robot_cell = cell_of.get(self.robot or "")
             if robot_cell is not None:
                 kept = self.view.observe(state, robot_cell, events)
+                if not self.ticks:  # the first look: before any filter of a branch is made
+                    check_tracking_size(self.scene, self.settings, len(kept), self.person_model)
                 for track in self.tracks.values():
                     track.chains = [track.chains[int(h)] for h in kept]
             truths = [self.view.truth(h, holders) for h in range(len(self.view.rows))]

@@ -1,7 +1,10 @@
 """Issue 49, item 4: the brain refuses a scene whose model would not fit
 (:data:`brain.model.size.MAX_MODEL_BYTES`) in one line, before allocating it; before, 1,000
 items made it try to allocate 4.59 GiB (and die of a ``MemoryError`` traceback). The figure
-it goes by is the model's real size, measured, within a factor of two."""
+it goes by is the model's real size, measured, within a factor of two. Issue 53, item 2: an
+embodied robot's branches of the unseen world, times the people, times their lapse rows, that
+could not fit in :data:`brain.model.size.MEMORY_BUDGET_GB` even at their smallest are refused
+at the first look, before any of their filters is made."""
 
 from __future__ import annotations
 
@@ -14,11 +17,12 @@ import msgspec
 import pytest
 
 from brain.errors import ModelTooLarge
-from brain.model.size import MAX_MODEL_BYTES, model_size
+from brain.model.size import MAX_MODEL_BYTES, MEMORY_BUDGET_GB, model_size, row_floor
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from protocol import ItemSpec
 from sim2d.engine import Engine
+from sim2d.generation import write_house_episode
 
 
 def test_a_thousand_items_are_refused_before_anything_is_allocated() -> None:
@@ -67,3 +71,53 @@ def test_the_figure_is_the_model_measured_within_a_factor_of_two(scenario: str, 
     assert peak / 2 <= estimate <= peak * 2, (
         f"{scenario}: estimated {estimate:,} bytes, measured a peak of {peak:,}"
     )
+
+
+@pytest.fixture(scope="module")
+def twenty_rooms(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A generated house of 20 rooms and 3 items: 5832 branches of the unseen world at an
+    embodied robot's first look."""
+    return write_house_episode(tmp_path_factory.mktemp("house20"), 20, 3, 1)
+
+
+def test_branches_lapses_and_people_beyond_the_memory_budget_are_refused_at_the_first_look(
+    twenty_rooms: Path,
+) -> None:
+    engine = Engine(str(twenty_rooms))
+    tracker = MindTracker(engine.scene(), ModelSettings(perception="embodied", miss=0.2))
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    with pytest.raises(ModelTooLarge) as caught:
+        tracker.observe(engine.state(), ())
+    grown_mb = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024
+    message = str(caught.value)
+    for part in (
+        "5832 branches of the unseen world",
+        "2 people",
+        "16 lapse rows",
+        f"{MEMORY_BUDGET_GB:.0f} GiB",
+    ):
+        assert part in message, f"expected {part!r} in the refusal, got: {message}"
+    assert grown_mb < 200, f"the refusal came after {grown_mb:.0f} MB were allocated"
+    small = write_house_episode(twenty_rooms.parent, 8, 3, 1)
+    engine = Engine(str(small))
+    ok = MindTracker(engine.scene(), ModelSettings(perception="embodied", miss=0.2))
+    ok.observe(engine.state(), ())  # 36 branches x 2 people x 16 rows x 17.8 kB: accepted
+    assert ok.view is not None and len(ok.view.rows) == 36, len(ok.view.rows) if ok.view else None
+
+
+def test_the_floor_of_a_row_is_the_factored_filters_arrays(twenty_rooms: Path) -> None:
+    """The factored rows hold exactly the arrays :func:`row_floor` counts (the exact model's
+    hold more: a floor)."""
+    small = write_house_episode(twenty_rooms.parent, 8, 3, 1)
+    engine = Engine(str(small))
+    settings = ModelSettings(perception="embodied")
+    tracker = MindTracker(engine.scene(), settings)
+    tracker.observe(engine.state(), ())
+    for _ in range(30):
+        out = engine.step()
+        tracker.observe(out.state, out.events)
+    filters = [c.filter for t in tracker.tracks.values() for c in t.chains if c.filter is not None]
+    assert filters, "nobody was seen in 30 ticks"
+    held = {f.alpha.nbytes + f.weights.nbytes + f.beliefs.nbytes for f in filters}  # type: ignore[union-attr]
+    floor = row_floor(engine.scene(), settings)
+    assert all(floor <= h <= floor + 64 for h in held), f"rows hold {held} bytes, the floor says {floor}"

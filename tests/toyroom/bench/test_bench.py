@@ -89,3 +89,14 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     big = [r for r in rows if r["worlds"] > 10**6]
     assert big and not any(r["exact"] for r in big), f"large houses should run factored: {big}"
     assert (tmp_path / "perf.md").exists() and (tmp_path / "scaling.png").stat().st_size > 0
+
+
+def test_the_memory_measurement_reads_a_brains_peak(tmp_path: Path) -> None:
+    """One of ``toyroom bench --memory``'s runs (house-a, seed 2, miss 0.2, embodied): it ends,
+    and its peak is a brain's (more than the 100 MB any brain starts with), within the budget."""
+    from brain.model.size import MEMORY_BUDGET_GB
+    from toyroom.bench.memory import measure
+
+    run = measure("house-a", 2, tmp_path)
+    assert run.code == 0, f"the run failed: {run.message}"
+    assert 0.1 < run.peak_gb <= MEMORY_BUDGET_GB, f"peak {run.peak_gb:.2f} GiB"
