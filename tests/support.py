@@ -8,8 +8,9 @@ import subprocess
 import sys
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
-from protocol import BY_TAG, Message, decode
+from protocol import BY_TAG, CommandStatus, Message, RobotCommand, decode
 from protocol.examples import example_paths
 
 
@@ -311,3 +312,28 @@ def long_paper_2(folder: Path, ticks: int, name: str) -> Path:
     assert first in text, "paper-2's first step changed: update tests/support.py long_paper_2"
     (folder / f"{name}.toml").write_text(text.replace(first, first.replace("ticks = 20", f"ticks = {ticks}")))
     return folder / f"{name}.toml"
+
+
+_command_ids = iter(range(1_000_000))
+
+
+def run_command(
+    engine: Any, action: object, tracker: Any = None, max_ticks: int = 2000
+) -> list[CommandStatus]:
+    """Send one robot command to a sim2d ``engine`` (in-process) and step until it ends,
+    ``tracker`` (a :class:`brain.tracking.tracker.MindTracker`, if any) observing every tick;
+    every status the command got, in order.
+
+    Raises:
+        AssertionError: the command did not end within ``max_ticks``.
+    """
+    command = RobotCommand(id=f"c{next(_command_ids)}", robot="robot", action=action)  # type: ignore[arg-type]
+    statuses = [s for s in engine.command(command) if s.command == command.id]
+    for _ in range(max_ticks):
+        if statuses and statuses[-1].state.final:
+            return statuses
+        result = engine.step()
+        if tracker is not None:
+            tracker.observe(result.state, result.events)
+        statuses += [s for s in result.statuses if s.command == command.id]
+    raise AssertionError(f"{action} never ended in {max_ticks} ticks: {statuses}")

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from support import run_command
 
 from protocol import (
     Ask,
@@ -71,18 +72,9 @@ def engine(tmp_path: Path) -> Engine:
     return engine
 
 
-_counter = iter(range(1_000_000))
-
-
 def run(engine: Engine, action: object, max_ticks: int = 400) -> list[CommandStatus]:
     """Send one command and step until it ends; every status it got, in order."""
-    command = RobotCommand(id=f"c{next(_counter)}", robot="robot", action=action)  # type: ignore[arg-type]
-    statuses = [s for s in engine.command(command) if s.command == command.id]
-    for _ in range(max_ticks):
-        if statuses and statuses[-1].state.final:
-            return statuses
-        statuses += [s for s in engine.step().statuses if s.command == command.id]
-    raise AssertionError(f"{action} never ended: {statuses}")
+    return run_command(engine, action, max_ticks=max_ticks)
 
 
 def states(statuses: list[CommandStatus]) -> list[str]:

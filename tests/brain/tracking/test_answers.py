@@ -8,11 +8,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support import run_command
 
 from brain.model.answers import answer_likelihood
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
-from protocol import Action, Ask, Cell, CommandState, Navigate, RobotCommand
+from protocol import Action, Ask, Cell, CommandState, Navigate
 from sim2d.engine import Engine
 from sim2d.scenario.maps import SCENARIO_DIR
 
@@ -63,14 +64,8 @@ def test_an_answer_is_evidence_with_its_reliability_not_an_overwrite() -> None:
     assert nothing.tolist() == pytest.approx([0.05, 0.05, 0.9]), nothing
 
 
-def _ask(engine: Engine, tracker: MindTracker, action: Action, sent: list[int]) -> None:
-    sent.append(len(sent))
-    command = RobotCommand(id=f"c{len(sent)}", robot="robot", action=action)
-    statuses = [s for s in engine.command(command) if s.command == command.id]
-    while not (statuses and statuses[-1].state.final):
-        result = engine.step()
-        tracker.observe(result.state, result.events)
-        statuses += [s for s in result.statuses if s.command == command.id]
+def _ask(engine: Engine, tracker: MindTracker, action: Action) -> None:
+    statuses = run_command(engine, action, tracker)
     assert statuses[-1].state is CommandState.SUCCEEDED, f"{action}: {statuses[-1]}"
 
 
@@ -82,17 +77,16 @@ def test_what_a_person_answers_moves_the_estimate_of_what_they_want(tmp_path: Pa
     tracker = MindTracker(engine.scene(), FORMS[form])
     tracker.observe(engine.state(), ())
     skate, ball = tracker.model.items.index("skate"), tracker.model.items.index("ball")
-    sent: list[int] = []
-    _ask(engine, tracker, Navigate(cell=Cell(6, 5)), sent)
+    _ask(engine, tracker, Navigate(cell=Cell(6, 5)))
     before = tracker.online("A1")
     assert before is not None
-    _ask(engine, tracker, Ask(person="A1", item="ball"), sent)  # "no"
+    _ask(engine, tracker, Ask(person="A1", item="ball"))  # "no"
     after_no = tracker.online("A1")
     assert after_no is not None and after_no.preference[ball] < before.preference[ball] - 0.1, (
         f"{form}: A1 said no to the ball: P(ball) {before.preference[ball]:.3f} -> "
         f"{after_no.preference[ball]:.3f}, expected it to fall"
     )
-    _ask(engine, tracker, Ask(person="A1"), sent)  # "the skate"
+    _ask(engine, tracker, Ask(person="A1"))  # "the skate"
     after = tracker.online("A1")
     assert after is not None and after.preference[skate] > 0.8, (
         f"{form}: A1 said they want the skate: P(skate) {after.preference[skate]:.3f}, expected > 0.8 "

@@ -9,11 +9,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support import run_command
 
 from brain.model.world import is_held
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
-from protocol import Action, Cell, CommandState, Navigate, Pick, Place, RobotCommand
+from protocol import Action, Cell, CommandState, Navigate, Pick, Place
 from sim2d.engine import Engine
 from sim2d.scenario.maps import SCENARIO_DIR
 
@@ -57,17 +58,10 @@ class Watch:
         self.tracker = MindTracker(self.engine.scene(), ModelSettings())
         self.tracker.observe(self.engine.state(), ())
         self.ball = self.tracker.model.items.index("ball")
-        self.sent = 0
 
     def run(self, action: Action) -> None:
         """One robot command, stepped until it ends; it must succeed."""
-        self.sent += 1
-        command = RobotCommand(id=f"c{self.sent}", robot="robot", action=action)
-        statuses = [s for s in self.engine.command(command) if s.command == command.id]
-        while not (statuses and statuses[-1].state.final):
-            result = self.engine.step()
-            self.tracker.observe(result.state, result.events)
-            statuses += [s for s in result.statuses if s.command == command.id]
+        statuses = run_command(self.engine, action, self.tracker)
         assert statuses[-1].state is CommandState.SUCCEEDED, f"{action}: {statuses[-1]}"
 
     def a1(self) -> tuple[dict[str, float], float, float]:
