@@ -159,13 +159,15 @@ def detection_lead_any(
 
 def heading_wrong(agent: AgentMind | ScoredAgent, location: str, where: Mapping[str, str | None]) -> float:
     """The observer's P(the person wants an item they believe rests at ``location``, where it
-    does not rest): over the items ``k`` not resting there (``where``: the true resting place
+    does not rest): over the items ``k`` resting elsewhere (``where``: the true resting place
     of each item, ``None`` when carried), P(wants k) x P(believes k at ``location``), each as
-    the observer reads them (their product: the observer's marginals)."""
+    the observer reads them (their product: the observer's marginals). A carried item counts
+    neither way, as for the stretches themselves (:func:`revealed`): a belief "at l" of a
+    carried one is the brain's "held near l", which may be right."""
     wants = {chance.id: chance.p for chance in agent.preference}
     total = 0.0
     for belief in agent.beliefs:
-        if where.get(belief.item) == location:
+        if where.get(belief.item) in (location, None):
             continue
         there = next((chance.p for chance in belief.locations if chance.id == location), 0.0)
         total += wants.get(belief.item, 0.0) * there

@@ -152,6 +152,8 @@ def test_heading_wrong_sums_over_the_items_not_resting_there() -> None:
     agent = reading(5, {"ball": 0.3, "skate": 0.3, "kite": 0.3}, 1.0).agents[0]
     kite = ScoredBelief("kite", (Chance("L2", 1.0),))
     agent = ScoredAgent("A1", (*agent.beliefs, kite), agent.preference)
-    where = {"ball": "L1", "skate": "L2", "kite": None}  # the kite is carried by someone
+    where = {"ball": "L1", "skate": "L2", "kite": "L1"}
     assert heading_wrong(agent, "L2", where) == pytest.approx(0.6), "ball 0.3 + kite 0.3; the skate is there"
     assert heading_wrong(agent, "L1", where) == 0.0
+    carried = {**where, "kite": None}  # someone carries the kite: it counts neither way
+    assert heading_wrong(agent, "L2", carried) == pytest.approx(0.3), "the ball alone"
