@@ -31,6 +31,7 @@ ROBOT_ALLOWED = {
     "attempts": "an int >= 1",
     "navigate_timeout": "navigate_timeout > 0",
     "action_timeout": "action_timeout > 0",
+    "answer_timeout": "answer_timeout > 0 (engine seconds)",
     "deception_threshold": "0 <= deception_threshold <= 1",
     "interruption_cost": "interruption_cost >= 0 (steps)",
     "robot_step_cost": "robot_step_cost >= 0 (steps)",
@@ -103,7 +104,10 @@ class RobotSettings:
             robot starts it (a passing blip of the online estimates starts nothing).
         attempts: how often the robot tries one task before giving up on it.
         navigate_timeout: engine seconds a navigation may take.
-        action_timeout: engine seconds a pick, place, give, say or request may take.
+        action_timeout: engine seconds a pick, place or say may take.
+        answer_timeout: engine seconds a give, request or ask may take: each waits for a
+            person's answer, and a participant may take their time (sim2d's own limit for a
+            participant's answer is 30 s, after which it is no; issue 55).
         policy: ``tom`` (the paper's tree, on the people's inferred minds, with the
             thresholds above), ``benefit`` (the same minds, each task chosen by its expected
             benefit against the costs below: :mod:`brain.robot.choice`), or a baseline
@@ -150,6 +154,7 @@ class RobotSettings:
     attempts: int = 2
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0
+    answer_timeout: float = 45.0
     policy: str = Policy.TOM.value
     deception_threshold: float = 0.5
     on_deception: str = "tell"
@@ -173,6 +178,7 @@ class RobotSettings:
         checks = {name: 0.0 <= getattr(self, name) <= 1.0 for name in ROBOT_SHARES}
         checks |= {"confirm_seconds": self.confirm_seconds >= 0, "attempts": self.attempts >= 1}
         checks |= {"navigate_timeout": self.navigate_timeout > 0, "action_timeout": self.action_timeout > 0}
+        checks |= {"answer_timeout": self.answer_timeout > 0}
         checks |= {name: getattr(self, name) >= 0 for name in ROBOT_COSTS}
         checks |= {"search_factor": self.search_factor >= 1, "ask_again_after": self.ask_again_after >= 0}
         check_values("robot", self, checks, ROBOT_ALLOWED)

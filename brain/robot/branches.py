@@ -34,6 +34,11 @@ def navigate_timeout(settings: RobotSettings) -> float:
     return settings.navigate_timeout
 
 
+def answer_timeout(settings: RobotSettings) -> float:
+    """How long a give, request or ask may take: it waits for a person's answer (s)."""
+    return settings.answer_timeout
+
+
 def _inform(ctx: RobotContext) -> Inform:
     assert isinstance(ctx.task, Inform)
     return ctx.task
@@ -136,6 +141,7 @@ def swap_accepted(ns: str) -> py_trees.composites.Sequence:
         lambda c: Request(person=_occupied(c).holder, item=_occupied(c).item, offer=_occupied(c).offer),
         ns,
         says=_swap_question,
+        timeout=answer_timeout,
     )
     pick = Act(
         "pick the offer", with_offer(lambda c, o: Skip.SKIP if c.holding(c.robot) == o else Pick(item=o)), ns
@@ -147,11 +153,16 @@ def swap_accepted(ns: str) -> py_trees.composites.Sequence:
         go_to("go to the holder", _holder_cell, ns),
         ask,
         go_to("go to the person", _person_cell, ns),
-        Act("give the item", lambda c: Give(person=_occupied(c).person), ns),
+        Act("give the item", lambda c: Give(person=_occupied(c).person), ns, timeout=answer_timeout),
         Act("go to the offer", with_offer(offer_spot), ns, timeout=navigate_timeout),
         pick,
         back,
-        Act("give the offer", with_offer(lambda c, o: Give(person=_occupied(c).holder)), ns),
+        Act(
+            "give the offer",
+            with_offer(lambda c, o: Give(person=_occupied(c).holder)),
+            ns,
+            timeout=answer_timeout,
+        ),
     ]
     return py_trees.composites.Sequence("swap accepted", memory=True, children=children)
 
@@ -274,6 +285,7 @@ def ask_branch(ns: str) -> TaskBranch:
         lambda c: Ask(person=_question(c).person),
         ns,
         says=lambda c: f"{_question(c).person}, what are you looking for?",
+        timeout=answer_timeout,
     )
     return TaskBranch(
         "ask",

@@ -4,7 +4,7 @@ DevTools protocol, keys pressed on the page.
 
 One server, two participants at the same time: p1 plays ``paper-robot`` as A1 through the
 keyboard (plays with the skate, leaves it in Storage 1, goes out, comes back), hears the
-robot, accepts the skate it brings and plays with it; the recording is complete and
+robot, accepts the skate it brings (after 20 s of thought) and plays with it; the recording is complete and
 ``toyroom infer`` reads it. p2 opens their page meanwhile, in a world of their own, reloads
 it (the same world, resumed), walks A1 to the robot, is asked what they are looking for and
 names the ball with a key (the answer in the recording, the brain's P(ball) up), and closes
@@ -161,6 +161,9 @@ def played(served: Served, tmp_path_factory: pytest.TempPathFactory) -> Served:
             assert heard
             question = p1.wait_for(f"{VIEW}.question", 120, "the robot's offer of the skate")
             served.notes["question"] = question
+            asked_at = float(_view(p1)["time"])  # a participant who takes 20 s to answer (issue 55)
+            p1.wait_for(f"{VIEW}.time >= {asked_at + 20}", 60, "20 s of the robot's offer")
+            served.notes["still_asked"] = _view(p1).get("question")
             p1.screenshot(shots / "play.png")
             served.notes["shot"] = shots / "play.png"
             if os.environ.get(SHOT_VARIABLE):  # the picture in the docs
@@ -260,6 +263,7 @@ def test_a_wrong_token_and_a_foreign_origin_are_refused(served: Served) -> None:
 
 
 def test_the_participant_hears_the_robot_and_accepts_the_skate(played: Served) -> None:
+    assert played.notes["still_asked"], "the robot withdrew its offer before the participant's 20 s were up"
     lines = [line["text"] for line in played.notes["heard"] if line["to_you"]]
     assert any("skate" in text for text in lines), f"the robot said nothing of the skate to A1: {lines}"
     question = played.notes["question"]
