@@ -62,6 +62,11 @@ def positive_int(text: str) -> int:
     return _whole_number(text, 1)
 
 
+def two_or_more(text: str) -> int:
+    """An argparse type: a whole number >= 2 (the error names what was given)."""
+    return _whole_number(text, 2)
+
+
 def non_negative_int(text: str) -> int:
     """An argparse type: a whole number >= 0 (the error names what was given)."""
     return _whole_number(text, 0)

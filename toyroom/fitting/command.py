@@ -10,7 +10,7 @@ from pathlib import Path
 
 from brain.errors import BrainError, SettingsError
 from brain.settings import Settings
-from bridge.flags import add_log_level, add_settings_args, command_parser, out_folder_problem
+from bridge.flags import add_log_level, add_settings_args, command_parser, out_folder_problem, two_or_more
 from bridge.recording.readable import RecordingError, read_recording
 from bridge.recording.trace import TraceError, read_trace
 
@@ -47,7 +47,13 @@ def add_fit_args(parser: argparse.ArgumentParser) -> None:
         default=",".join(DEFAULT_MODELS),
         help=f"models to fit and compare, the first written as settings.toml (of {', '.join(MODELS)})",
     )
-    parser.add_argument("--folds", type=int, default=5, help="k of k-fold cross-validation by episode")
+    parser.add_argument(
+        "--folds",
+        type=two_or_more,
+        default=None,
+        help=f"k of k-fold cross-validation by episode (default: {FOLDS}, or one per recording when "
+        "there are fewer)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="seed of the folds and the bootstrap")
     parser.add_argument("--workers", type=int, default=2, help="processes (or Ray CPUs)")
     parser.add_argument(
@@ -189,6 +195,26 @@ def _refined(
     )
 
 
+FOLDS = 5
+"""``--folds``' default, when there are that many recordings."""
+
+
+def fold_count(asked: int | None, recordings: int) -> int:
+    """The folds of the cross-validation: ``asked``, or :data:`FOLDS` or one per recording when
+    there are fewer (said on stdout).
+
+    Raises:
+        SettingsError: fewer than two recordings, or fewer than the folds asked for."""
+    if recordings < 2:
+        raise SettingsError(f"cross-validation needs at least 2 recordings, got {recordings}")
+    if asked is None and recordings < FOLDS:
+        print(f"toyroom fit: {recordings} recordings, so {recordings}-fold cross-validation (not {FOLDS})")
+    k = asked if asked is not None else min(FOLDS, recordings)
+    if recordings < k:
+        raise SettingsError(f"{k}-fold cross-validation needs at least {k} recordings, got {recordings}")
+    return k
+
+
 def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) -> int:
     """Run the fit and print the report."""
     if args.address and args.backend != "ray":
@@ -201,6 +227,7 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
         parse_bounds(list(model_grid(models[0], grid)) if models[0] in MODELS else [], args.bounds)
     with tempfile.TemporaryDirectory() as scratch:
         traces = as_traces(args.recordings, Path(scratch))
+        args.folds = fold_count(args.folds, len(traces))
         judgments = _judgments(args.judgments, traces, args.recordings) if args.judgments else []
         fits = fit(
             traces,

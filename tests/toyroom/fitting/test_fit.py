@@ -76,3 +76,20 @@ def test_a_fit_to_a_cut_recording_says_so_in_its_report(recordings: list[Path], 
     )
     summary = json.loads((out / "fit.json").read_text())
     assert summary["recordings_not_whole"], "fit.json names no cut recording"
+
+
+def test_folds_default_to_what_the_recordings_allow_and_one_fold_is_refused(
+    recordings: list[Path], tmp_path: Path
+) -> None:
+    """Issue 55: with 3 recordings ``--folds`` (5 by default) becomes 3, and says so; ``--folds 1``
+    was a Python traceback."""
+    one = fit(*recordings, "--folds", "1", "--out", tmp_path / "one")
+    assert one.returncode == 2 and "expected a whole number >= 2, got 1" in one.stderr, one.stderr
+    assert "Traceback" not in one.stderr, one.stderr
+    out = tmp_path / "three"
+    three = fit(*recordings, "--params", "beta", "--grid", "beta=2", "--models", "graded", "--out", out)
+    assert three.returncode == 0, three.stderr[-2000:]
+    assert "3 recordings, so 3-fold cross-validation (not 5)" in three.stdout, three.stdout[:500]
+    assert len(json.loads((out / "fit.json").read_text())["models"]["graded"]["folds"]) == 3
+    alone = fit(recordings[0], "--params", "beta", "--out", tmp_path / "alone")
+    assert alone.returncode == 2 and "at least 2 recordings, got 1" in alone.stderr, alone.stderr
