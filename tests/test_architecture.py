@@ -97,7 +97,7 @@ ROOMS = {
         "<core>": set(),
         "view": set(),
         "evaluation": set(),
-        "fitting": {"evaluation"},
+        "fitting": {"evaluation", "play"},
         "rating": {"view"},
         "play": set(),
         "cli": {"evaluation", "fitting"},

@@ -54,6 +54,11 @@ def add_fit_args(parser: argparse.ArgumentParser) -> None:
         help=f"k of k-fold cross-validation by episode (default: {FOLDS}, or one per recording when "
         "there are fewer)",
     )
+    parser.add_argument(
+        "--include-incomplete",
+        action="store_true",
+        help="also fit toyroom play recordings marked incomplete (left out by default, and listed)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="seed of the folds and the bootstrap")
     parser.add_argument("--workers", type=int, default=2, help="processes (or Ray CPUs)")
     parser.add_argument(
@@ -126,6 +131,22 @@ def as_traces(paths: Sequence[Path], scratch: Path) -> list[Path]:
             path = target
         out.append(path)
     return out
+
+
+def complete_only(paths: Sequence[Path], include: bool) -> tuple[list[Path], list[str]]:
+    """The recordings to fit, and a note for each incomplete ``toyroom play`` recording left
+    out (its metadata says ``complete = false``: the page was closed, the world ended early);
+    with ``include``, every recording, and no note."""
+    from toyroom.play.world import play_metadata
+
+    kept, left = [], []
+    for path in paths:
+        meta = play_metadata(path) if path.suffix == ".mcap" and path.is_file() else None
+        if meta is not None and meta.get("complete") == "false" and not include:
+            left.append(f"{path} ({meta.get('reason') or 'incomplete'})")
+        else:
+            kept.append(path)
+    return kept, left
 
 
 def not_whole(paths: Sequence[Path]) -> list[str]:
@@ -225,6 +246,9 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     if args.refine:
         parse_bounds(list(model_grid(models[0], grid)) if models[0] in MODELS else [], args.bounds)
+    args.recordings, left = complete_only(args.recordings, args.include_incomplete)
+    for note in left:
+        print(f"toyroom fit: excluded an incomplete play recording: {note} (--include-incomplete keeps it)")
     with tempfile.TemporaryDirectory() as scratch:
         traces = as_traces(args.recordings, Path(scratch))
         args.folds = fold_count(args.folds, len(traces))

@@ -344,3 +344,16 @@ def test_ocr_reads_the_rooms_and_the_person(played: Served, tmp_path: Path) -> N
     assert len(rooms) >= len(ROOMS) - 1, f"OCR read only {rooms} of {ROOMS}; it read: {text!r}"
     assert re.search(r"\b[Aa][1lI|]\s*\(you\)", text), f"OCR did not read 'A1 (you)'; it read: {text!r}"
     assert "Agent 1" in text, f"OCR did not read the title 'You are Agent 1'; it read: {text!r}"
+
+
+def test_fit_leaves_out_the_incomplete_recording_and_says_why(played: Served) -> None:
+    """Issue 55: ``toyroom fit`` fitted an incomplete recording without a word."""
+    from toyroom.fitting.command import complete_only
+
+    p1, p2 = played.out / "p1.mcap", played.out / "p2.mcap"
+    kept, left = complete_only([p1, p2], include=False)
+    assert kept == [p1] and len(left) == 1 and str(p2) in left[0] and "page was closed" in left[0], (
+        kept,
+        left,
+    )
+    assert complete_only([p1, p2], include=True) == ([p1, p2], [])
