@@ -31,6 +31,7 @@ question and the line of its ``[[questions]]`` header.
 from __future__ import annotations
 
 import difflib
+import fnmatch
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -162,11 +163,14 @@ def load_study(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> Stu
     if not isinstance(shuffle, bool):
         raise QuestionsError(f"{path}: shuffle must be true or false, got {shuffle!r}")
     lines = _header_lines(text)
-    episodes = episode_names(traces, names)
     questions = []
     for n, table in enumerate(tables):
         line = f" line {lines[n]}" if n < len(lines) else ""
-        questions.append(_question(table, n, f"{path}{line}", traces, episodes))
+        where = f"{path}{line}"
+        targets = _recordings(table, n, where, traces, names)
+        for name, e in targets:
+            suffix = f"-{name}" if len(targets) > 1 else ""
+            questions.append(_question(table, n, where, traces, (name, e), suffix))
     ids = [q.id for q in questions]
     if dupes := sorted({i for i in ids if ids.count(i) > 1}):
         raise QuestionsError(f"{path}: question ids must differ; repeated: {', '.join(dupes)}")
@@ -200,21 +204,47 @@ def _names(table: dict[str, Any], key: str, where: str, known: Sequence[str]) ->
     return tuple(value)
 
 
+def _recordings(
+    table: dict[str, Any], n: int, where: str, traces: Sequence[Trace], names: Sequence[str]
+) -> list[tuple[str, int]]:
+    """The recordings the ``n``-th question is asked of, as ``(name, index)``: the one its
+    ``recording`` names (by file name or scenario; the only one when it names none), or every
+    recording of a scenario several share, or whose file name matches a glob (``p*``): one
+    question each, named by file name (issue 55: two participants of one scenario)."""
+    episodes = episode_names(traces, names)
+    default = names[0] if len(traces) == 1 else ""
+    wanted = _text(table, "recording", f"{where} (questions[{n}])", default)
+    if wanted in episodes:
+        return [(wanted, episodes[wanted])]
+    shared = [
+        (name, e)
+        for e, (trace, name) in enumerate(zip(traces, names, strict=True))
+        if trace.info.scenario == wanted or fnmatch.fnmatchcase(name, wanted)
+    ]
+    if not shared:
+        known = ", ".join(sorted({*names, *(t.info.scenario for t in traces)})) or "none"
+        raise QuestionsError(
+            f"{where} (questions[{n}]): recording {wanted!r} is no recording given (known: {known})"
+        )
+    return shared
+
+
 def _question(
-    table: dict[str, Any], n: int, where: str, traces: Sequence[Trace], episodes: dict[str, int]
+    table: dict[str, Any],
+    n: int,
+    where: str,
+    traces: Sequence[Trace],
+    target: tuple[str, int],
+    suffix: str = "",
 ) -> Question:
-    """The ``n``-th ``[[questions]]`` table, checked (``where``: the file and the table's
-    line, for errors)."""
-    qid = _text(table, "id", f"{where} (questions[{n}])", f"q{n + 1}")
+    """The ``n``-th ``[[questions]]`` table asked of recording ``target`` (its name and index),
+    checked (``where``: the file and the table's line, for errors; ``suffix``: added to the
+    question's id when it is asked of several recordings)."""
+    qid = _text(table, "id", f"{where} (questions[{n}])", f"q{n + 1}") + suffix
     where = f"{where} (questions[{n}] '{qid}')"
     if (problem := _unknown(list(table), QUESTION_KEYS)) is not None:
         raise QuestionsError(f"{where}: {problem}")
-    default = list(episodes)[-1] if len(traces) == 1 else ""  # the file's name (set after the scenario's)
-    episode = _text(table, "recording", where, default)
-    if episode not in episodes:
-        known = ", ".join(sorted(episodes)) or "none"
-        raise QuestionsError(f"{where}: recording {episode!r} is no recording given (known: {known})")
-    e = episodes[episode]
+    episode, e = target
     scene, last = traces[e].info.scene, traces[e].ticks[-1][0].tick
     tick = _integer(table, "tick", where, traces[e].ticks[0][0].tick, last)
     people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]

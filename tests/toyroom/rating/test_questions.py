@@ -106,3 +106,21 @@ def test_the_command_says_what_is_wrong(recordings: list[Path], tmp_path: Path) 
     )
     assert done.returncode == 2, f"expected exit 2, got {done.returncode}: {done.stderr}"
     assert "unknown key 'tik'" in done.stderr and not (tmp_path / "ratings.csv").exists(), done.stderr
+
+
+def test_a_scenario_several_recordings_share_or_a_glob_asks_each(
+    tmp_path: Path, traces: tuple[list[Trace], list[str]]
+) -> None:
+    """Issue 55: two participants of one scenario made the example's ``recording =
+    "paper-robot"`` an error ("is no recording given (known: p1, p2)"); it now asks each."""
+    robot = traces[0][0]
+    two = ([robot, robot], ["p1", "p2"])  # two participants' recordings of paper-robot
+    text = GOOD.replace('recording = "robot"', 'recording = "paper-robot"').split("[[questions]]\nid")[0]
+    study = load(text, tmp_path, two)
+    asked = [(q.id, q.episode) for q in study.questions]  # type: ignore[attr-defined]
+    assert asked == [("q1-p1", "p1"), ("q1-p2", "p2")], asked
+    globbed = load(GOOD.replace('recording = "robot"', 'recording = "*"'), tmp_path, traces)
+    asked = [(q.id, q.episode) for q in globbed.questions]  # type: ignore[attr-defined]
+    assert asked == [("q1-robot", "robot"), ("q1-decline", "decline"), ("later", "paper-robot-decline")], (
+        asked
+    )
