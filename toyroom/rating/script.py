@@ -133,12 +133,20 @@ function sliders() {
     row.querySelector(".name").textContent = S.question.labels[n];
     const input = row.querySelector("input");
     input.dataset.target = target;
-    input.addEventListener("input", () => { row.querySelector("output").textContent = input.value; });
+    input.addEventListener("input", () => {
+      row.querySelector("output").textContent = input.value;
+      input.dataset.touched = "yes";  // an untouched slider is no answer (issue 55)
+    });
     box.appendChild(row);
   });
 }
 
 async function submit() {
+  const untouched = [...document.querySelectorAll("#sliders input")].filter((i) => !i.dataset.touched);
+  if (untouched.length) {
+    $("status").textContent = "Move every slider before going on (leave it where it is by moving it back).";
+    return;
+  }
   $("submit").disabled = true;
   const values = {};
   document.querySelectorAll("#sliders input").forEach((input) => {

@@ -250,7 +250,7 @@ def test_a_foreign_mcap_is_refused_in_one_line_naming_it(tmp_path: Path, command
     extra = {
         "replay": ["--world", f"w{uuid.uuid4().hex[:8]}", "--speed", "0"],
         "infer": ["--out", out],
-        "fit": ["--params", "beta", "--folds", "1", "--out", out, "--no-progress"],
+        "fit": ["--params", "beta", "--out", out, "--no-progress"],
     }[command]
     result = toyroom(command, foreign, *extra)
     line = f"{foreign}: not a toyroom recording: none of its topics is a toyroom key"
@@ -292,9 +292,7 @@ def test_replay_sends_only_toyroom_keys_of_a_mixed_recording(tmp_path: Path) -> 
 def test_fit_names_the_users_file_of_an_mcap_without_an_episode(tmp_path: Path) -> None:
     lonely = tmp_path / "lonely.mcap"
     write_mcap(lonely, [("toyroom/rec/engine/state", encode(golden_examples()["state"]))])
-    result = toyroom(
-        "fit", lonely, "--params", "beta", "--folds", "1", "--out", tmp_path / "out", "--no-progress"
-    )
+    result = toyroom("fit", lonely, "--params", "beta", "--out", tmp_path / "out", "--no-progress")
     assert result.returncode == 2 and f"{lonely}: no engine handshake" in result.stderr, (
         f"expected exit 2 naming {lonely}, got {result.returncode}:\n{result.stderr}"
     )

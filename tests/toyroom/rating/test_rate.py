@@ -135,6 +135,15 @@ def test_a_rater_answers_and_the_fit_reads_the_csv(
         consent = page.evaluate("document.getElementById('consent').innerText")
         assert "A test study" in consent, f"expected the consent text first, the page shows {consent!r}"
         page.evaluate("document.getElementById('agree').click(); 0")
+        page.wait_for("!document.getElementById('submit').disabled", 60, "the replay's end")
+        page.evaluate("document.getElementById('submit').click(); 0")  # no slider touched: no answer
+        said = page.wait_for(
+            "document.getElementById('status').innerText.includes('Move every slider') && "
+            "document.querySelector('header').innerText",
+            10,
+            "the page asking for every slider",
+        )
+        assert "question 1 of 3" in said, f"an untouched answer moved the rater on: {said!r}"
         assert answer(page, [10, 80, 5, 5]) == 100, "the first replay should stop at tick 100"
         progress = page.evaluate("document.querySelector('header').innerText")
         assert "question 2 of 3" in progress, f"after one answer: {progress!r}"
