@@ -65,7 +65,8 @@ class PersonCommand(Message, frozen=True, kw_only=True, tag="person_command"):
     ``seq`` counts the participant's commands from 0 (an engine may drop a repeated one);
     ``key`` is the key the participant pressed (the browser's ``KeyboardEvent.key``, e.g.
     ``"ArrowUp"``, ``"t"``; empty when not from a keyboard) and ``pressed`` when, in seconds
-    since the participant's page opened; ``participant`` names the participant.
+    since the participant's page opened (``toyroom play`` counts a reloaded page on from the
+    page before, so the times never run back); ``participant`` names the participant.
     """
 
     person: Id

@@ -132,6 +132,10 @@ class PlayWorld:
         self._state: State | None = None
         self._episode = -1
         self._left_at: float | None = time.monotonic()
+        self._pressed = (0.0, 0.0, 0.0)
+        """``(base, last, when)``: what a page's key times are counted from (0 for the first
+        page; a reload's from the last key's time plus the seconds since it), the last key's
+        time so counted, and the monotonic clock then: a recording's key times never run back."""
         self._publisher: Any = None
         self.ready = threading.Event()
         """The brain has reset the engine to a fresh episode: the world may run."""
@@ -142,6 +146,9 @@ class PlayWorld:
         """A page connected (a reload replaces the one before): send it the map and the view,
         and run the world."""
         with self._lock:
+            if self._send is not None or self._left_at is not None:  # not the first page
+                _, last, when = self._pressed
+                self._pressed = (last + (time.monotonic() - when if when else 0.0), last, when)
             self._send, self._left_at = send, None
             for message in (self.layout, self._heard_view()):
                 if message is not None:
@@ -171,10 +178,13 @@ class PlayWorld:
                 log.debug("sending to %s's page failed", self.participant, exc_info=True)
 
     def key(self, key: str, pressed: float) -> bool:
-        """The participant pressed ``key`` at ``pressed`` s (page time): publish its command;
-        whether the key meant one."""
+        """The participant pressed ``key`` at ``pressed`` s (page time, counted on from the pages
+        before: :attr:`_pressed`): publish its command; whether the key meant one."""
         layout = self.layout or {}
         with self._lock:
+            base, last, _ = self._pressed
+            pressed = max(base + pressed, last)
+            self._pressed = (base, pressed, time.monotonic())
             goto = layout.get("goto_keys", {})
             answers = self._answer_keys()
             command = command_for(

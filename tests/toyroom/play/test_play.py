@@ -334,6 +334,16 @@ def test_two_participants_have_worlds_of_their_own_and_a_reload_resumes(played: 
     meta = play_metadata(played.out / "p2.mcap")
     assert meta is not None and meta["complete"] == "false", f"p2's play metadata: {meta}"
     assert "page was closed" in meta["reason"], meta
+    from bridge.recording.readable import read_recording
+
+    presses = [
+        m for _, m in read_recording(played.out / "p2.mcap").messages() if isinstance(m, PersonCommand)
+    ]
+    times = [(p.key, p.pressed) for p in presses]
+    assert len(times) >= 2 and times[0][0] == "ArrowRight", f"p2's presses: {times}"
+    assert all(a[1] <= b[1] for a, b in zip(times, times[1:], strict=False)), (
+        f"key times ran back across the reload (issue 55: each page counted from its own opening): {times}"
+    )
 
 
 @pytest.mark.skipif(shutil.which("tesseract") is None, reason="tesseract is not installed")

@@ -835,7 +835,8 @@ namespace Toyroom.Protocol
     /// <c>seq</c> counts the participant's commands from 0 (an engine may drop a repeated one);
     /// <c>key</c> is the key the participant pressed (the browser's <c>KeyboardEvent.key</c>, e.g.
     /// <c>"ArrowUp"</c>, <c>"t"</c>; empty when not from a keyboard) and <c>pressed</c> when, in seconds
-    /// since the participant's page opened; <c>participant</c> names the participant.
+    /// since the participant's page opened (<c>toyroom play</c> counts a reloaded page on from the
+    /// page before, so the times never run back); <c>participant</c> names the participant.
     /// </summary>
     public sealed class PersonCommand
     {
