@@ -7,7 +7,7 @@ The server and the page (:mod:`.server`, ``page.html``), one participant's world
 keyboard (:mod:`.keys`).
 """
 
-from .keys import INSTRUCTIONS, answer_keys, command_for
+from .keys import INSTRUCTIONS, command_for, digit_keys
 from .server import PlayServer, parse_listen
 from .sight import Memory, Sight, goto_keys
 from .speech import Heard, Speech
@@ -25,8 +25,8 @@ __all__ = [
     "PlayWorld",
     "Sight",
     "Speech",
-    "answer_keys",
     "command_for",
+    "digit_keys",
     "goto_keys",
     "held_rate",
     "parse_listen",

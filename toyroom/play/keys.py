@@ -3,7 +3,7 @@
 Arrows step one cell; the digits walk to the places the page numbers (locations, then rooms
 without one); ``t`` takes, ``d`` drops, ``p`` plays (or stops), ``y`` and ``n`` answer the
 robot, space stops. While the robot asks what the person is looking for, the digits name the
-items instead (:func:`answer_keys`; ``n``: nothing). Any other key does nothing (and is not
+items instead (:func:`digit_keys`; ``n``: nothing). Any other key does nothing (and is not
 sent).
 """
 
@@ -41,10 +41,11 @@ INSTRUCTIONS = (
 """The keys, as the page lists them."""
 
 
-def answer_keys(items: Sequence[str]) -> dict[str, str]:
-    """The digit key that names each item in answer to "what are you looking for?" (``"1"``
-    the first, up to ``"9"``)."""
-    return {str(n + 1): item for n, item in enumerate(items[:9])}
+def digit_keys(names: Sequence[str]) -> dict[str, str]:
+    """The digit key of each of ``names`` (``"1"`` the first, up to ``"9"``): the places the
+    page numbers (:func:`~toyroom.play.sight.goto_keys`), and the items named in answer to
+    "what are you looking for?"."""
+    return {str(n + 1): name for n, name in enumerate(names[:9])}
 
 
 def command_for(

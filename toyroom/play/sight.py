@@ -17,6 +17,8 @@ from typing import Any
 from protocol import AgentKind, Cell, ItemState, Scene, State
 from protocol.carry import CarrierSight, carry_locations
 
+from .keys import digit_keys
+
 JsonDict = dict[str, Any]
 
 
@@ -162,4 +164,4 @@ def goto_keys(scene: Scene) -> dict[str, str]:
     (``"1"`` the first, up to ``"9"``)."""
     with_spots = {loc.region for loc in scene.locations}
     targets = [loc.id for loc in scene.locations] + [r.id for r in scene.regions if r.id not in with_spots]
-    return {str(n + 1): target for n, target in enumerate(targets[:9])}
+    return digit_keys(targets)

@@ -35,7 +35,7 @@ class Speech:
         names: display names of agents and items, by id.
         region_name: display names of the location ids said (their region's name).
         answers: the digit key that names each item in answer to "what are you looking
-            for?" (:func:`toyroom.play.keys.answer_keys`).
+            for?" (:func:`toyroom.play.keys.digit_keys`).
     """
 
     def __init__(

@@ -42,7 +42,7 @@ from protocol import (
     State,
 )
 
-from .keys import answer_keys, command_for
+from .keys import command_for, digit_keys
 from .sight import Memory, Sight
 from .speech import Speech
 
@@ -258,7 +258,7 @@ class PlayWorld:
             raise RuntimeError(f"scenario '{info.scenario}' has no person '{person}'")
         regions = {r.id: r.name or r.id for r in info.scene.regions}
         places = {loc.id: regions.get(loc.region, loc.region) for loc in info.scene.locations}
-        self.speech = Speech(person, sight.names, places, answer_keys([i.id for i in info.scene.items]))
+        self.speech = Speech(person, sight.names, places, digit_keys([i.id for i in info.scene.items]))
         with self._lock:
             self.layout = sight.layout(self.participant) | {"world": self.world, "scenario": info.scenario}
             if self._send is not None:

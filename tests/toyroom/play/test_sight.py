@@ -17,7 +17,7 @@ from protocol import (
     SayTopic,
 )
 from sim2d.engine import Engine
-from toyroom.play import Memory, Sight, Speech, answer_keys, command_for, goto_keys
+from toyroom.play import Memory, Sight, Speech, command_for, digit_keys, goto_keys
 
 
 @pytest.fixture
@@ -84,7 +84,7 @@ def test_keys_become_commands_with_their_time() -> None:
 
 
 def test_the_robots_question_names_the_items_and_digits_answer_it() -> None:
-    answers = answer_keys(["skate", "ball"])
+    answers = digit_keys(["skate", "ball"])
     assert answers == {"1": "skate", "2": "ball"}, answers
     speech = Speech("A1", {"A1": "Agent 1", "ball": "ball", "skate": "skate"}, {}, answers)
     what = RobotCommand(id="c1", robot="robot", action=Ask(person="A1"))
