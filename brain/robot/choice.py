@@ -22,7 +22,7 @@ by the tree's branches).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,7 +66,7 @@ def chosen(snap: Snapshot, settings: RobotSettings) -> list[Scored]:
         return _LAST[2]
     key, snap = snap, _lasting(snap) if settings.lasting_want else snap
     best = _best(candidates(snap, settings))
-    for asked in questions(snap, settings):
+    for asked in questions(snap, settings, best):
         assert isinstance(asked.task, Question)
         best[(asked.task.person, "?")] = asked
     kept = sorted((s for s in best.values() if s.worth.net > 0), key=lambda s: -s.worth.net)
@@ -99,11 +99,15 @@ def _best(scored: Iterator[Scored]) -> dict[tuple[str, str], Scored]:
     return best
 
 
-def questions(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
+def questions(
+    snap: Snapshot, settings: RobotSettings, best: dict[tuple[str, str], Scored] | None = None
+) -> Iterator[Scored]:
     """Asking each person with empty hands what they are looking for, scored as the value of
     its answer (:func:`~brain.robot.benefit.ask_worth`): the best help for them after each
-    answer, by its odds (``snap.answer_reliability``), against the best help now. Not a person
+    answer, by its odds (``snap.answer_reliability``), against the best help now (read off
+    ``best``, :func:`_best` of every candidate now, when the caller has it). Not a person
     asked within ``settings.ask_again_after`` seconds."""
+    best = _best(candidates(snap, settings)) if best is None else best
     for person in snap.people:
         est = snap.estimates.get(person)
         if est is None or snap.holding(person) is not None:
@@ -113,7 +117,7 @@ def questions(snap: Snapshot, settings: RobotSettings) -> Iterator[Scored]:
             continue
         odds, after = open_answers(est.preference, snap.answer_reliability)
         helped = [_help(snap, settings, person, dataclasses.replace(est, preference=p)) for p in after]
-        now = _help(snap, settings, person, est)
+        now = _net(s for (whom, _), s in best.items() if whom == person)
         yield Scored(Question(person, times), ask_worth(odds, np.array(helped), now, settings))
 
 
@@ -121,8 +125,12 @@ def _help(snap: Snapshot, settings: RobotSettings, person: str, est: Estimate) -
     """The net worth of the robot's best help for ``person`` were their mind ``est`` (0 when
     nothing is worth doing)."""
     mind = dataclasses.replace(snap, estimates={**snap.estimates, person: est})
-    best = _best(candidates(mind, settings, only=person))
-    return max((s.worth.net for s in best.values()), default=0.0)
+    return _net(_best(candidates(mind, settings, only=person)).values())
+
+
+def _net(scored: Iterable[Scored]) -> float:
+    """The best net worth among ``scored`` (0 when there is none)."""
+    return max((s.worth.net for s in scored), default=0.0)
 
 
 def candidates(snap: Snapshot, settings: RobotSettings, only: str | None = None) -> Iterator[Scored]:
