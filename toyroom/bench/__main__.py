@@ -16,11 +16,6 @@ from brain.model.size import MEMORY_BUDGET_GB
 from .memory import main as memory
 from .suite import main as suite
 
-SEEDS = (2, 4, 7)
-"""The memory runs' episode seeds: with ``miss = 0.2``, embodied, the two heaviest house-b task
-episodes of seeds 1-4 before issue 53's slim history (2.71 and 2.02 GiB then), and seed 7, the
-heaviest of seeds 5-12 after it (0.56 GiB)."""
-
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
@@ -31,7 +26,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path(tempfile.gettempdir()) / "toyroom-bench")
     args = parser.parse_args(argv)
     if args.memory:
-        runs = memory(args.out, SEEDS)
+        runs = memory(args.out)
         return 0 if all(r.code == 0 and r.peak_gb <= MEMORY_BUDGET_GB for r in runs) else 1
     suite(args.quick, args.out)
     return 0
