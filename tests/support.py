@@ -337,3 +337,44 @@ def run_command(
             tracker.observe(result.state, result.events)
         statuses += [s for s in result.statuses if s.command == command.id]
     raise AssertionError(f"{action} never ended in {max_ticks} ticks: {statuses}")
+
+
+ONE_PERSON = """
+name = "{name}"
+map = "{map}"
+robot = "act"
+max_ticks = 2000
+
+[[items]]
+id = "ball"
+shape = "ball"
+at = "S1"
+
+[[items]]
+id = "skate"
+shape = "board"
+at = "P2"
+
+[[agents]]
+id = "A1"
+kind = "person"
+home = {a1}
+wants = "skate"
+script = [{{ do = "wait" }}]
+
+[[agents]]
+id = "robot"
+kind = "robot"
+home = {robot}
+"""
+
+
+def one_person(folder: Path, name: str, a1: tuple[int, int], robot: tuple[int, int]) -> Path:
+    """Write a paper-map scenario ``name`` into ``folder``: the ball at S1, the skate at P2, A1
+    (who wants the skate) waiting at cell ``a1`` and an acting robot at ``robot``; its path."""
+    from sim2d.scenario.maps import SCENARIO_DIR
+
+    path = folder / f"{name}.toml"
+    paper = (SCENARIO_DIR / "paper.map.toml").as_posix()
+    path.write_text(ONE_PERSON.format(name=name, map=paper, a1=list(a1), robot=list(robot)))
+    return path

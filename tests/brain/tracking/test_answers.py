@@ -8,43 +8,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support import run_command
+from support import one_person, run_command
 
 from brain.model.answers import answer_likelihood
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from protocol import Action, Ask, Cell, CommandState, Navigate
 from sim2d.engine import Engine
-from sim2d.scenario.maps import SCENARIO_DIR
-
-SCENARIO = """
-name = "asked"
-map = "{map}"
-robot = "act"
-max_ticks = 2000
-
-[[items]]
-id = "ball"
-shape = "ball"
-at = "S1"
-
-[[items]]
-id = "skate"
-shape = "board"
-at = "P2"
-
-[[agents]]
-id = "A1"
-kind = "person"
-home = [5, 5]
-wants = "skate"
-script = [{{ do = "wait" }}]
-
-[[agents]]
-id = "robot"
-kind = "robot"
-home = [7, 5]
-"""
 
 FORMS = {
     "graded": ModelSettings(),
@@ -71,9 +41,7 @@ def _ask(engine: Engine, tracker: MindTracker, action: Action) -> None:
 
 @pytest.mark.parametrize("form", sorted(FORMS))
 def test_what_a_person_answers_moves_the_estimate_of_what_they_want(tmp_path: Path, form: str) -> None:
-    path = tmp_path / "asked.toml"
-    path.write_text(SCENARIO.format(map=(SCENARIO_DIR / "paper.map.toml").as_posix()))
-    engine = Engine(str(path))
+    engine = Engine(str(one_person(tmp_path, "asked", a1=(5, 5), robot=(7, 5))))
     tracker = MindTracker(engine.scene(), FORMS[form])
     tracker.observe(engine.state(), ())
     skate, ball = tracker.model.items.index("skate"), tracker.model.items.index("ball")

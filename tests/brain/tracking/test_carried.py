@@ -9,52 +9,20 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support import run_command
+from support import one_person, run_command
 
 from brain.model.world import is_held
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from protocol import Action, Cell, CommandState, Navigate, Pick, Place
 from sim2d.engine import Engine
-from sim2d.scenario.maps import SCENARIO_DIR
-
-SCENARIO = """
-name = "carried"
-map = "{map}"
-robot = "act"
-max_ticks = 2000
-
-[[items]]
-id = "ball"
-shape = "ball"
-at = "S1"
-
-[[items]]
-id = "skate"
-shape = "board"
-at = "P2"
-
-[[agents]]
-id = "A1"
-kind = "person"
-home = {home}
-wants = "skate"
-script = [{{ do = "wait" }}]
-
-[[agents]]
-id = "robot"
-kind = "robot"
-home = [6, 5]
-"""
 
 
 class Watch:
     """The engine and the brain's tracker, stepped together; A1's ball as the brain reads it."""
 
     def __init__(self, tmp_path: Path, home: tuple[int, int]) -> None:
-        path = tmp_path / "carried.toml"
-        path.write_text(SCENARIO.format(map=(SCENARIO_DIR / "paper.map.toml").as_posix(), home=list(home)))
-        self.engine = Engine(str(path))
+        self.engine = Engine(str(one_person(tmp_path, "carried", a1=home, robot=(6, 5))))
         self.tracker = MindTracker(self.engine.scene(), ModelSettings())
         self.tracker.observe(self.engine.state(), ())
         self.ball = self.tracker.model.items.index("ball")
