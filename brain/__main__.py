@@ -17,6 +17,7 @@
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from collections.abc import Sequence
 from contextlib import nullcontext
@@ -252,6 +253,7 @@ def run_node(
             run_log=args.run_log,
             memory=None if store is None else MemoryKeeper(store, args.checkpoint_ticks),
         )
+        stop_on_sigterm(node)
         for chosen, folder in episodes:
             if folder is not None:
                 node.shadow_dir = args.shadow_out / folder
@@ -262,12 +264,29 @@ def run_node(
                 if folder is None:
                     raise
                 raise BrainError(f"episode of {chosen}: {err}") from err
+            last = tracker.ticks[-1] if tracker.ticks else "none"
+            note = STOPPED_NOTE.format(tick=last) if node.stopped else ""
             if args.out is not None:
                 out = args.out / folder if folder is not None else args.out
-                path = write_results(tracker, scenario, out, settings)
+                path = write_results(tracker, scenario, out, settings, note)
                 print(f"brain: wrote {path} and the report in {out}", flush=True)
+            if node.stopped:
+                print(f"brain: {note}", flush=True)
+                break
     if recorder is not None and recorder.error is not None:  # a full disk: the rest is lost
         raise BrainError(f"--record: {recorder.error}")
+
+
+STOPPED_NOTE = (
+    "stopped (SIGTERM) at tick {tick}, before the episode's end: the outputs cover the ticks until then"
+)
+
+
+def stop_on_sigterm(node: BrainNode) -> None:
+    """On SIGTERM, end the episode at the next tick and write what the brain has (the caller
+    of :meth:`BrainNode.run` sees :attr:`BrainNode.stopped`): a brain stopped early, as
+    ``toyroom play`` stops one at a study's goal, keeps its outputs. Main thread only."""
+    signal.signal(signal.SIGTERM, lambda *_: node.stopping.set())
 
 
 def episode_folders(scenarios: Sequence[str]) -> list[tuple[str, str]]:

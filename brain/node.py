@@ -21,11 +21,10 @@ import queue
 import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal, Protocol
 
-from bridge import Bridge, LockstepClient, NoReply, Publisher, StepTimeout, handshake
+from bridge import Bridge, LockstepClient, NoReply, StepTimeout, handshake
 from protocol import (
     AgentKind,
     ClockMode,
@@ -33,15 +32,15 @@ from protocol import (
     ControlReply,
     EngineInfo,
     Event,
-    Message,
     Reset,
     State,
 )
 
 from .errors import StateError
+from .link import Link, Stopped
 from .memory import MemoryKeeper
 from .model.revisions import SharedRevisions
-from .outputs.results import MindCache, mind_message
+from .outputs.results import mind_message
 from .outputs.runlog import RunLog
 from .outputs.shadows import ShadowMinds
 from .realtime import EventFeed, Heartbeats
@@ -97,6 +96,10 @@ class BrainNode:
         memory: MemoryKeeper | None = None,
     ) -> None:
         self.bridge = bridge
+        self.stopping = threading.Event()
+        """Set (by the node's SIGTERM handler) to end the episode at the next tick: :meth:`run`
+        returns what the brain has so far, and :attr:`stopped` says so."""
+        self.stopped = False
         self.memory = memory
         self.run_log = run_log
         self._run_log: RunLog | None = None
@@ -129,7 +132,7 @@ class BrainNode:
         log.info("robot '%s' %s", spec.id, "acts" if acts else "only observes")
         return RobotBrain(tracker, spec.id, self.robot_settings) if acts else None
 
-    def _link(self, info: EngineInfo, old: _Link | None, realtime: bool, tick: int | None = None) -> _Link:
+    def _link(self, info: EngineInfo, old: Link | None, realtime: bool, tick: int | None = None) -> Link:
         """What following the engine of ``info`` takes: the person models (kept from ``old``
         when the scene is the same, new otherwise: from the memory of the household's days
         before, when there is one, joined at engine tick ``tick``), the shadow observers
@@ -153,7 +156,7 @@ class BrainNode:
         robot = (
             old.robot if old is not None and same and old.robot is not None else self._robot(info, tracker)
         )
-        link = _Link(info, tracker, shadow, robot)
+        link = Link(info, tracker, shadow, robot)
         if self._run_log is not None:
             self._run_log.engine(info)
         if robot is None:
@@ -186,6 +189,7 @@ class BrainNode:
         self._max_ticks, self._on_tick = max_ticks, on_tick
         if self.run_log is not None:
             self._run_log = RunLog(self.run_log, self.observer)
+        self.stopped = False
         try:
             first = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
             if first.clock is ClockMode.REALTIME:
@@ -203,7 +207,7 @@ class BrainNode:
                 declared.close()
             self._declared.clear()
 
-    def _tick(self, link: _Link, state: State, events: tuple[Event, ...]) -> bool:
+    def _tick(self, link: Link, state: State, events: tuple[Event, ...]) -> bool:
         """The per-tick pipeline of both clocks: the estimates, the shadows, the robot's tree
         and commands (in lock-step each awaited until the engine accepts or refuses it), the
         ``brain/mind`` message. Whether the episode is over. A state the tracker cannot
@@ -235,6 +239,8 @@ class BrainNode:
         if self._run_log is not None:
             self._run_log.mind(mind)
         over = state.done or (self._max_ticks is not None and state.tick >= self._max_ticks)
+        if not over and self.stopping.is_set():
+            self.stopped = over = True
         if self.memory is not None:
             self.memory.after_tick(mind, link.tracker.robot_items(), over)
         if self._on_tick is not None:
@@ -251,7 +257,11 @@ class BrainNode:
         lost = self._lost = self._watch_engine()
         events = clock.last_reply.events if clock.last_reply is not None else ()
         while not self._tick(link, state, events):
-            link, state = self._advance(clock, link, lost, state, scenario, seed)
+            try:
+                link, state = self._advance(clock, link, lost, state, scenario, seed)
+            except Stopped:
+                self.stopped = True
+                break
             reply = clock.last_reply
             events = reply.events if reply is not None else ()
             if link.robot is not None and reply is not None:
@@ -264,12 +274,12 @@ class BrainNode:
     def _advance(
         self,
         clock: LockstepClient,
-        link: _Link,
+        link: Link,
         lost: threading.Event,
         state: State,
         scenario: str | None,
         seed: int,
-    ) -> tuple[_Link, State]:
+    ) -> tuple[Link, State]:
         """The link and the state after one more step of ``state``'s episode. An engine lost
         meanwhile (its liveliness token gone: killed, or stalled past its link's lease) is
         waited for; back where the brain left it, the step is asked again and the episode
@@ -322,8 +332,14 @@ class BrainNode:
             try:
                 state = states.get(timeout=0.2)
             except queue.Empty:
+                if self.stopping.is_set():  # no state comes (the engine stopped too): stop here
+                    self.stopped = True
+                    break
                 if lost.is_set():
-                    link, episode = self._engine_lost(link, lost, realtime=True), None
+                    try:
+                        link, episode = self._engine_lost(link, lost, realtime=True), None
+                    except Stopped:
+                        continue
                     feed.clear()  # the old engine's events
                     last_state = time.monotonic()
                 elif self.timeout is not None and time.monotonic() - last_state > self.timeout:
@@ -345,7 +361,7 @@ class BrainNode:
                 break
         return link.info.scenario, link.tracker
 
-    def _engine_lost(self, link: _Link, lost: threading.Event, realtime: bool) -> _Link:
+    def _engine_lost(self, link: Link, lost: threading.Event, realtime: bool) -> Link:
         """The engine went away: say so, keep the estimates, and wait for an engine of the same
         world; then shake hands again. The same scene is the same episode carried on: the robot
         keeps its tasks; in real time it sends the commands in flight again under new ids (an
@@ -355,6 +371,8 @@ class BrainNode:
         info, robot = link.info, link.robot
         log.warning("engine '%s' lost: keeping the estimates, waiting for it to come back", info.engine)
         while lost.is_set():
+            if self.stopping.is_set():
+                raise Stopped
             time.sleep(0.1)
         again = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         if again.scene != info.scene:
@@ -369,27 +387,10 @@ class BrainNode:
         return back
 
     @staticmethod
-    def _resend(back: _Link, robot: RobotBrain | None) -> None:
+    def _resend(back: Link, robot: RobotBrain | None) -> None:
         """The same robot on an engine that may not have its commands in flight: send them
         again, under new ids."""
         if back.robot is not None and back.robot is robot:
             sent = back.robot.tree.context.book.resend_in_flight()
             if sent:
                 log.info("sending again, under new ids: %s", ", ".join(sent))
-
-
-@dataclass
-class _Link:
-    """What the brain holds for the engine it follows."""
-
-    info: EngineInfo
-    tracker: MindTracker
-    shadow: ShadowMinds | None
-    robot: RobotBrain | None
-    inbox: queue.Queue[CommandStatus] = field(default_factory=queue.Queue)
-    """The robot's command statuses, as they arrive."""
-    commands: Publisher[Message] | None = None
-    heartbeats: Heartbeats | None = None
-    """Real-time engines only."""
-    minds: MindCache = field(default_factory=dict)
-    """The ``mind`` message's parts kept between ticks (:func:`mind_message`)."""

@@ -91,6 +91,7 @@ from .scene import (
 )
 from .scene_check import InvalidScene, scene_problems, validate_scene
 from .state import Activity, AgentState, ItemState, State
+from .study import Goal, Study, StudyOutcome
 from .truth import ItemPlace, Pursuit, TrueMind, Truth
 from .version import PROTOCOL_VERSION, Version, check_version
 from .vocabulary import known, note_unknown, unknown_values
@@ -195,6 +196,9 @@ __all__ = [
     "Scene",
     "State",
     "Step",
+    "Study",
+    "Goal",
+    "StudyOutcome",
     "Pursuit",
     "TrueMind",
     "Truth",

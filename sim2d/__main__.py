@@ -68,18 +68,26 @@ def scene_parser() -> argparse.ArgumentParser:
     parser = command_parser("python -m sim2d scene", "Print a scenario's protocol scene as JSON.")
     parser.add_argument("--scenario", required=True, help="scenario name or .toml path")
     parser.add_argument("--seed", type=int, default=0, help="episode seed (default: %(default)s)")
+    parser.add_argument(
+        "--study",
+        action="store_true",
+        help='print {"scene": the scene, "study": the scenario\'s [study] section or null} instead',
+    )
     return parser
 
 
 def scene_main(argv: Sequence[str]) -> int:
-    """``python -m sim2d scene --scenario S``: the scene ``engine/info`` would carry, on stdout."""
+    """``python -m sim2d scene --scenario S``: the scene ``engine/info`` would carry, on stdout
+    (``--study``: with the scenario's ``[study]`` section, :class:`protocol.Study`)."""
     args = scene_parser().parse_args(argv)
     try:
-        scene = Engine(args.scenario, seed=args.seed, check_policy=False).scene()
+        engine = Engine(args.scenario, seed=args.seed, check_policy=False)
     except Sim2dError as err:
         print(f"sim2d: {err}", file=sys.stderr)
         return 2
-    print(msgspec.json.encode(scene).decode())
+    scene = engine.scene()
+    shown = {"scene": scene, "study": engine.scenario.study} if args.study else scene
+    print(msgspec.json.encode(shown).decode())
     return 0
 
 

@@ -10,7 +10,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, Household, ItemShape
+import msgspec
+
+from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, Household, ItemShape, Study
 
 from ..errors import ScenarioError
 from .autonomy import Autonomy, parse_autonomy
@@ -79,6 +81,8 @@ class Scenario:
     autonomy: Autonomy = Autonomy()
     household: Household | None = None
     """The household and day the episode is (``[household]``: ``id``, ``day`` from 1), if any."""
+    study: Study | None = None
+    """What a participant playing this scenario is told and asked (``[study]``), if any."""
 
     @property
     def autonomous(self) -> tuple[AgentSetup, ...]:
@@ -320,6 +324,7 @@ def load_scenario(name_or_path: str) -> Scenario:
         agents=tuple(agents),
         autonomy=parse_autonomy(data, path),
         household=_household(data, path),
+        study=_study(data, path, game_map, {item.id for item in items}, agents),
     )
 
 
@@ -335,3 +340,36 @@ def _household(data: dict[str, Any], path: Path) -> Household | None:
     if not isinstance(ident, str) or not ident:
         raise ScenarioError(path, "household", f"id must be a non-empty string, got {ident!r}")
     return Household(id=ident, day=integer(table.get("day", 1), path, "household", "day"))
+
+
+def _study(
+    data: dict[str, Any], path: Path, game_map: GameMap, items: set[str], agents: list[AgentSetup]
+) -> Study | None:
+    """The ``[study]`` table (:class:`protocol.Study`): strict keys, a goal of one condition
+    naming an item or a region of the scenario (``after``: a label of a person's script), a
+    positive time limit."""
+    table = data.get("study")
+    if table is None:
+        return None
+    try:
+        study = msgspec.convert(table, Study)
+    except msgspec.ValidationError as err:
+        raise ScenarioError(path, "study", str(err)) from None
+    goal = study.reached
+    if goal is not None:
+        problem = goal.problem()
+        if problem is not None:
+            raise ScenarioError(path, "study.reached", problem)
+        for key, known, what in (
+            ("holds", items, "item"),
+            ("plays", items, "item"),
+            ("enters", {r.id for r in game_map.regions}, "region"),
+        ):
+            value = getattr(goal, key)
+            if value is not None and value not in known:
+                known_ = ", ".join(sorted(known))
+                raise ScenarioError(path, f"study.reached.{key}", f"no {what} {value!r} (known: {known_})")
+        labels = {step.label for agent in agents for step in agent.script if step.label is not None}
+        if goal.after is not None and goal.after not in labels:
+            raise ScenarioError(path, "study.reached.after", f"no step is labelled {goal.after!r}")
+    return study

@@ -29,6 +29,7 @@ SCENARIO_KEYS = frozenset(
         "agents",
         "autonomy",
         "household",
+        "study",
     }
 )
 """A scenario file's top level."""

@@ -83,6 +83,17 @@ class Tab:
         self.call("Input.dispatchKeyEvent", **down)
         self.call("Input.dispatchKeyEvent", type="keyUp", key=key, windowsVirtualKeyCode=code)
 
+    def hold(self, key: str, repeats: int) -> None:
+        """Hold ``key`` down as a keyboard does: one press, then ``repeats`` auto-repeats
+        (``KeyboardEvent.repeat`` true), sent as fast as the link takes them, then release."""
+        code = KEY_CODES.get(key, ord(key.upper()) if len(key) == 1 else 0)
+        self.call("Input.dispatchKeyEvent", type="keyDown", key=key, windowsVirtualKeyCode=code)
+        for _ in range(repeats):
+            self.call(
+                "Input.dispatchKeyEvent", type="keyDown", key=key, windowsVirtualKeyCode=code, autoRepeat=True
+            )
+        self.call("Input.dispatchKeyEvent", type="keyUp", key=key, windowsVirtualKeyCode=code)
+
     def wait_for(self, expression: str, timeout: float, what: str) -> Any:
         """Wait until ``expression`` is truthy in the page (polled; throwing counts as not yet)."""
         value = wait_until(lambda: self.evaluate(expression, strict=False), timeout, f"{what} ({expression})")

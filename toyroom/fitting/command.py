@@ -137,7 +137,7 @@ def complete_only(paths: Sequence[Path], include: bool) -> tuple[list[Path], lis
     """The recordings to fit, and a note for each incomplete ``toyroom play`` recording left
     out (its metadata says ``complete = false``: the page was closed, the world ended early);
     with ``include``, every recording, and no note."""
-    from toyroom.play.world import play_metadata
+    from toyroom.play.recording import play_metadata
 
     kept, left = [], []
     for path in paths:

@@ -7,12 +7,14 @@ The server and the page (:mod:`.server`, ``page.html``), one participant's world
 keyboard (:mod:`.keys`).
 """
 
+from .config import PlayConfig
 from .keys import INSTRUCTIONS, command_for, digit_keys
+from .recording import PLAY_METADATA, PlayRecorder, play_metadata
 from .server import PlayServer, parse_listen
 from .sight import Memory, Sight, goto_keys
 from .speech import Heard, Speech
 from .timing import held_rate
-from .world import PLAY_METADATA, PlayConfig, PlayRecorder, PlayWorld, play_metadata
+from .world import PlayWorld
 
 __all__ = [
     "INSTRUCTIONS",

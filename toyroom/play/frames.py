@@ -1,10 +1,13 @@
-"""What the participant's page sends, read (pure): one frame, a key press or a refusal.
+"""What the participant's page sends, read (pure): one frame, a key press, the start or a
+refusal.
 
-The page sends text frames of JSON, ``{"type": "key", "key": K, "pressed": S}``: ``K`` the
+The page sends text frames of JSON: ``{"type": "key", "key": K, "pressed": S}``, ``K`` the
 browser's ``KeyboardEvent.key`` and ``S`` when it was pressed, in seconds since the page
-opened. Anything else (not JSON, JSON nested too deeply to decode, another ``type``, a field
-of the wrong kind) is a :class:`FrameRefused`, which the server answers with an ``error``
-frame, ``{"type": "error", "message": ...}``; the world runs on.
+opened; or ``{"type": "start", "consented": true}`` when the participant presses Start
+(``consented``: they ticked the study's consent, when it asks for one). Anything else (not
+JSON, JSON nested too deeply to decode, another ``type``, a field of the wrong kind) is a
+:class:`FrameRefused`, which the server answers with an ``error`` frame, ``{"type": "error",
+"message": ...}``; the world runs on.
 """
 
 from __future__ import annotations
@@ -33,8 +36,16 @@ class KeyPress:
     """When, in seconds since the page opened (>= 0)."""
 
 
-def read_key(frame: str | bytes) -> KeyPress:
-    """The key press in one frame from the page.
+@dataclass(frozen=True)
+class StartPressed:
+    """The participant pressed Start."""
+
+    consented: bool
+    """They ticked the study's consent box (``False`` when none was shown)."""
+
+
+def read_frame(frame: str | bytes) -> KeyPress | StartPressed:
+    """The key press or the start in one frame from the page.
 
     Raises:
         FrameRefused: naming what is wrong with the frame (and how it starts).
@@ -46,8 +57,14 @@ def read_key(frame: str | bytes) -> KeyPress:
         raise FrameRefused(f"not a key press: JSON nested too deeply to decode ({start!r}...)") from None
     except ValueError as err:  # UnicodeDecodeError included
         raise FrameRefused(f"not a key press: not JSON ({err}; {start!r})") from None
+    if isinstance(message, dict) and message.get("type") == "start":
+        consented = message.get("consented", False)
+        if not isinstance(consented, bool):
+            raise FrameRefused(f"a start whose 'consented' is not true or false: {consented!r}")
+        return StartPressed(consented)
     if not isinstance(message, dict) or message.get("type") != "key":
-        raise FrameRefused(f'not a key press: expected an object with "type": "key", got {start!r}')
+        expected = 'expected an object with "type": "key" or "start"'
+        raise FrameRefused(f"not a key press: {expected}, got {start!r}")
     key, pressed = message.get("key"), message.get("pressed", 0.0)
     if not isinstance(key, str) or not key:
         raise FrameRefused(f"a key press without a key name: 'key' is {key!r}")

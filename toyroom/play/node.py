@@ -7,6 +7,7 @@ recording is and whether it is complete."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import re
@@ -16,15 +17,18 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
+import msgspec
+
 from bridge.errors import BridgeError
 from bridge.flags import add_log_level, command_parser, configure_logging
 from bridge.processes import stop_on_signals, wait_for_stop
 from bridge.session import LOOPBACK
-from protocol import ProtocolError, check_name
+from protocol import ProtocolError, Study, check_name
 
+from .config import PlayConfig
 from .server import PlayServer, is_loopback_host, parse_listen
 from .timing import held_rate
-from .world import PlayConfig, PlayWorld
+from .world import PlayWorld
 
 DEFAULT_LISTEN = f"{LOOPBACK}:8470"
 
@@ -113,37 +117,32 @@ def _config(args: argparse.Namespace) -> PlayConfig:
     )
 
 
-def _check_scenario(config: PlayConfig) -> None:
-    """Ask sim2d (a process: the bridge never imports it) for the scenario's scene, and check
-    that ``--as`` names one of its people.
+def _check_scenario(config: PlayConfig) -> PlayConfig:
+    """Ask sim2d (a process: the application never imports it) for the scenario's scene and
+    ``[study]``, and check that ``--as`` names one of its people; the config with the study.
 
     Raises:
         BridgeError: the scenario cannot be loaded (sim2d's reason), or has no such person.
     """
-    command = [
-        sys.executable,
-        "-m",
-        "sim2d",
-        "scene",
-        "--scenario",
-        config.scenario,
-        "--seed",
-        str(config.seed),
-    ]
+    command = [sys.executable, "-m", "sim2d", "scene", "--scenario", config.scenario]
+    command += ["--seed", str(config.seed), "--study"]
     result = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
     if result.returncode != 0:
         lines = [line.removeprefix("sim2d: ") for line in result.stderr.splitlines() if line.strip()]
         raise BridgeError(f"--scenario {config.scenario}: {lines[-1] if lines else result.returncode}")
-    scene = json.loads(result.stdout)
-    people = [a["id"] for a in scene["agents"] if a["kind"] == "person"]
+    read = json.loads(result.stdout)
+    people = [a["id"] for a in read["scene"]["agents"] if a["kind"] == "person"]
     if config.person not in people:
         raise BridgeError(
             f"--as {config.person}: no such person in '{config.scenario}' (people: {', '.join(people)})"
         )
+    study = msgspec.convert(read["study"], Study) if read["study"] is not None else None
+    return dataclasses.replace(config, study=study)
 
 
 def _report(world: PlayWorld) -> None:
-    kept = "complete" if world.complete else f"incomplete: {world.ended}"
+    outcome = world.outcome.value if world.outcome is not None else "incomplete"
+    kept = f"complete, {outcome}: {world.ended}" if world.complete else f"incomplete: {world.ended}"
     if not world.recording.exists():
         print(
             f"toyroom play: participant {world.participant}: no recording (the page never opened)", flush=True
@@ -165,8 +164,11 @@ def _follow(server: PlayServer, stop: threading.Event) -> None:
             if world.ended is not None or world.bridge is None:
                 continue
             problem = world.failed()
-            if world.brain_finished():
-                world.end("the episode ended", complete=True)
+            if world.outcome is not None:  # the study's goal met, or its time limit passed
+                world.end(world.goal.reason(), world.outcome)
+            elif world.brain_finished():
+                outcome = world.goal.finish()
+                world.end(world.goal.reason(), outcome)
             elif problem is not None:
                 world.end(problem)
             elif world.abandoned():
@@ -188,7 +190,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         config = _config(args)
         participants = _participants(args.participants)
-        _check_scenario(config)
+        config = _check_scenario(config)
         host, _ = parse_listen(args.listen)
         config.out.mkdir(parents=True, exist_ok=True)
         server = PlayServer(config, participants, args.listen, f"play{os.getpid()}")

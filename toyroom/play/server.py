@@ -34,8 +34,9 @@ from websockets.sync.server import Server, ServerConnection, serve
 from bridge.errors import ConfigError
 from bridge.session import LOOPBACK
 
-from .frames import FrameRefused, read_key
-from .world import PlayConfig, PlayWorld
+from .config import PlayConfig
+from .frames import FrameRefused, StartPressed, read_frame
+from .world import TAKEN_OVER, PlayWorld
 
 log = logging.getLogger("toyroom.play")
 PAGE = Path(__file__).with_name("page.html")
@@ -180,19 +181,30 @@ class PlayServer:
     def _on_frame(
         self, world: PlayWorld, frame: str | bytes, send: Callable[[dict[str, object]], None]
     ) -> None:
-        """Act on one frame from the page: a key press, or an ``error`` frame back saying what
-        was wrong with it (one log line); the world runs on either way."""
+        """Act on one frame from the page: the start or a key press, or an ``error`` frame back
+        saying what was wrong with it (one log line); the world runs on either way. A page that
+        another tab took over is told that its frames are no longer taken."""
         try:
-            press = read_key(frame)
+            read = read_frame(frame)
         except FrameRefused as err:
             log.warning("%s: a frame refused: %s", world.participant, err)
             send({"type": "error", "message": str(err)})
             return
+        if not world.current(send):
+            send({"type": "error", "message": f"not taken: {TAKEN_OVER}"})
+            return
+        if isinstance(read, StartPressed):
+            study = world.config.study
+            if study is not None and study.consent and not read.consented:
+                send({"type": "error", "message": "the study asks for your consent before the start"})
+            else:
+                world.begin(send)
+            return
         try:
-            world.key(press.key, press.pressed)
+            world.key(read.key, read.pressed)
         except Exception as err:  # a world ending as the key comes: said, the page stays
-            log.warning("%s: the key %r was not sent: %s", world.participant, press.key, err)
-            send({"type": "error", "message": f"the key {press.key!r} was not sent: {err}"})
+            log.warning("%s: the key %r was not sent: %s", world.participant, read.key, err)
+            send({"type": "error", "message": f"the key {read.key!r} was not sent: {err}"})
 
     def close(self) -> None:
         """Stop serving; end every world still running (marked incomplete)."""

@@ -4,11 +4,14 @@ own, recorded to ``OUT/<participant>.mcap``.
 
 Started when the participant's page first connects: the engine starts and is paused at once,
 the recorder records from its handshake, the brain resets it to the scenario (a fresh
-episode at tick 0), and the world runs while the page is connected (paused while it is not:
-a reload resumes where it was). It ends when the episode does (the brain finishes: the
-recording is complete) or when the page stays away for the grace period, a node fails or
-the server stops (the recording is kept, marked incomplete: the ``toyroom.play`` metadata
-record says so, and why).
+episode at tick 0), and the world waits for the participant to read the study's instructions
+(and consent, when it asks) and press Start; it then runs while the page is connected (paused
+while it is not: a reload resumes where it was). A second tab on the same link takes over:
+the first is told and its keys are no longer taken. The world ends when the study's goal is
+met or its time limit passes (:mod:`.goal`; the brain is stopped and writes its outputs for
+the ticks so far), when the episode does (the brain finishes), or, incomplete, when the page
+stays away for the grace period, a node fails or the server stops. The ``toyroom.play``
+metadata record says which (``outcome``: :class:`protocol.StudyOutcome`), and why.
 """
 
 from __future__ import annotations
@@ -18,85 +21,45 @@ import subprocess
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
-from mcap.records import Metadata
-from mcap.stream_reader import StreamReader
+import msgspec
 
 from bridge.bridge import Bridge
 from bridge.processes import node_command, start_node, stop_nodes, wait_for_engine
 from bridge.pubsub import Received
-from bridge.recording.mcap import McapRecorder
-from bridge.session import SessionSettings
 from protocol import (
     CommandStatus,
     ControlReply,
     EngineInfo,
+    Event,
     Pause,
     Resume,
     RobotCommand,
     Say,
     SayTopic,
     State,
+    StudyOutcome,
 )
 
+from .config import PlayConfig
+from .goal import GoalWatch
 from .keys import command_for, digit_keys
+from .palette import person_colours
+from .recording import PlayRecorder
 from .sight import Memory, Sight
 from .speech import Speech
 
 log = logging.getLogger("toyroom.play")
-PLAY_METADATA = "toyroom.play"
-"""The MCAP metadata record of a play recording: participant, person, scenario, world,
-``rate``, ``complete`` (``"true"`` or ``"false"``), ``reason`` and ``last_tick``."""
+STOP_GRACE = 120.0
+"""Seconds a stopped brain may take to write its outputs before it is killed."""
 EARSHOT_CELLS = 2
 """A person hears the robot in the same region or within this many cells (as sim2d)."""
 
 Send = Callable[[dict[str, Any]], None]
 
 
-@dataclass(frozen=True)
-class PlayConfig:
-    """What every participant's world runs."""
-
-    scenario: str
-    person: str
-    out: Path
-    rate: float = 1.0
-    seed: int = 0
-    grace: float = 60.0
-    """Seconds a closed page may take to come back before the world ends, incomplete."""
-    log_level: str = "WARNING"
-    settings: SessionSettings = field(default_factory=SessionSettings)
-
-
-def play_metadata(path: Path) -> dict[str, str] | None:
-    """The ``toyroom.play`` metadata of a play recording (``None``: none, as in a file whose
-    server was killed: incomplete too)."""
-    with path.open("rb") as handle:
-        reader = StreamReader(handle, skip_magic=False, emit_chunks=False, validate_crcs=False)
-        try:
-            for record in reader.records:
-                if isinstance(record, Metadata) and record.name == PLAY_METADATA:
-                    return dict(record.metadata)
-        except Exception:  # a file cut off mid-record  # noqa: BLE001
-            return None
-    return None
-
-
-class PlayRecorder(McapRecorder):
-    """An MCAP recorder that ends its file with the ``toyroom.play`` metadata record."""
-
-    def __init__(
-        self, bridge: Bridge, path: Path, info: EngineInfo, meta: Callable[[], dict[str, str]]
-    ) -> None:
-        self._meta = meta
-        super().__init__(bridge, path, info=info)
-
-    def _finish(self) -> None:
-        self._writer.add_metadata(PLAY_METADATA, self._meta())
-        super()._finish()
+TAKEN_OVER = "This game continues in another tab or window; this one no longer sends your keys."
 
 
 class PlayWorld:
@@ -119,6 +82,10 @@ class PlayWorld:
         self.ended: str | None = None
         """Why the world ended (``None`` while it runs)."""
         self.complete = False
+        self.outcome: StudyOutcome | None = None
+        self.goal = GoalWatch(config.study, config.person)
+        self.started = False
+        """The participant has pressed Start (after the instructions, and consent if asked)."""
         self.tick_seconds = 0.1
         """The engine's tick, in seconds (from its handshake)."""
         self._send: Send | None = None
@@ -143,18 +110,44 @@ class PlayWorld:
     # ----- the page -------------------------------------------------------------------
 
     def attach(self, send: Send) -> None:
-        """A page connected (a reload replaces the one before): send it the map and the view,
-        and run the world."""
+        """A page connected: send it the map and the view, and run the world once started. A
+        reload replaces the page before; a second tab takes over, and the first is told."""
         with self._lock:
-            if self._send is not None or self._left_at is not None:  # not the first page
+            before = self._send
+            if before is not None or self._left_at is not None:  # not the first page
                 _, last, when = self._pressed
                 self._pressed = (last + (time.monotonic() - when if when else 0.0), last, when)
             self._send, self._left_at = send, None
+            if before is not None:
+                self._tell(before, {"type": "taken_over", "message": TAKEN_OVER})
             for message in (self.layout, self._heard_view()):
                 if message is not None:
                     send(message)
+        if self.ready.is_set() and self.started:
+            self._control(Resume())
+
+    def begin(self, send: Send) -> bool:
+        """The participant pressed Start on page ``send`` (having consented, if the study asks):
+        the clock starts. Whether it did (not from a page that was taken over)."""
+        with self._lock:
+            if send is not self._send or self.ended is not None:
+                return False
+            self.started = True
+            self._push(self._heard_view())
         if self.ready.is_set():
             self._control(Resume())
+        return True
+
+    def current(self, send: Send) -> bool:
+        """Whether ``send`` is the page that drives the world (not one taken over)."""
+        return send is self._send
+
+    @staticmethod
+    def _tell(send: Send, message: dict[str, Any]) -> None:
+        try:
+            send(message)
+        except Exception:  # a page closing as we send  # noqa: BLE001
+            log.debug("telling a page failed", exc_info=True)
 
     def detach(self, send: Send) -> None:
         """The page ``send`` went away: pause the world (unless another page took its place)."""
@@ -172,10 +165,7 @@ class PlayWorld:
     def _push(self, message: dict[str, Any]) -> None:
         send = self._send
         if send is not None:
-            try:
-                send(message)
-            except Exception:  # a page closing as we send: detach() follows  # noqa: BLE001
-                log.debug("sending to %s's page failed", self.participant, exc_info=True)
+            self._tell(send, message)
 
     def key(self, key: str, pressed: float) -> bool:
         """The participant pressed ``key`` at ``pressed`` s (page time, counted on from the pages
@@ -190,7 +180,7 @@ class PlayWorld:
             command = command_for(
                 key, self.config.person, self._seq, goto, pressed, self.participant, answers
             )
-            if command is None or self._publisher is None or self.ended is not None:
+            if command is None or self._publisher is None or self.ended is not None or not self.started:
                 return False
             self._seq += 1
             self._publisher.put(command)
@@ -247,7 +237,7 @@ class PlayWorld:
             problem = self.failed()
             if problem is not None or time.monotonic() > deadline:
                 raise RuntimeError(problem or "the brain did not reset the engine within 120 s")
-        if self._send is not None:
+        if self._send is not None and self.started:
             self._control(Resume())
 
     def _setup(self, bridge: Bridge, info: EngineInfo) -> None:
@@ -259,13 +249,20 @@ class PlayWorld:
         regions = {r.id: r.name or r.id for r in info.scene.regions}
         places = {loc.id: regions.get(loc.region, loc.region) for loc in info.scene.locations}
         self.speech = Speech(person, sight.names, places, digit_keys([i.id for i in info.scene.items]))
+        people = [a.id for a in info.scene.agents if a.kind.value == "person"]
         with self._lock:
-            self.layout = sight.layout(self.participant) | {"world": self.world, "scenario": info.scenario}
+            self.layout = sight.layout(self.participant) | {
+                "world": self.world,
+                "scenario": info.scenario,
+                "study": msgspec.to_builtins(self.config.study) if self.config.study else None,
+                "colours": person_colours(people),
+            }
             if self._send is not None:
                 self._send(self.layout)
         self.recorder = PlayRecorder(bridge, self.recording, info, self._metadata)
         self._publisher = bridge.publisher(bridge.keys.person_command(person))
         bridge.subscribe(bridge.keys.state, self._on_state, expected=State)
+        bridge.subscribe(bridge.keys.events, self._on_event, expected=Event)
         bridge.subscribe(bridge.keys.command(), self._on_command, expected=RobotCommand)
         bridge.subscribe(bridge.keys.status(), self._on_status, expected=CommandStatus)
 
@@ -288,8 +285,15 @@ class PlayWorld:
                 if state.episode >= 1:
                     self.ready.set()
             self._state = state
+            if self.ready.is_set() and self.started:
+                self.outcome = self.outcome or self.goal.on_state(state)
             self.view = sight.look(state, self.memory)
             self._push(self._heard_view())
+
+    def _on_event(self, event: Event, _: Received) -> None:
+        if event.episode == self._episode and self.ready.is_set():
+            with self._lock:
+                self.goal.on_event(event)
 
     def _heard_view(self) -> dict[str, Any]:
         heard = self.speech.heard if self.speech is not None else None
@@ -298,6 +302,7 @@ class PlayWorld:
             view["speech"] = heard.lines[-6:]
             view["question"] = heard.question
         view["ended"] = self.ended
+        view["started"] = self.started
         return view
 
     def _on_command(self, command: RobotCommand, _: Received) -> None:
@@ -348,6 +353,7 @@ class PlayWorld:
             "world": self.world,
             "rate": str(self.config.rate),
             "complete": "true" if self.complete else "false",
+            "outcome": (self.outcome or StudyOutcome.INCOMPLETE).value if self.ended else "",
             "reason": self.ended or "",
             "last_tick": str(state.tick if state is not None else -1),
         }
@@ -364,20 +370,22 @@ class PlayWorld:
                 return f"the {name} exited with status {status} (see {self.folder / (name + '.log')})"
         return None
 
-    def end(self, reason: str, complete: bool = False) -> None:
-        """Stop the nodes and finish the recording (``complete`` or marked incomplete with
-        ``reason``); the page is told. Safe to call twice."""
+    def end(self, reason: str, outcome: StudyOutcome = StudyOutcome.INCOMPLETE) -> None:
+        """Stop the nodes (the brain writes its outputs so far) and finish the recording, with
+        ``outcome`` (complete unless ``incomplete``) and ``reason``; the page is told. Safe to
+        call twice."""
         with self._lock:
             first = self.ended is None
             if first:
-                self.ended, self.complete = reason, complete
+                self.ended, self.outcome = reason, outcome
+                self.complete = outcome is not StudyOutcome.INCOMPLETE
         if not first:  # another thread is ending it: wait until it has (the server may be exiting)
             self._closed.wait(timeout=60.0)
             return
         try:
             if self.recorder is not None:
                 self.recorder.close()
-            stop_nodes(list(reversed(self.nodes)))
+            stop_nodes(list(reversed(self.nodes)), grace=STOP_GRACE)
             if self.bridge is not None:
                 self.bridge.close()
         finally:

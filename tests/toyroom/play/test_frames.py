@@ -84,26 +84,58 @@ def _next(socket: ClientConnection, want: str, timeout: float) -> dict[str, Any]
 
 
 def test_a_malformed_frame_gets_an_error_and_the_world_runs_on(server: Server) -> None:
+    """Also: the world waits for Start (a key before it is not sent; the layout carries the
+    study's instructions and goal), and a second connection on the same link takes over: the
+    first is told, and its frames are no longer taken."""
     link = server.line("participant p1: http", 60).split(": ", 2)[-1]
     url = link.replace("http://", "ws://").replace("/play/", "/ws/")
-    with connect(url, open_timeout=30, max_size=None) as socket:
-        before = _next(socket, "view", STARTUP)["tick"]
-        for frame in BAD_FRAMES:
-            socket.send(frame)
-            error = _next(socket, "error", 30)
-            assert "not a key press" in error["message"] or "'pressed'" in error["message"], (
-                f"expected an error naming the bad frame {frame[:30]!r}, got {error}"
+    with connect(url, open_timeout=30, max_size=None) as first:
+        layout = _next(first, "scene", STARTUP)
+        study = layout.get("study") or {}
+        assert "Agent 1" in study.get("instructions", "") and "skate" in study.get("goal", ""), layout.get(
+            "study"
+        )
+        assert layout.get("colours", {}).get("A1"), f"no colour for A1 in the layout: {layout.get('colours')}"
+        waiting = _next(first, "view", STARTUP)
+        assert waiting["started"] is False, waiting
+        first.send(json.dumps({"type": "key", "key": "ArrowLeft", "pressed": 0.5}))  # before Start: not sent
+        with connect(url, open_timeout=30, max_size=None) as socket:
+            told = _next(first, "taken_over", 30)
+            assert "another tab" in told["message"], told
+            first.send(json.dumps({"type": "start"}))
+            refused = _next(first, "error", 30)
+            assert refused["message"].startswith("not taken"), refused
+            _next(socket, "view", 30)
+            socket.send(json.dumps({"type": "start"}))
+            view = _next(socket, "view", 30)
+            while not view["started"]:
+                view = _next(socket, "view", 30)
+            before = view["tick"]
+            assert before <= waiting["tick"] + 2, (
+                f"the clock ran before Start: tick {waiting['tick']} waiting, {before} at the start"
             )
-        socket.send(json.dumps({"type": "key", "key": "ArrowRight", "pressed": 1.5}))
-        later = _next(socket, "view", 30)
-        while later["tick"] <= before:
+            for frame in BAD_FRAMES:
+                socket.send(frame)
+                error = _next(socket, "error", 30)
+                assert "not a key press" in error["message"] or "'pressed'" in error["message"], (
+                    f"expected an error naming the bad frame {frame[:30]!r}, got {error}"
+                )
+            socket.send(json.dumps({"type": "key", "key": "ArrowRight", "pressed": 1.5}))
             later = _next(socket, "view", 30)
+            while later["tick"] <= before + 5:
+                later = _next(socket, "view", 30)
     report = server.line("participant p1: recording", 120)
     assert "incomplete: the page was closed" in report, (
         f"expected the world to end only for the page: {report}"
     )
     meta = play_metadata(server.out / "p1.mcap")
     assert meta is not None and "could not start" not in meta["reason"], f"p1's play metadata: {meta}"
+    assert meta["outcome"] == "incomplete", meta
+    report_md = server.out / "p1" / "report.md"
+    assert (server.out / "p1" / "mind.csv").is_file() and report_md.is_file(), (
+        "the brain of an incomplete world should still write mind.csv and report.md (issue 55)"
+    )
+    assert "before the episode's end" in report_md.read_text(encoding="utf-8")
     keys = [
         message.key
         for key, message in read_recording(server.out / "p1.mcap").messages()
