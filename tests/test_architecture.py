@@ -98,8 +98,8 @@ ROOMS = {
         "view": set(),
         "evaluation": set(),
         "fitting": {"evaluation", "play"},
-        "rating": {"view"},
-        "play": set(),
+        "rating": {"view", "play"},  # play: which recordings are incomplete (their metadata)
+        "play": {"view"},  # view: the people's colours, one per person on every page
         "cli": {"evaluation", "fitting"},
         "bench": {"evaluation"},
     },

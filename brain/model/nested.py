@@ -15,10 +15,18 @@ The paper's update is a product over items (the percept's likelihood and the cha
 both are), so one item's update is exact for a belief that is a product over items, which
 this keeps: ``(P, K, V)`` for the ``P`` ordered pairs of people, per item a distribution over
 its values (``2 l`` resting at location ``l``, ``2 l + 1`` carried near it).
+
+The backward pass (:func:`smoothed_nested`): in this model nothing A sees later is evidence
+about A's model of B (while A does not see B, A learns nothing of what B saw), so what a whole
+run adds is what the robot learns later of the beliefs the filter leans on: B's own belief
+where every pair starts, and A's own belief, toward which A's model of an unseen B drifts.
+The smoothed nested beliefs are the same filter run again over the same percepts with the
+robot's smoothed estimates of those first-order beliefs in place of its online ones.
 """
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Callable, Mapping, Sequence
 
@@ -69,6 +77,8 @@ class NestedBeliefs:
         self.values: FloatArray | None = None
         """``(P, K, V)``; ``None`` until the first tick."""
         self.time: float | None = None
+        self.inputs: list[tuple[float, dict[str, int], dict[str, Percept]]] = []
+        """Every tick's ``(time, cells, percepts)``, in order, for :func:`smoothed_nested`."""
         self._transitions: dict[Percept, FloatArray] = {}
         self._seen: dict[tuple[int, int], bool] = {}
         """(viewer cell, other cell) -> :meth:`sees` (the map's sight never changes)."""
@@ -84,6 +94,7 @@ class NestedBeliefs:
         the robot cannot place are missing), and ``belief_of(person)``, the robot's estimate of
         that person's own belief, ``(K, L)`` (read only when needed). At the first tick every
         pair starts from B's own estimated belief (uniform when there is none)."""
+        self.inputs.append((time, dict(cells), dict(percepts)))
         if self.values is None:
             uniform = np.full((self.model.n_items, self.model.n_locations), 1.0 / self.model.n_locations)
             starts = {
@@ -140,3 +151,19 @@ class NestedBeliefs:
         out = np.zeros((self.model.n_items, self.model.n_values))
         out[:, RESTING] = beliefs
         return out
+
+
+def smoothed_nested(
+    nested: NestedBeliefs, belief_at: Callable[[int, str], FloatArray | None]
+) -> list[FloatArray]:
+    """The backward pass of ``nested`` (see the module docstring): its filter run again over
+    the ticks it saw (:attr:`NestedBeliefs.inputs`), with ``belief_at(n, person)`` (the
+    robot's smoothed estimate of ``person``'s own ``(K, L)`` belief at the ``n``-th of those
+    ticks, ``None`` before one exists) in place of the online estimates; ``(P, K, L)`` per tick."""
+    again = NestedBeliefs(nested.model, nested.people, nested.r, nested.delta, nested.peek)
+    out = []
+    for n, (time, cells, percepts) in enumerate(nested.inputs):
+        again.observe(time, cells, percepts, functools.partial(belief_at, n))
+        out.append(again.all_locations())
+    again.inputs.clear()
+    return out

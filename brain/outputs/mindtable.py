@@ -19,14 +19,17 @@ messages (:meth:`MindTracker.online`) re-weigh the branches every tick.
 
 from __future__ import annotations
 
+import bisect
 import csv
 import io
 import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..model.arrays import FloatArray
 from ..model.desires import ranking_text
 from ..model.estimates import OUT, Estimate, false_belief_probability, world_text
+from ..model.nested import smoothed_nested
 from ..tracking.tracker import MindTracker
 
 HEADER = ("tick", "label", "agent", "quantity", "item", "value", "p_online", "p_smoothed")
@@ -62,6 +65,7 @@ def mind_rows(tracker: MindTracker) -> list[MindRow]:
     """Every row, in tick order, for every person the tracker follows."""
     model = tracker.model
     smoothed = {person: tracker.smoothed(person) for person in tracker.people}
+    nested_smooth = _smoothed_nested(tracker, smoothed)
     rows: list[MindRow] = []
     cursor = dict.fromkeys(tracker.people, -1)
     for tick in tracker.ticks:
@@ -106,27 +110,44 @@ def mind_rows(tracker: MindTracker) -> list[MindRow]:
             rows += _false_belief_rows(tracker, tick, label, person, online, smooth)
             rows += _desire_rows(tracker, tick, label, person, online, smooth)
             rows += _world_rows(tracker, tick, label, person, online, smooth)
-            rows += _nested_rows(tracker, tick, label, person)
+            rows += _nested_rows(tracker, tick, label, person, nested_smooth.get(tick))
             total = track.estimates[-1].log_evidence
             rows.append(MindRow(tick, label, person, "log_evidence", "", "", online.log_evidence, total))
     return rows
 
 
-def _nested_rows(tracker: MindTracker, tick: int, label: str, person: str) -> list[MindRow]:
+def _smoothed_nested(tracker: MindTracker, smoothed: dict[str, list[Estimate]]) -> dict[int, FloatArray]:
+    """Tick -> the nested beliefs' backward pass, ``(P, K, L)`` (:func:`smoothed_nested`: their
+    filter again, leaning on the smoothed first-order beliefs)."""
+    steps = {p: [s.tick for s in tracker.tracks[p].steps] for p in tracker.people}
+
+    def belief_at(n: int, person: str) -> FloatArray | None:
+        i = bisect.bisect_right(steps.get(person, []), tracker.ticks[n]) - 1
+        return smoothed[person][i].beliefs if i >= 0 else None
+
+    if len(tracker.nested.inputs) != len(tracker.ticks):  # not fed tick by tick: no backward pass
+        return {}
+    return dict(zip(tracker.ticks, smoothed_nested(tracker.nested, belief_at), strict=True))
+
+
+def _nested_rows(
+    tracker: MindTracker, tick: int, label: str, person: str, smooth: FloatArray | None
+) -> list[MindRow]:
     """``nested_belief`` rows: per other person B, item and location, where ``person``
-    believes B believes the item is (``value`` = ``B:location``). Nested beliefs have no
-    backward pass: ``p_smoothed`` repeats ``p_online``."""
+    believes B believes the item is (``value`` = ``B:location``), online and smoothed
+    (:func:`brain.model.nested.smoothed_nested`; online again where there is no backward pass)."""
     nested = tracker.nested_ticks.get(tick)
     if nested is None:
         return []
+    after = smooth if smooth is not None else nested
     model, rows = tracker.model, []
-    for (a, b), where in zip(tracker.nested.pairs, nested, strict=True):
+    for n, (a, b) in enumerate(tracker.nested.pairs):
         if a != person:
             continue
         for k, item in enumerate(model.items):
             for li, location in enumerate(model.locations):
-                p = float(where[k, li])
-                rows.append(MindRow(tick, label, person, "nested_belief", item, f"{b}:{location}", p, p))
+                p, q = float(nested[n, k, li]), float(after[n, k, li])
+                rows.append(MindRow(tick, label, person, "nested_belief", item, f"{b}:{location}", p, q))
     return rows
 
 

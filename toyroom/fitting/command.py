@@ -13,12 +13,13 @@ from brain.settings import Settings
 from bridge.flags import add_log_level, add_settings_args, command_parser, out_folder_problem, two_or_more
 from bridge.recording.readable import RecordingError, read_recording
 from bridge.recording.trace import TraceError, read_trace
+from toyroom.play.recording import complete_only
 
 from .correlation import JudgedFit, against_first, fit_judgments, judged_search
 from .crossval import folds
 from .fit import ModelFit, fit, write_fit
 from .grid import GRIDS, parse_grid
-from .judgments import Judgment, load_judgments
+from .judgments import Judgment, load_judgments, rating_counts
 from .optimise import BOUNDS, METHODS, Refinement, parse_bounds, refine
 from .search import DEFAULT_MODELS, MODELS, model_grid
 
@@ -131,22 +132,6 @@ def as_traces(paths: Sequence[Path], scratch: Path) -> list[Path]:
             path = target
         out.append(path)
     return out
-
-
-def complete_only(paths: Sequence[Path], include: bool) -> tuple[list[Path], list[str]]:
-    """The recordings to fit, and a note for each incomplete ``toyroom play`` recording left
-    out (its metadata says ``complete = false``: the page was closed, the world ended early);
-    with ``include``, every recording, and no note."""
-    from toyroom.play.recording import play_metadata
-
-    kept, left = [], []
-    for path in paths:
-        meta = play_metadata(path) if path.suffix == ".mcap" and path.is_file() else None
-        if meta is not None and meta.get("complete") == "false" and not include:
-            left.append(f"{path} ({meta.get('reason') or 'incomplete'})")
-        else:
-            kept.append(path)
-    return kept, left
 
 
 def not_whole(paths: Sequence[Path]) -> list[str]:
@@ -278,10 +263,10 @@ def fit_main(args: argparse.Namespace, settings: Settings, argv: Sequence[str]) 
             judged,
             refined,
             not_whole(args.recordings),
+            rating_counts(args.judgments) if args.judgments else None,
         )
     print((args.out / "report.md").read_text(encoding="utf-8"))
-    source = summary["judgments"] if judged else summary["models"]
-    written = refined.point if refined is not None and not judged else source[models[0]]["fitted"]
-    print(f"toyroom fit: wrote {args.out / 'settings.toml'} (fitted: {written})")
+    for file, w in summary["written"].items():
+        print(f"toyroom fit: wrote {args.out / file} ({w['model']} fitted by {w['by']}: {w['point']})")
     sys.stdout.flush()
     return 0

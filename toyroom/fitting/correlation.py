@@ -17,6 +17,7 @@ from collections.abc import Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -40,6 +41,21 @@ def pearson(x: FloatArray, y: FloatArray) -> float:
     if ok.sum() < 3 or np.std(x[ok]) == 0 or np.std(y[ok]) == 0:
         return float("nan")
     return float(np.corrcoef(x[ok], y[ok])[0, 1])
+
+
+def undefined_because(x: FloatArray, y: FloatArray) -> str | None:
+    """Why :func:`pearson` of ``x`` (estimates) and ``y`` (ratings) is ``nan``, in words for a
+    report (``None``: it is a number)."""
+    ok = np.isfinite(x) & np.isfinite(y)
+    if ok.sum() < 3:
+        unseen = int((np.isfinite(y) & ~np.isfinite(x)).sum())
+        before = f"; {unseen} asked before the person was first seen (no estimate)" if unseen else ""
+        return f"{int(ok.sum())} rated value(s) with an estimate, 3 needed{before}"
+    if np.std(x[ok]) == 0:
+        return "the model's estimates do not vary across the rated values"
+    if np.std(y[ok]) == 0:
+        return "the ratings do not vary"
+    return None
 
 
 def spearman(x: FloatArray, y: FloatArray) -> float:
@@ -76,9 +92,9 @@ class JudgedFit:
     points: list[Point]
     fold_points: list[int]
     fitted: Point
-    r: dict[str, dict[str, float]]
+    r: dict[str, dict[str, Any]]
     held: FloatArray | None = None
-    minus_first: dict[str, dict[str, float]] | None = None
+    minus_first: dict[str, dict[str, Any]] | None = None
     """Each kind's ``r - r(first model)``, paired by episode (:func:`against_first`)."""
 
 
@@ -110,7 +126,7 @@ def fit_judgments(
 
 def _intervals(
     held: FloatArray, values: FloatArray, quantities: Sequence[str], episode: IntArray, seed: int
-) -> dict[str, dict[str, float]]:
+) -> dict[str, dict[str, Any]]:
     """Each kind's r with a bootstrap 95% interval over episodes."""
     return paired_difference(held, None, values, quantities, episode, seed)
 
@@ -122,7 +138,7 @@ def paired_difference(
     kinds: Sequence[str],
     episode: IntArray,
     seed: int,
-) -> dict[str, dict[str, float]]:
+) -> dict[str, dict[str, Any]]:
     """Each kind's ``r(held) - r(other)`` (``r(held)`` when ``other`` is ``None``), with a
     bootstrap 95% interval over episodes, both predictions on the same resampled episodes."""
     rng = np.random.default_rng(seed)
@@ -143,7 +159,12 @@ def paired_difference(
             draws.append(r(rows[mine[rows]], name))
         finite = [d for d in draws if np.isfinite(d)]
         lo, hi = np.percentile(finite, [2.5, 97.5]) if finite else (float("nan"), float("nan"))
-        out[name] = {"mean": r(np.flatnonzero(mine), name), "lo": float(lo), "hi": float(hi)}
+        rows = np.flatnonzero(mine)
+        entry: dict[str, Any] = {"mean": r(rows, name), "lo": float(lo), "hi": float(hi)}
+        entry["episodes"] = len(np.unique(episode[rows]))
+        if not np.isfinite(entry["mean"]):
+            entry["why"] = undefined_because(held[rows], values[rows])
+        out[name] = entry
     return out
 
 

@@ -117,18 +117,21 @@ def write_fit(
     judged: Sequence[JudgedFit] = (),
     refined: Refinement | None = None,
     notes: Sequence[str] = (),
+    ratings: Mapping[str, int] | None = None,
 ) -> dict[str, Any]:
     """The outputs (see the module docstring); returns ``fit.json``'s content. With
     ``judged`` (a fit to judgments), ``settings.toml`` holds its first model's point; else,
-    with ``refined`` (the optimiser's result), its point. ``notes`` say which recordings
-    were not whole (cut off or damaged) and what of them was used."""
+    with ``refined`` (the optimiser's result), its point; ``settings-likelihood.toml`` always
+    holds the likelihood fit's (refined) point, and the report says which point each file has.
+    ``notes`` say which recordings were not whole (cut off or damaged) and what of them was
+    used; ``ratings`` counts the judgments file's ratings, raters and rated recordings."""
     out.mkdir(parents=True, exist_ok=True)
     first = fits[0]
-    name, point = (judged[0].model, judged[0].fitted) if judged else (first.table.model, first.fitted)
-    if refined is not None and not judged:
-        name, point = refined.model, refined.point
-    fitted = Settings(model=model_settings(name, settings.model, point), robot=settings.robot)
-    (out / "settings.toml").write_text(settings_toml(fitted), encoding="utf-8")
+    likely = (refined.model, refined.point) if refined is not None else (first.table.model, first.fitted)
+    name, point = (judged[0].model, judged[0].fitted) if judged else likely
+    for file, (model, at) in (("settings.toml", (name, point)), ("settings-likelihood.toml", likely)):
+        fitted = Settings(model=model_settings(model, settings.model, at), robot=settings.robot)
+        (out / file).write_text(settings_toml(fitted), encoding="utf-8")
     ranked = sorted(fits, key=lambda f: -f.held_out)
     intervals, differences = pooled_means({f.table.model: f.per_episode() for f in ranked}, seed)
     summary = {
@@ -155,7 +158,13 @@ def write_fit(
         },
         "ranking": [f.table.model for f in ranked],
         "recordings_not_whole": list(notes),
+        "written": {
+            "settings.toml": {"model": name, "point": point, "by": "judgments" if judged else "likelihood"},
+            "settings-likelihood.toml": {"model": likely[0], "point": likely[1], "by": "likelihood"},
+        },
     }
+    if ratings is not None:
+        summary["ratings"] = dict(ratings)
     if refined is not None:
         summary["refinement"] = refined.as_json()
     if judged:
@@ -232,15 +241,45 @@ def report(summary: Mapping[str, Any]) -> str:
     if "refinement" in summary:
         lines += refinement_lines(summary["refinement"])
     if "judgments" in summary:
-        lines += _judgments_table(summary["judgments"])
+        lines += _judgments_table(summary["judgments"], summary.get("ratings"))
+    lines += _written_lines(summary["written"])
     return "\n".join(lines)
 
 
-def _judgments_table(judged: Mapping[str, Any]) -> list[str]:
+def _written_lines(written: Mapping[str, Any]) -> list[str]:
+    """Which point each settings file holds, and from which fit."""
+    how = {
+        "judgments": "the fit to judgments (best mean r over kinds of judgment, all recordings)",
+        "likelihood": "the likelihood fit (best log-likelihood of the actions, all recordings)",
+    }
+    lines = ["## Written", ""]
+    for file, w in written.items():
+        point = ", ".join(f"{k}={v:g}" for k, v in w["point"].items()) or "(no parameters)"
+        lines.append(f"- `{file}`: {w['model']} at {point}, from {how[w['by']]}.")
+    same = len({tuple(sorted(w["point"].items())) for w in written.values()}) == 1
+    if not same:
+        lines.append(
+            "- The two fits chose different points: they answer different questions (what people "
+            "do, what raters judge); `--set`/`--settings` runs either."
+        )
+    return [*lines, ""]
+
+
+def _judgments_table(judged: Mapping[str, Any], ratings: Mapping[str, int] | None = None) -> list[str]:
     quantities = sorted({q for m in judged.values() for q in m["r"]})
+    counted = []
+    if ratings:
+        named = ratings["raters"]
+        raters = f"{named} raters" if named else "raters not named (no participant column)"
+        counted = [
+            f"{ratings['ratings']} ratings by {raters}, of {ratings['episodes']} recording(s); "
+            "ratings of one question are averaged over raters.",
+            "",
+        ]
     lines = [
         "## Fit to judgments",
         "",
+        *counted,
         "Correlation between each model's estimates (online, or smoothed where the rating says so)",
         "and the ratings (Pearson's r; Spearman's for ranks), each episode predicted at the point",
         "fitted (best mean r over kinds of judgment) without its fold; bootstrap 95% intervals over",
@@ -259,7 +298,27 @@ def _judgments_table(judged: Mapping[str, Any]) -> list[str]:
         ]
         point = ", ".join(f"{k}={v:g}" for k, v in m["fitted"].items()) or "(no parameters)"
         lines.append(f"| {name} | " + " | ".join(cells) + f" | {point} |")
-    return [*lines, ""]
+    return [*lines, "", *_judged_notes(judged, quantities)]
+
+
+def _judged_notes(judged: Mapping[str, Any], quantities: Sequence[str]) -> list[str]:
+    """Why a cell has no r (``-``), and which kinds rest on one rated recording (their interval
+    over recordings is no interval, and every model fitted on it picks its point on the same
+    ratings)."""
+    notes = []
+    for name, m in judged.items():
+        for q in quantities:
+            why = m["r"].get(q, {}).get("why")
+            if why:
+                notes.append(f"- {name}, {q}: no r ({why}).")
+    single = [q for q in quantities if any(m["r"].get(q, {}).get("episodes") == 1 for m in judged.values())]
+    if single:
+        notes.append(
+            f"- {', '.join(single)}: rated on one recording only, so the bootstrap over recordings has "
+            "nothing to resample (no interval) and the cross-validation cannot hold that recording "
+            "out and still fit; rate more recordings for an interval."
+        )
+    return [*notes, ""] if notes else []
 
 
 def _negated(d: Mapping[str, float | None] | None) -> dict[str, float | None] | None:

@@ -92,6 +92,15 @@ def load_judgments(path: Path, traces: Sequence[Trace], names: Sequence[str]) ->
     return merge_raters([_judgment(path, n, row, traces, episodes) for n, row in enumerate(rows, start=2)])
 
 
+def rating_counts(path: Path) -> dict[str, int]:
+    """How many ratings (rows), raters (distinct ``participant``; 0 when the file has no such
+    column) and rated recordings (distinct ``episode``) a judgments file holds."""
+    with path.open(newline="", encoding="utf-8") as handle:
+        rows = list(csv.DictReader(handle))
+    raters = {row["participant"] for row in rows if row.get("participant")}
+    return {"ratings": len(rows), "raters": len(raters), "episodes": len({row["episode"] for row in rows})}
+
+
 def merge_raters(judgments: Sequence[Judgment]) -> list[Judgment]:
     """One judgment per question (episode, tick, person, quantity, entry, estimate): the mean
     of its ratings, at the first one's line, in the order questions first appear."""

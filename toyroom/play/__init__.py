@@ -9,7 +9,7 @@ keyboard (:mod:`.keys`).
 
 from .config import PlayConfig
 from .keys import INSTRUCTIONS, command_for, digit_keys
-from .recording import PLAY_METADATA, PlayRecorder, play_metadata
+from .recording import PLAY_METADATA, PlayRecorder, complete_only, play_metadata
 from .server import PlayServer, parse_listen
 from .sight import Memory, Sight, goto_keys
 from .speech import Heard, Speech
@@ -28,6 +28,7 @@ __all__ = [
     "Sight",
     "Speech",
     "command_for",
+    "complete_only",
     "digit_keys",
     "goto_keys",
     "held_rate",

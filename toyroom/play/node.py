@@ -140,6 +140,21 @@ def _check_scenario(config: PlayConfig) -> PlayConfig:
     return dataclasses.replace(config, study=study)
 
 
+def _terms(config: PlayConfig) -> str:
+    """The study's terms in a line: the goal and how long a world may run."""
+    study = config.study
+    if study is None:
+        return "no [study] section: no instructions or goal; each world runs to the scenario's end"
+    goal = f"goal: {study.goal}" if study.goal else "no goal stated"
+    if study.time_limit is None:
+        return f"{goal}; each world runs until the goal or the scenario's end"
+    minutes = study.time_limit / config.rate / 60
+    return (
+        f"{goal}; each world ends at the goal or after {study.time_limit:g} s of world time "
+        f"({minutes:.1f} min at --rate {config.rate:g})"
+    )
+
+
 def _report(world: PlayWorld) -> None:
     outcome = world.outcome.value if world.outcome is not None else "incomplete"
     kept = f"complete, {outcome}: {world.ended}" if world.complete else f"incomplete: {world.ended}"
@@ -150,6 +165,8 @@ def _report(world: PlayWorld) -> None:
         return
     held = held_rate(world.recording, world.config.rate, world.tick_seconds)
     speed = f"; the engine ran at {held:.2f} of its rate" if held is not None else ""
+    if world.world_time is not None:
+        speed += f"; {world.world_time:.0f} s of world time"
     print(
         f"toyroom play: participant {world.participant}: recording {world.recording} ({kept}{speed})",
         flush=True,
@@ -207,6 +224,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 flush=True,
             )
         print(f"toyroom play: scenario '{config.scenario}' as {config.person} on {server.origin}", flush=True)
+        print(f"toyroom play: {_terms(config)}", flush=True)
         for participant in participants:
             print(f"toyroom play: participant {participant}: {server.link(participant)}", flush=True)
         _follow(server, stop)

@@ -1,15 +1,15 @@
-"""One colour per person, the same on every page of a study (``toyroom play`` and ``toyroom
-rate``): the ``n``-th person of the scene's agents gets the ``n``-th colour."""
+"""One colour per person, the same on every page of a study and in the live view: the
+``n``-th person of the scene's agents gets the live view's ``n``-th person colour
+(:func:`toyroom.view.colours.person_colour`), on the play page as on the rating page (before
+issue 55, A1 was orange on one and blue on the other)."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 
-PEOPLE = ("#d9480f", "#1c7ed6", "#7048e8", "#2b8a3e", "#c2255c", "#0b7285", "#5f3dc4", "#e67700")
-"""Colours for people, in the scene's order (wrapping round after eight)."""
-ROBOT = "#495057"
+from toyroom.view.colours import person_colour
 
 
 def person_colours(people: Sequence[str]) -> dict[str, str]:
-    """Person id -> its colour (``people`` in the scene's order)."""
-    return {person: PEOPLE[n % len(PEOPLE)] for n, person in enumerate(people)}
+    """Person id -> its colour as ``#rrggbb`` (``people`` in the scene's order)."""
+    return {person: f"#{person_colour(n):06x}" for n, person in enumerate(people)}

@@ -3,7 +3,7 @@ metadata record that says who played, how it ended and why (:func:`play_metadata
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from mcap.records import Metadata
@@ -45,3 +45,17 @@ class PlayRecorder(McapRecorder):
     def _finish(self) -> None:
         self._writer.add_metadata(PLAY_METADATA, self._meta())
         super()._finish()
+
+
+def complete_only(paths: Sequence[Path], include: bool) -> tuple[list[Path], list[str]]:
+    """The recordings to use (``toyroom fit``, ``toyroom rate``), and a note for each
+    incomplete ``toyroom play`` recording left out (its metadata says ``complete = false``: the
+    page was closed, the world ended early); with ``include``, every recording, and no note."""
+    kept, left = [], []
+    for path in paths:
+        meta = play_metadata(path) if path.suffix == ".mcap" and path.is_file() else None
+        if meta is not None and meta.get("complete") == "false" and not include:
+            left.append(f"{path} ({meta.get('reason') or 'incomplete'})")
+        else:
+            kept.append(path)
+    return kept, left

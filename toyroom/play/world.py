@@ -358,6 +358,12 @@ class PlayWorld:
             "last_tick": str(state.tick if state is not None else -1),
         }
 
+    @property
+    def world_time(self) -> float | None:
+        """The engine time of the last state (s), ``None`` before the first."""
+        state = self._state
+        return state.time if state is not None else None
+
     def brain_finished(self) -> bool:
         """Whether the brain has exited with success (the episode is over)."""
         return len(self.nodes) > 1 and self.nodes[1].poll() == 0

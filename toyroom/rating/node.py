@@ -17,6 +17,7 @@ from bridge.errors import BridgeError
 from bridge.flags import add_log_level, command_parser, configure_logging
 from bridge.processes import stop_on_signals, wait_for_stop
 from bridge.recording import TraceError, read_trace
+from toyroom.play.recording import complete_only
 from toyroom.view.screenshot import screenshot
 
 from .questions import load_study
@@ -61,6 +62,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--origin", action="append", default=[], metavar="URL", help="another allowed page origin"
     )
     parser.add_argument(
+        "--include-incomplete",
+        action="store_true",
+        help="also ask about toyroom play recordings marked incomplete (left out by default, and listed)",
+    )
+    parser.add_argument(
         "--screenshot",
         type=Path,
         metavar="FILE.png",
@@ -100,6 +106,11 @@ def participants(value: str) -> tuple[str, ...]:
 def settings_from(args: argparse.Namespace) -> RatingSettings:
     """The server's settings: recordings read, the questions checked against them."""
     traces, names = [], []
+    args.recordings, left = complete_only(args.recordings, args.include_incomplete)
+    for note in left:
+        print(f"toyroom rate: left out an incomplete play recording: {note} (--include-incomplete keeps it)")
+    if not args.recordings:
+        raise BridgeError("no recording left to ask about (every one is an incomplete play recording)")
     for path in args.recordings:
         try:
             traces.append(read_trace(path))
@@ -107,6 +118,8 @@ def settings_from(args: argparse.Namespace) -> RatingSettings:
             raise BridgeError(str(err)) from None
         names.append(path.name.split(".")[0])
     study = load_study(args.questions, traces, names)
+    for note in study.skipped:
+        print(f"toyroom rate: {note}", flush=True)
     secret_file = args.secret or args.out.with_name(args.out.name + ".secret")
     # a screenshot writes nothing: a throwaway secret unless the study has one already
     shot_only = args.screenshot is not None and not secret_file.exists()
@@ -118,6 +131,16 @@ def settings_from(args: argparse.Namespace) -> RatingSettings:
         secret=secrets.token_hex(16).encode() if shot_only else read_or_make_secret(secret_file),
         origins=tuple(args.origin),
     )
+
+
+def replay_seconds(settings: RatingSettings) -> float:
+    """Seconds of replay one participant watches: every question's clip, from the recording's
+    first tick to the last it shows, at the study's rate."""
+    total = 0.0
+    for q in settings.study.questions:
+        trace = settings.traces[q.recording]
+        total += (q.show_until - trace.ticks[0][0].tick) * trace.info.tick_seconds
+    return total / settings.study.replay_rate
 
 
 def _shoot(args: argparse.Namespace, settings: RatingSettings, stop: threading.Event) -> int:
@@ -161,7 +184,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                 flush=True,
             )
         count = len(settings.study.questions)
-        lines = [f"toyroom rate: {count} questions, answers to {args.out}, on {server.url}"]
+        replay = replay_seconds(settings)
+        lines = [
+            f"toyroom rate: {count} questions, answers to {args.out}, on {server.url}",
+            f"toyroom rate: each participant watches {replay / 60:.1f} min of replay "
+            f"({settings.study.replay_rate:g}x real time), besides reading and answering",
+        ]
         lines += [f"  {p}: {server.link(p)}" for p in settings.participants]
         print("\n".join([*lines, "toyroom rate: ready"]), flush=True)
         wait_for_stop(stop)

@@ -25,6 +25,8 @@ canvas { background: #fff; border: 1px solid #bbb; }
 button { font-size: 16px; padding: 6px 16px; margin: 8px 8px 0 0; }
 .text { white-space: pre-wrap; background: #fff; padding: 12px; border: 1px solid #ccc; max-width: 760px; }
 #tick, #status { color: #666; font-size: 14px; }
+#said { font-size: 15px; margin: 6px 0; min-height: 3.6em; }
+#said div { margin: 2px 0; }
 """
 
 BODY = """
@@ -38,8 +40,9 @@ BODY = """
 <section id="task" hidden>
   <canvas id="map" width="640" height="600"></canvas>
   <div id="side">
-    <h2 id="prompt">{prompt}</h2>
+    <h2 id="prompt"></h2>
     <div id="tick"></div>
+    <div id="said"></div>
     <div id="sliders"></div>
     <button id="again">Watch again</button><button id="submit" disabled>Next</button>
     <div id="status"></div>
@@ -58,9 +61,14 @@ def page_state(
     answer_url: str,
     plan: dict[str, Any] | None,
     frames: list[dict[str, Any]],
+    captions: list[dict[str, Any]] | None = None,
+    rate: float = 2.0,
+    tick_seconds: float = 0.1,
 ) -> dict[str, Any]:
-    """``window.RATING``: the question (``None`` when all are answered), how many the
-    participant has answered, where to send the answer, and the replay's plan and frames."""
+    """``window.RATING``: the question (``None`` when all are answered; its text is shown only
+    after consent), how many the participant has answered, where to send the answer, and the
+    replay: plan, frames, captions (what was said, by tick), its rate (times real time) and the
+    recording's tick (s)."""
     asked = None
     if question is not None:
         asked = {
@@ -68,8 +76,18 @@ def page_state(
             "person": question.person,
             "targets": list(question.targets),
             "labels": list(question.labels),
+            "text": question.text,
         }
-    return {"question": asked, "answered": answered, "answerUrl": answer_url, "plan": plan, "frames": frames}
+    return {
+        "question": asked,
+        "answered": answered,
+        "answerUrl": answer_url,
+        "plan": plan,
+        "frames": frames,
+        "captions": captions or [],
+        "rate": rate,
+        "tickSeconds": tick_seconds,
+    }
 
 
 def render(study: Study, participant: str, question: Question | None, state: dict[str, Any]) -> str:
@@ -83,7 +101,6 @@ def render(study: Study, participant: str, question: Question | None, state: dic
         progress=html.escape(progress),
         instructions=html.escape(study.instructions),
         consent=html.escape(study.consent),
-        prompt=html.escape(question.text if question else ""),
     )
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'

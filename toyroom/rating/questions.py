@@ -7,13 +7,18 @@ The file holds the study's texts and its questions::
     instructions = "Watch each clip, then move the sliders."
     consent = "By taking part you agree that ..."
     shuffle = false          # true: each participant gets the questions in an order of their own
+    replay_rate = 2          # replays run at this many times real time (default 2)
 
     [[questions]]
     id = "skate-before"      # optional: q1, q2... by position
     recording = "paper-robot" # a recording given on the command line, by file name without
                               # extension or by scenario name (optional with one recording:
                               # then its file name)
-    tick = 120               # the engine tick asked about
+    tick = 120               # the engine tick asked about, or instead:
+    at = "A1 leaves S1"      # a moment of the run (:mod:`toyroom.rating.moments`): the same
+                             # moment of every participant's run, whatever its tick
+    nth = 1                  # with ``at``: its first time (default), second...
+    offset = 0               # with ``at``: ticks after it (negative: before)
     person = "A1"
     ask = "belief"           # belief: where the person thinks ``item`` is (a slider per location);
                              # desire: how much they want each item (a slider per goal)
@@ -42,20 +47,29 @@ from bridge.errors import BridgeError
 from bridge.recording import Trace
 from protocol import AgentKind
 
+from .moments import MomentError, moment_tick
+
 ASKS = ("belief", "desire")
 """What a question asks for: ``belief`` (over locations, for an item) or ``desire`` (over goals)."""
 OUT = "out"
 """The goal of leaving (the planner's ``out``), as ``toyroom fit --judgments`` names it."""
-STUDY_KEYS = ("title", "instructions", "consent", "shuffle", "questions")
+STUDY_KEYS = ("title", "instructions", "consent", "shuffle", "replay_rate", "questions")
+REPLAY_RATE = 2.0
+"""Replays run at twice real time unless the file says ``replay_rate``."""
 QUESTION_KEYS = (
-    "id", "recording", "tick", "person", "ask", "item", "locations", "goals",
-    "retrospective", "show_until", "text",
+    "id", "recording", "tick", "at", "nth", "offset", "person", "ask", "item", "locations",
+    "goals", "retrospective", "show_until", "text",
 )  # fmt: skip
 
 
 class QuestionsError(BridgeError):
     """A questions file that cannot be read or names what the recordings do not have; says
     the file, the line or key, and what is wrong."""
+
+
+class _Absent(QuestionsError):
+    """A question's moment does not happen in one recording: a question shared by several
+    recordings is not asked of that one (a question of one recording is refused)."""
 
 
 @dataclass(frozen=True)
@@ -105,6 +119,11 @@ class Study:
     consent: str
     shuffle: bool
     questions: tuple[Question, ...]
+    replay_rate: float = REPLAY_RATE
+    skipped: tuple[str, ...] = ()
+    """A note per recording a question shared by several was not asked of: its moment (``at``)
+    does not happen in that run (a participant who never left the room)."""
+    """Replays run at this many times real time (the page says so)."""
 
 
 def episode_names(traces: Sequence[Trace], names: Sequence[str]) -> dict[str, int]:
@@ -162,15 +181,25 @@ def load_study(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> Stu
     shuffle = data.get("shuffle", False)
     if not isinstance(shuffle, bool):
         raise QuestionsError(f"{path}: shuffle must be true or false, got {shuffle!r}")
+    rate = data.get("replay_rate", REPLAY_RATE)
+    if not isinstance(rate, int | float) or isinstance(rate, bool) or not 0.1 <= rate <= 100:
+        raise QuestionsError(f"{path}: replay_rate must be from 0.1 to 100 (times real time), got {rate!r}")
     lines = _header_lines(text)
-    questions = []
+    questions, skipped = [], []
     for n, table in enumerate(tables):
         line = f" line {lines[n]}" if n < len(lines) else ""
         where = f"{path}{line}"
         targets = _recordings(table, n, where, traces, names)
+        asked = []
         for name, e in targets:
             suffix = f"-{name}" if len(targets) > 1 else ""
-            questions.append(_question(table, n, where, traces, (name, e), suffix))
+            try:
+                asked.append(_question(table, n, where, traces, (name, e), suffix))
+            except _Absent as absent:
+                skipped.append(f"not asked of {name}: {absent}")
+        if not asked:
+            raise QuestionsError(f"{where}: its moment happens in none of its recordings: {skipped[-1]}")
+        questions += asked
     ids = [q.id for q in questions]
     if dupes := sorted({i for i in ids if ids.count(i) > 1}):
         raise QuestionsError(f"{path}: question ids must differ; repeated: {', '.join(dupes)}")
@@ -181,6 +210,8 @@ def load_study(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> Stu
         _text(data, "consent", str(path)),
         shuffle,
         tuple(questions),
+        float(rate),
+        tuple(skipped),
     )
 
 
@@ -191,6 +222,35 @@ def _integer(table: dict[str, Any], key: str, where: str, low: int, high: int) -
     if not low <= value <= high:
         raise QuestionsError(f"{where}: {key} = {value} is outside the recording (ticks {low} to {high})")
     return value
+
+
+def _tick(table: dict[str, Any], where: str, trace: Trace) -> int:
+    """The question's tick: ``tick``, or the moment ``at`` (its ``nth`` time, ``offset`` ticks
+    after it) in this recording."""
+    first, last = trace.ticks[0][0].tick, trace.ticks[-1][0].tick
+    if ("tick" in table) == ("at" in table):
+        raise QuestionsError(f"{where}: give tick or at (a moment such as 'A1 leaves S1'), one of them")
+    if "tick" in table:
+        if "nth" in table or "offset" in table:
+            raise QuestionsError(f"{where}: nth and offset go with at, not tick")
+        return _integer(table, "tick", where, first, last)
+    nth, offset = table.get("nth", 1), table.get("offset", 0)
+    if not isinstance(nth, int) or isinstance(nth, bool) or nth < 1:
+        raise QuestionsError(f"{where}: nth must be an integer from 1, got {nth!r}")
+    if not isinstance(offset, int) or isinstance(offset, bool):
+        raise QuestionsError(f"{where}: offset must be an integer number of ticks, got {offset!r}")
+    try:
+        moment = moment_tick(_text(table, "at", where), trace, nth)
+    except MomentError as err:
+        absent = " happens never " in str(err) or " happens only " in str(err)
+        raise (_Absent if absent else QuestionsError)(f"{where}: at: {err}") from None
+    tick = moment + offset
+    if not first <= tick <= last:  # the run ended too soon (or began too late) for this moment
+        raise _Absent(
+            f"{where}: at {table['at']!r} (tick {moment}) + offset {offset} = {tick} is outside the "
+            f"recording (ticks {first} to {last})"
+        )
+    return tick
 
 
 def _names(table: dict[str, Any], key: str, where: str, known: Sequence[str]) -> tuple[str, ...]:
@@ -246,7 +306,7 @@ def _question(
         raise QuestionsError(f"{where}: {problem}")
     episode, e = target
     scene, last = traces[e].info.scene, traces[e].ticks[-1][0].tick
-    tick = _integer(table, "tick", where, traces[e].ticks[0][0].tick, last)
+    tick = _tick(table, where, traces[e])
     people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
     person = _text(table, "person", where)
     if person not in people:

@@ -101,20 +101,29 @@ function drawFrame(ctx, plan, L, frame) {
     const below = agent.person ? -1 : 1;
     label(ctx, agent.id, x, y + below * (size + 12), "bold 16px sans-serif", "#111111", "#ffffff");
   });
-  $("tick").textContent = "tick " + frame.tick;
+  const seconds = (frame.tick * S.tickSeconds).toFixed(1);
+  $("tick").textContent = `tick ${frame.tick} (${seconds} s); replay at ${S.rate}x real time`;
+  const said = S.captions.filter((c) => c.tick <= frame.tick).slice(-3);
+  $("said").replaceChildren(...said.map((c) => {
+    const line = document.createElement("div");
+    line.textContent = c.text;
+    return line;
+  }));
 }
 
 function replay() {
   const canvas = $("map"), ctx = canvas.getContext("2d"), plan = S.plan, frames = S.frames;
   const L = layout(canvas, plan);
-  const stride = Math.max(1, Math.ceil(frames.length / 100));
+  const msPerTick = (1000 * S.tickSeconds) / S.rate;  // the stated rate, whatever the clip's length
   let n = 0;
   $("submit").disabled = true;
+  clearTimeout(window.replayTimer);
   function step() {
     drawFrame(ctx, plan, L, frames[n]);
     if (n < frames.length - 1) {
-      n = Math.min(frames.length - 1, n + stride);
-      setTimeout(step, 30);
+      const wait = (frames[n + 1].tick - frames[n].tick) * msPerTick;
+      n += 1;
+      window.replayTimer = setTimeout(step, wait);
     } else {
       $("submit").disabled = false;
       finishReplay(frames[n].tick);
@@ -168,6 +177,7 @@ async function submit() {
 
 function start() {
   $("consent").hidden = true;
+  $("prompt").textContent = S.question.text;
   $("task").hidden = false;
   sliders();
   replay();

@@ -36,7 +36,7 @@ from bridge.errors import ConfigError
 from bridge.recording import Trace
 
 from .answers import AnswerBook
-from .drawing import frames, plan
+from .drawing import captions, frames, plan
 from .page import page_state, render
 from .questions import Question, Study
 from .serving import DEFAULT_LIMITS, BoundedHTTPServer, ServerLimits
@@ -109,7 +109,7 @@ class RatingServer:
         self.settings = settings
         self.book = AnswerBook(settings.answers)
         self.loopback = LOOPBACK_HOST.match(host) is not None
-        self._pages: dict[tuple[int, int], list[dict[str, Any]]] = {}
+        self._pages: dict[tuple[int, int], tuple[list[dict[str, Any]], list[dict[str, Any]]]] = {}
         self._plans = [plan(t.info.scene) for t in settings.traces]
         self._lock = threading.Lock()
         handler = type("Handler", (_Handler,), {"rating": self})
@@ -154,13 +154,17 @@ class RatingServer:
             key = (question.recording, question.show_until)
             with self._lock:
                 if key not in self._pages:
-                    self._pages[key] = frames(self.settings.traces[key[0]], key[1])
+                    trace, rate = self.settings.traces[key[0]], self.settings.study.replay_rate
+                    self._pages[key] = (frames(trace, key[1], rate), captions(trace, key[1]))
             state = page_state(
                 question,
                 answered=answered,
                 answer_url=url,
                 plan=self._plans[question.recording],
-                frames=self._pages[key],
+                frames=self._pages[key][0],
+                captions=self._pages[key][1],
+                rate=self.settings.study.replay_rate,
+                tick_seconds=self.settings.traces[key[0]].info.tick_seconds,
             )
         return render(self.settings.study, participant, question, state)
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from brain.model.belief import percept, true_values
-from brain.model.nested import NestedBeliefs, item_transitions
+from brain.model.nested import NestedBeliefs, item_transitions, smoothed_nested
 from brain.model.world import build_world_model
 from sim2d.engine import Engine
 
@@ -72,4 +72,36 @@ def test_a_peek_rate_makes_an_unseen_other_drift_toward_what_one_believes(model)
     expected = 1.0 - np.exp(-0.1 * 10.0)
     assert p[model.locations.index("box")] == pytest.approx(expected), (
         f"expected {expected:.3f} on box, got {p}"
+    )
+
+
+def test_the_backward_pass_leans_on_smoothed_first_order_beliefs(model) -> None:
+    """:func:`smoothed_nested` runs the filter again over the same percepts: with the online
+    beliefs it gives the online values exactly; with what the robot learned later of A's own
+    belief (A knew of the box all along), A's model of an unseen B drifts toward that instead."""
+    nested = NestedBeliefs(model, ["sally", "anne"], r=8.0, delta=1e-4, peek=0.1)
+    room_s, room_a, outside = at(model, 1, 3), at(model, 3, 3), at(model, 2, 0)
+    online = []
+    for time, cells, marble in (
+        (0.0, {"sally": room_s, "anne": room_a}, "basket"),
+        (10.0, {"sally": outside, "anne": room_a}, "box"),
+        (20.0, {"sally": outside, "anne": room_a}, "box"),
+    ):
+        step(model, nested, time, cells, marble)
+        online.append(nested.all_locations().copy())
+    beliefs = [where(model, m) for m in ("basket", "box", "box")]
+    again = smoothed_nested(nested, lambda n, person: beliefs[n])
+    assert all(np.array_equal(a, b) for a, b in zip(again, online, strict=True)), (
+        "the same inputs: the same values"
+    )
+    # what the robot learned later: Anne never knew of the box (online it read her as knowing)
+    unaware = smoothed_nested(
+        nested, lambda n, person: where(model, "basket") if person == "anne" else beliefs[n]
+    )
+    box = model.locations.index("box")
+    pair = nested.pairs.index(("anne", "sally"))
+    assert unaware[0][pair, 0, box] == online[0][pair, 0, box], "the start is B's (Sally's) own belief"
+    assert unaware[2][pair, 0, box] < online[2][pair, 0, box] - 0.05, (
+        f"Anne's model of the unseen Sally drifts to Anne's smoothed belief: {unaware[2][pair, 0]}, "
+        f"online {online[2][pair, 0]}"
     )

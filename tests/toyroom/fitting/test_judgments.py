@@ -74,7 +74,52 @@ def test_fit_to_judgments_finds_the_beta_that_made_them(recordings: list[Path], 
     for quantity, r in judged["r"].items():
         assert r["lo"] <= r["mean"] <= r["hi"] and r["mean"] > 0.8, f"held-out r of {quantity}: {r}"
     assert tomllib.loads((out / "settings.toml").read_text())["model"]["beta"] == 0.5
-    assert "## Fit to judgments" in (out / "report.md").read_text()
+    report = (out / "report.md").read_text()
+    assert "## Fit to judgments" in report
+    assert "ratings by raters not named (no participant column), of 3 recording(s)" in report, report
+    likely = json.loads((out / "fit.json").read_text())["models"]["graded"]["fitted"]
+    written = tomllib.loads((out / "settings-likelihood.toml").read_text())["model"]["beta"]
+    assert written == likely["beta"], (
+        f"settings-likelihood.toml has beta {written}, the likelihood fit {likely}"
+    )
+    assert "- `settings.toml`: graded at beta=0.5, from the fit to judgments" in report, report
+
+
+def test_the_report_says_why_an_r_is_missing_and_when_one_recording_was_rated() -> None:
+    """Issue 55: ``nan`` columns and one-episode intervals printed without a word."""
+    from toyroom.fitting.correlation import undefined_because
+    from toyroom.fitting.fit import _judgments_table
+
+    nan = np.nan
+    assert "2 rated value(s) with an estimate, 3 needed; 1 asked before the person was first seen" in str(
+        undefined_because(np.array([0.1, 0.2, nan]), np.array([0.3, 0.4, 0.5]))
+    )
+    assert undefined_because(np.array([0.5, 0.5, 0.5]), np.array([0.1, 0.2, 0.3])) == (
+        "the model's estimates do not vary across the rated values"
+    )
+    assert (
+        undefined_because(np.array([0.1, 0.2, 0.3]), np.array([0.5, 0.5, 0.5])) == "the ratings do not vary"
+    )
+    assert undefined_because(np.array([0.1, 0.2, 0.3]), np.array([0.2, 0.1, 0.5])) is None
+    judged = {
+        "graded": {
+            "fitted": {"beta": 4.0},
+            "r": {
+                "belief": {"mean": 0.7, "lo": 0.7, "hi": 0.7, "episodes": 1},
+                "desire": {
+                    "mean": None,
+                    "lo": None,
+                    "hi": None,
+                    "episodes": 1,
+                    "why": "the ratings do not vary",
+                },
+            },
+        }
+    }
+    text = "\n".join(_judgments_table(judged, {"ratings": 40, "raters": 2, "episodes": 1}))
+    assert "40 ratings by 2 raters, of 1 recording(s)" in text, text
+    assert "- graded, desire: no r (the ratings do not vary)." in text, text
+    assert "belief, desire: rated on one recording only" in text and "no interval" in text, text
 
 
 def test_judgments_naming_what_is_not_there_are_errors(recordings: list[Path], tmp_path: Path) -> None:

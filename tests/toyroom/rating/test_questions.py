@@ -124,3 +124,84 @@ def test_a_scenario_several_recordings_share_or_a_glob_asks_each(
     assert asked == [("q1-robot", "robot"), ("q1-decline", "decline"), ("later", "paper-robot-decline")], (
         asked
     )
+
+
+MOMENT = """
+[[questions]]
+id = "out"
+recording = "robot"
+at = "{at}"
+{extra}
+person = "A1"
+ask = "belief"
+item = "skate"
+"""
+
+
+def _events(trace: Trace, kind: str, actor: str) -> list[tuple[int, object]]:
+    return [
+        (state.tick, e)
+        for state, events in trace.ticks
+        for e in events
+        if e.kind == kind and e.actor == actor
+    ]
+
+
+def test_a_question_at_a_moment_of_the_run(tmp_path: Path, traces: tuple[list[Trace], list[str]]) -> None:
+    """``at`` names a moment by what happens (issue 55: fixed ticks did not match a played run)."""
+    robot = traces[0][0]
+    takes = next(t for t, e in _events(robot, "take", "A2") if e.item == "skate")  # type: ignore[attr-defined]
+    leaves = [t for t, e in _events(robot, "leave", "A1") if e.location == "S1"]  # type: ignore[attr-defined]
+    cases = {
+        ("A2 takes skate", "offset = 20"): takes + 20,
+        ("a2 TAKES the skate".replace("the ", ""), ""): takes,  # case does not matter
+        ("A1 leaves Storage 1", ""): leaves[0],
+        ("A1 leaves S1", "nth = 2"): leaves[1],
+        ("Agent 1 leaves S1", "offset = -5"): leaves[0] - 5,
+    }
+    for (at, extra), want in cases.items():
+        study = load(MOMENT.format(at=at, extra=extra), tmp_path, traces)
+        tick = study.questions[0].tick  # type: ignore[attr-defined]
+        assert tick == want, f"at = {at!r} {extra}: tick {tick}, expected {want}"
+
+
+@pytest.mark.parametrize(
+    ("at", "extra", "says"),
+    [
+        ("A1 flies to S1", "", "is not 'PERSON VERB THING'"),
+        ("A9 enters S1", "", "no person 'A9'"),
+        ("A1 enters Attic", "", "no room 'Attic' in the recording (rooms: E, O, P1, P2, S1, S2)"),
+        ("A1 takes kite", "", "no item 'kite'"),
+        ("A1 leaves S1", "nth = 9", "happens only 2 times in this recording (wanted time 9)"),
+        ("A1 gets ball", "", "happens never in this recording"),
+        ("A1 leaves S1", "offset = -99999", "is outside the recording"),
+        ("A1 leaves S1", "tick = 5", "give tick or at"),
+    ],
+)
+def test_a_wrong_moment_is_refused(
+    tmp_path: Path, traces: tuple[list[Trace], list[str]], at: str, extra: str, says: str
+) -> None:
+    with pytest.raises(QuestionsError) as caught:
+        load(MOMENT.format(at=at, extra=extra), tmp_path, traces)
+    assert says in str(caught.value) and "questions[0] 'out'" in str(caught.value), str(caught.value)
+
+
+def test_replays_carry_what_was_said_and_run_at_the_stated_rate(
+    traces: tuple[list[Trace], list[str]],
+) -> None:
+    """Issue 55: a 4042-tick clip replayed in 3 s, without the robot's words."""
+    from toyroom.rating.drawing import FRAMES_PER_SECOND, captions, frames
+
+    robot = traces[0][0]
+    last = robot.ticks[-1][0].tick
+    said = [c["text"] for c in captions(robot, last)]
+    assert any(t.startswith("Robot to Agent 1, of the skate") for t in said), said
+    assert any(t.startswith("Robot asks Agent 2 for the") for t in said), said
+    assert all(c["tick"] <= 100 for c in captions(robot, 100)), "captions past the question's tick"
+    for rate in (1.0, 4.0):
+        shown = frames(robot, 300, rate)
+        seconds = 300 * robot.info.tick_seconds / rate
+        assert abs(len(shown) - seconds * FRAMES_PER_SECOND) <= 2, (
+            f"300 ticks at {rate}x: about {seconds * FRAMES_PER_SECOND:.0f} frames expected, got {len(shown)}"
+        )
+        assert shown[-1]["tick"] == 300, shown[-1]["tick"]

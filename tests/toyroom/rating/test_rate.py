@@ -35,6 +35,7 @@ QUESTIONS = """
 title = "What do they think?"
 instructions = "Watch each clip of the house from above, then move the sliders."
 consent = "A test study. Click below to agree to take part."
+replay_rate = 10
 
 [[questions]]
 id = "skate-where"
@@ -134,8 +135,16 @@ def test_a_rater_answers_and_the_fit_reads_the_csv(
         page.goto(served.links["p1"])
         consent = page.evaluate("document.getElementById('consent').innerText")
         assert "A test study" in consent, f"expected the consent text first, the page shows {consent!r}"
-        page.evaluate("document.getElementById('agree').click(); 0")
+        before = page.evaluate("document.body.innerText")
+        assert "Where does A1" not in before, f"the question shows before consent (issue 55): {before!r}"
+        page.evaluate("window.clicked = performance.now(); document.getElementById('agree').click(); 0")
         page.wait_for("!document.getElementById('submit').disabled", 60, "the replay's end")
+        took = page.evaluate("(performance.now() - window.clicked) / 1000")
+        assert took >= 0.9 * 100 * 0.1 / 10, (
+            f"100 ticks of 0.1 s at 10x real time should take 1 s or more to replay, took {took:.2f} s"
+        )  # a lower bound: a loaded machine is slower, never faster
+        shown = page.evaluate("document.getElementById('tick').innerText")
+        assert "replay at 10x real time" in shown, f"the page should state the replay's rate: {shown!r}"
         page.evaluate("document.getElementById('submit').click(); 0")  # no slider touched: no answer
         said = page.wait_for(
             "document.getElementById('status').innerText.includes('Move every slider') && "
