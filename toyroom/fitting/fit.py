@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import shlex
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -301,6 +302,10 @@ def _judgments_table(judged: Mapping[str, Any], ratings: Mapping[str, int] | Non
     return [*lines, "", *_judged_notes(judged, quantities)]
 
 
+FEW = 5
+"""Kinds of judgment rated on fewer recordings than this get a note: their interval says little."""
+
+
 def _judged_notes(judged: Mapping[str, Any], quantities: Sequence[str]) -> list[str]:
     """Why a cell has no r (``-``), and which kinds rest on one rated recording (their interval
     over recordings is no interval, and every model fitted on it picks its point on the same
@@ -311,12 +316,20 @@ def _judged_notes(judged: Mapping[str, Any], quantities: Sequence[str]) -> list[
             why = m["r"].get(q, {}).get("why")
             if why:
                 notes.append(f"- {name}, {q}: no r ({why}).")
-    single = [q for q in quantities if any(m["r"].get(q, {}).get("episodes") == 1 for m in judged.values())]
+    rated = {q: min(m["r"].get(q, {}).get("episodes", FEW) for m in judged.values()) for q in quantities}
+    single = [q for q, n in rated.items() if n == 1]
+    few = [f"{q} ({n})" for q, n in rated.items() if 1 < n < FEW]
     if single:
         notes.append(
             f"- {', '.join(single)}: rated on one recording only, so the bootstrap over recordings has "
             "nothing to resample (no interval) and the cross-validation cannot hold that recording "
             "out and still fit; rate more recordings for an interval."
+        )
+    if few:
+        notes.append(
+            f"- {', '.join(few)}: rated on fewer than {FEW} recordings: a resample of so few recordings "
+            "often has too few rated values for an r, so the interval barely moves from the mean and "
+            "says little; rate more recordings."
         )
     return [*notes, ""] if notes else []
 
@@ -331,6 +344,8 @@ def _negated(d: Mapping[str, float | None] | None) -> dict[str, float | None] | 
 
 def _interval(value: Mapping[str, Any]) -> str:
     mean, lo, hi = value.get("mean"), value.get("lo"), value.get("hi")
-    if mean is None:
+    if mean is None or not math.isfinite(mean):
         return "-"
+    if lo is not None and hi is not None and not (math.isfinite(lo) and math.isfinite(hi)):
+        return f"{mean:.4f}"
     return f"{mean:.4f}" if lo is None else f"{mean:.4f} [{lo:.4f}, {hi:.4f}]"

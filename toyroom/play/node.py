@@ -145,7 +145,7 @@ def _terms(config: PlayConfig) -> str:
     study = config.study
     if study is None:
         return "no [study] section: no instructions or goal; each world runs to the scenario's end"
-    goal = f"goal: {study.goal}" if study.goal else "no goal stated"
+    goal = f"goal: {study.goal.rstrip('.')}" if study.goal else "no goal stated"
     if study.time_limit is None:
         return f"{goal}; each world runs until the goal or the scenario's end"
     minutes = study.time_limit / config.rate / 60
