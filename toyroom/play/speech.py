@@ -94,6 +94,9 @@ class Speech:
             self.commands.pop(status.command, None)
             if question is not None and question["command"] == status.command:
                 self.heard.question = None
+                withdrawn = self._withdrawn(command, status, robot_holds)
+                if withdrawn is not None:  # the page says so, not just closes the question
+                    self.heard.lines.append({"tick": tick, "text": withdrawn, "to_you": True})
                 return True
             return False
         if status.state is not CommandState.RUNNING:
@@ -106,6 +109,20 @@ class Speech:
         if to_you and isinstance(command.action, (Request, Give, Ask)):
             self.heard.question = self._question(command, text)
         return True
+
+    def _withdrawn(self, command: RobotCommand, status: CommandStatus, robot_holds: str | None) -> str | None:
+        """What the robot says when it ends its question without the person's answer
+        (cancelled, or failed for another reason than a no); ``None`` when they answered."""
+        answered = status.answer is not None or "declined" in status.reason
+        if status.state is CommandState.SUCCEEDED or answered:
+            return None
+        action = command.action
+        item = self._name(robot_holds if isinstance(action, Give) else getattr(action, "item", None))
+        if isinstance(action, Give):
+            return f"I take back my offer of the {item} (no answer came)."
+        if isinstance(action, Request):
+            return f"Never mind the {item}: I stop asking (no answer came)."
+        return "Never mind: I stop waiting for your answer."
 
     def _question(self, command: RobotCommand, text: str) -> dict[str, Any]:
         """The open question of ``command`` as the page shows it (:attr:`Heard.question`)."""

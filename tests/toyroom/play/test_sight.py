@@ -70,6 +70,29 @@ def test_the_robot_is_heard_and_its_give_is_a_question() -> None:
     assert speech.heard.question is None, "the question stayed open after the give ended"
 
 
+def test_the_robot_says_when_it_withdraws_its_offer() -> None:
+    """Issue 55: a give the brain cancelled closed the question without a word."""
+    speech = Speech("A1", {"A1": "Agent 1", "skate": "skate"}, {})
+    for n, (end, reason) in enumerate(
+        [(CommandState.CANCELLED, "cancelled by 'c6'"), (CommandState.FAILED, "A1 declined 'skate'")]
+    ):
+        speech.on_command(RobotCommand(id=f"g{n}", robot="robot", action=Give(person="A1")))
+        speech.on_status(
+            CommandStatus(command=f"g{n}", robot="robot", state=CommandState.RUNNING, tick=1),
+            1,
+            True,
+            "skate",
+        )
+        assert speech.heard.question is not None
+        ended = CommandStatus(command=f"g{n}", robot="robot", state=end, tick=2, reason=reason)
+        assert speech.on_status(ended, 2, hears=True, robot_holds="skate")
+        assert speech.heard.question is None
+    texts = [line["text"] for line in speech.heard.lines]
+    assert texts.count("I take back my offer of the skate (no answer came).") == 1, (
+        f"one withdrawal said, for the cancelled give, none for the declined one: {texts}"
+    )
+
+
 def test_keys_become_commands_with_their_time() -> None:
     goto = {"2": "S1"}
     up = command_for("ArrowUp", "A1", 3, goto, pressed=1.25, participant="p1")
