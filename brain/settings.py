@@ -94,7 +94,7 @@ class ModelSettings:
         miss: the chance that a person overlooks an item coming into view (kept while it stays
             there): each person's filter keeps rows of who overlooked what, weighed by their
             decisions (:mod:`brain.model.lapses`); 0 (the default) turns lapses off.
-        hearsay: the rate (per second) at which someone in a person's region tells them where
+        hearsay_per_s: the rate (per second) at which someone in a person's region tells them where
             they believe an item is, unheard by the robot (rows of who was told what, like
             ``miss``); 0 (the default) turns it off.
         answer_reliability: the probability that a person's answer to the robot's question
@@ -104,7 +104,7 @@ class ModelSettings:
             drifts toward uniform over the locations (graded beliefs in the exact model; what
             is in view is put right by the next percept); 0 (the default): people never
             forget. Formerly ``forget`` (:data:`RENAMED`).
-        nested_peek: the rate (per second) at which a person thinks another, out of their
+        nested_peek_per_s: the rate (per second) at which a person thinks another, out of their
             sight, may have come back and looked unseen (nested beliefs,
             :mod:`brain.model.nested`: their model of the other drifts toward their own
             belief); 0: what they last saw the other see is all they credit.
@@ -147,10 +147,10 @@ class ModelSettings:
     desire_levels: int = 3
     perception: str = Perception.OMNISCIENT.value
     miss: float = 0.0
-    hearsay: float = 0.0
+    hearsay_per_s: float = 0.0
     answer_reliability: float = 0.9
     forget_per_s: float = 0.0
-    nested_peek: float = 0.002
+    nested_peek_per_s: float = 0.002
     memory_drift: float = 0.1
     memory_strength: float = 3.0
     memory_forget: float = 0.1
@@ -177,10 +177,10 @@ class ModelSettings:
             "top_worlds": self.top_worlds >= 0,
             "perception": self.perception in Perception.names(),
             "miss": 0.0 <= self.miss < 1.0,
-            "hearsay": self.hearsay >= 0.0,
+            "hearsay_per_s": self.hearsay_per_s >= 0.0,
             "answer_reliability": 0.5 < self.answer_reliability <= 1.0,
             "forget_per_s": self.forget_per_s >= 0.0,
-            "nested_peek": self.nested_peek >= 0.0,
+            "nested_peek_per_s": self.nested_peek_per_s >= 0.0,
             "vi_tolerance": self.vi_tolerance >= 0.0,
             "memory_drift": 0.0 <= self.memory_drift <= 1.0,
             "memory_strength": self.memory_strength >= 0.0,
@@ -211,10 +211,10 @@ ALLOWED = {
     "top_worlds": "an int >= 0",
     "perception": f"one of {', '.join(Perception.names())}",
     "miss": "0 <= miss < 1",
-    "hearsay": "hearsay >= 0",
+    "hearsay_per_s": "hearsay_per_s >= 0",
     "answer_reliability": "0.5 < answer_reliability <= 1",
     "forget_per_s": "forget_per_s >= 0",
-    "nested_peek": "nested_peek >= 0",
+    "nested_peek_per_s": "nested_peek_per_s >= 0",
     "vi_tolerance": "vi_tolerance >= 0",
     "memory_drift": "0 <= memory_drift <= 1",
     "memory_strength": "memory_strength >= 0",
@@ -237,7 +237,7 @@ SECTIONS = {"model": ModelSettings, "robot": RobotSettings}
 them, so ``--set beta=3`` needs no table name; ``--set model.beta=3`` works too)."""
 
 
-RENAMED = {"forget": "forget_per_s"}
+RENAMED = {"forget": "forget_per_s", "hearsay": "hearsay_per_s", "nested_peek": "nested_peek_per_s"}
 """Former names of settings, each read as its new name with a warning, so settings files
 and ``--set`` lines written before a rename keep working."""
 

@@ -217,7 +217,7 @@ class Engine:
         for person in self.people.values():
             person.update(world)
         autonomous = [p for p in self.people.values() if isinstance(p, AutonomousPerson)]
-        exchange(autonomous, world, self.gossip, self.scenario.autonomy.hearsay)
+        exchange(autonomous, world, self.gossip, self.scenario.autonomy.hearsay_per_tick)
         tell_jobs(autonomous, world)
         self._observe_nested(autonomous)
         for robot in self.robots.values():

@@ -1,7 +1,7 @@
 """Does ``toyroom fit --refine`` recover ``miss`` and ``hearsay`` from people whose lapses are
 known? Episodes on the paper map whose two people act by the brain's own planner (``--minds
 model``: :mod:`sim2d.people.planned`) and overlook items (``Autonomy.miss``) and tell each other
-where things are (``Autonomy.hearsay``) at known rates; then the fit of ``miss`` (and
+where things are (``Autonomy.hearsay_per_tick``) at known rates; then the fit of ``miss`` (and
 ``hearsay``) over their recordings, grid first, then the optimiser.
 
 What the episodes add to ``--minds model`` ones, so lapses happen often enough to be read:
@@ -12,13 +12,13 @@ themselves). The engine runs in this process (no Zenoh); each episode is written
 ``trace.jsonl`` that ``toyroom fit`` reads.
 
 The simulated rates and the model's are the same quantity for ``miss`` (the chance an item
-coming into view at a place goes unnoticed while it stays there). Hearsay is not: sim2d's
-is a chance per tick per pair of people in one region, and only a teller surer than the
-listener tells; the model's is a rate per second per pair (``-ln(1 - h) / tick_seconds``
-is the matching value, printed as the truth) and any belief more likely than not is told.
+coming into view at a place goes unnoticed while it stays there), and the same rule for
+hearsay (issue 53: a teller surer than the listener tells one item they place differently),
+sim2d's ``hearsay_per_tick`` per tick and the model's ``hearsay_per_s`` per second
+(``-ln(1 - h) / tick_seconds`` is the matching value, printed as the truth).
 
     python studies/recover_lapse.py [--miss 0.2] [--hearsay 0.0] [--episodes 40] [--ticks 2000]
-        [--workers 2] [--params miss] [--json FILE]
+        [--workers 2] [--params miss[,hearsay_per_s]] [--json FILE]
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from brain.outputs.policytable import write_policy_table
-from brain.settings import ModelSettings, Settings
+from brain.settings import ModelSettings, Settings, current_name
 from bridge.recording.trace import Trace, trace_line
 from protocol import ClockMode, Keys
 from sim2d.engine import Engine
@@ -48,14 +48,16 @@ from toyroom.fitting.optimise import parse_bounds, refine
 
 BASE = dataclasses.replace(ModelSettings(), beta=4.0, hazard=0.02, ignorance=1.0)
 """The planner people act by, and the brain's settings the fit starts from."""
-GRID = {"miss": "0.01,0.05,0.2,0.5", "hearsay": "0.01,0.1,1"}
+GRID = {"miss": "0.01,0.05,0.2,0.5", "hearsay_per_s": "0.01,0.1,1"}
 
 
 def scenario(miss: float, hearsay: float, ticks: int) -> Scenario:
     """paper-auto with people who act by the planner, start knowing, and lapse at these rates
     (``hearsay`` per tick per pair, sim2d's unit)."""
     base = load_scenario("paper-auto")
-    autonomy = dataclasses.replace(base.autonomy, planner="model", knows=0.0, miss=miss, hearsay=hearsay)
+    autonomy = dataclasses.replace(
+        base.autonomy, planner="model", knows=0.0, miss=miss, hearsay_per_tick=hearsay
+    )
     return dataclasses.replace(base, max_ticks=ticks, autonomy=autonomy)
 
 
@@ -150,11 +152,11 @@ def main(argv: Sequence[str] | None = None) -> dict[str, object]:
     parser.add_argument("--ticks", type=int, default=2000)
     parser.add_argument("--every", type=int, default=150, help="ticks between the unseen hand's moves")
     parser.add_argument("--seed", type=int, default=0, help="the first episode's seed")
-    parser.add_argument("--params", default="miss", help="comma-separated: miss, hearsay or both")
+    parser.add_argument("--params", default="miss", help="comma-separated: miss, hearsay_per_s or both")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", type=Path, help="also write the numbers here")
     args = parser.parse_args(argv)
-    params = [p.strip() for p in args.params.split(",") if p.strip()]
+    params = [current_name(p.strip()) for p in args.params.split(",") if p.strip()]
     with tempfile.TemporaryDirectory() as scratch:
         began = time.perf_counter()
         traces = recordings(
@@ -162,7 +164,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, object]:
         )
         generated = time.perf_counter() - began
         result = recover(traces, params, args.workers)
-    truth = {"miss": args.miss, "hearsay": -math.log1p(-args.hearsay) / 0.1}
+    truth = {"miss": args.miss, "hearsay_per_s": -math.log1p(-args.hearsay) / 0.1}
     result |= {"truth": {p: truth[p] for p in params}, "generate_seconds": round(generated, 1)}
     refined = result["refined"]
     assert isinstance(refined, dict)

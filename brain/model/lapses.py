@@ -12,7 +12,7 @@ stays in view there: its percepts say nothing of the item
 right or wrong, sure or not (as ``--minds rich`` simulated people's does). Each row's
 weight then follows the evidence of the person's decisions, so a person who walks back to
 where the item used to be makes the missed row the likely one: a false belief the percepts
-alone cannot show. Hearsay (``ModelSettings.hearsay``) splits rows the same way: when someone
+alone cannot show. Hearsay (``ModelSettings.hearsay_per_s``) splits rows the same way: when someone
 in the person's region believes an item to be where the row's person does not
 (``StepRecord.rumours``, from the tracker), a "told" row takes it in as the robot's speech is
 taken (weight: the chance it was said since the last step). Rows with the same overlooked

@@ -47,7 +47,7 @@ class StepRecord:
     graded beliefs only)."""
     rumours: tuple[tuple[int, int, float], ...] = ()
     """``(item, value, probability)``: what someone in the person's region believes of an
-    item, and the chance they told it since the last step (``ModelSettings.hearsay``)."""
+    item, and the chance they told it since the last step (``ModelSettings.hearsay_per_s``)."""
     elapsed: float = 0.0
     """Decision times since the previous decision (``switch``: the hazard over them)."""
     said: FloatArray | None = None

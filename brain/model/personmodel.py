@@ -35,9 +35,9 @@ log = logging.getLogger(__name__)
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
     """:func:`base_person_model`, wrapped to allow lapses of attention and hearsay when
-    ``settings.miss`` or ``settings.hearsay`` is above 0 (:mod:`brain.model.lapses`)."""
+    ``settings.miss`` or ``settings.hearsay_per_s`` is above 0 (:mod:`brain.model.lapses`)."""
     base = base_person_model(scene, settings, true_world=true_world)
-    lapses = settings.miss > 0 or settings.hearsay > 0
+    lapses = settings.miss > 0 or settings.hearsay_per_s > 0
     return LapseModel(base, settings.miss) if lapses and not true_world else base
 
 

@@ -132,6 +132,6 @@ def check_tracking_size(scene: Scene, settings: ModelSettings, branches: int, mo
             f"scene '{scene.name}': {branches} branches of the unseen world x {people} people x "
             f"{rows} lapse rows x at least {floor / 2**20:.2f} MiB per row would take "
             f"{need / 2**30:.3g} GiB, above the brain's budget of {MEMORY_BUDGET_GB:.0f} GiB "
-            "(MEMORY_BUDGET_GB): turn lapses off (miss = 0, hearsay = 0) or let the robot see "
+            "(MEMORY_BUDGET_GB): turn lapses off (miss = 0, hearsay_per_s = 0) or let the robot see "
             "more (perception = omniscient)"
         )

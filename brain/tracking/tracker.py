@@ -103,7 +103,7 @@ class MindTracker:
         """Person -> the last online estimate and what it was read from (chains are only ever
         dropped, so their count names the set left)."""
         s = self.settings
-        self.nested = NestedBeliefs(self.model, self.people, s.r, s.delta, s.nested_peek)
+        self.nested = NestedBeliefs(self.model, self.people, s.r, s.delta, s.nested_peek_per_s)
         """Where each person believes each other believes each item is (:mod:`brain.model.nested`)."""
         self.nested_ticks: dict[int, FloatArray] = {}
         """Tick -> ``(P, K, L)`` the nested beliefs then, per pair of ``self.nested.pairs``."""
@@ -281,7 +281,7 @@ class MindTracker:
 
     def _rumours(self, person: str, state: State, seconds: float) -> tuple[tuple[int, int, float], ...]:
         """What ``person`` may have heard from the others in their region (:func:`.hearsay.rumours`)."""
-        return rumours(state, person, self._tracked_online, self.settings.hearsay, seconds)
+        return rumours(state, person, self._tracked_online, self.settings.hearsay_per_s, seconds)
 
     def _tracked_online(self, person: str) -> Estimate | None:
         return self.online(person) if person in self.tracks else None

@@ -56,7 +56,7 @@ def rich_autonomy(seed: int) -> list[str]:
     return [
         f"forget_per_tick = {rng.uniform(0.0002, 0.001):.5f}",
         f"miss = {rng.uniform(0.1, 0.4):.3f}",
-        f"hearsay = {rng.uniform(0.01, 0.05):.4f}",
+        f"hearsay_per_tick = {rng.uniform(0.01, 0.05):.4f}",
         f'search = "{("likely", "nearest")[int(rng.integers(2))]}"',
         f"wander = {rng.uniform(0.0, 0.15):.3f}",
         f"replan = {rng.uniform(0.0, 0.02):.4f}",

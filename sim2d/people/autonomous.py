@@ -20,7 +20,7 @@ offered is worth more to them than the one they hold.
 
 Rich minds (:class:`~sim2d.scenario.autonomy.Autonomy`) are less tidy than the brain's model of them:
 they forget (``forget_per_tick``), overlook items in view (``miss``: drawn once when an item comes
-into view at a place, kept while it stays there), tell each other things (``hearsay``,
+into view at a place, kept while it stays there), tell each other things (``hearsay_per_tick``,
 :mod:`sim2d.people.hearsay`), look first where it is near (``search = "nearest"``), wander off
 (``wander``) and change their minds on the way (``replan``). With every knob at its default
 a person behaves exactly as the simple one does, draw for draw.

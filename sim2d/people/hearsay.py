@@ -1,7 +1,7 @@
 """Hearsay: simulated people who meet tell each other where things are.
 
 Each tick, for every pair of autonomous people in one region, with probability
-``Autonomy.hearsay`` one of them (at random) tells the other where they believe an item is,
+``Autonomy.hearsay_per_tick`` one of them (at random) tells the other where they believe an item is,
 chosen at random among the items the two place differently (most probable location) that
 the teller is sure of (at least :data:`SURE` there) and surer of than the listener is of
 their own most probable place. The listener takes it as the robot's ``inform`` is taken:

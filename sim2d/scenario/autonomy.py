@@ -17,7 +17,7 @@ RATES = (
     "put_away",
     "forget_per_tick",
     "miss",
-    "hearsay",
+    "hearsay_per_tick",
     "wander",
     "replan",
     "knows",
@@ -25,7 +25,7 @@ RATES = (
     "silent",
 )
 """The probabilities of :class:`Autonomy`."""
-RENAMED = {"forget": "forget_per_tick"}
+RENAMED = {"forget": "forget_per_tick", "hearsay": "hearsay_per_tick"}
 """Former keys of ``[autonomy]``, each read as its new key with a warning, so episodes
 written before a rename keep working."""
 SEARCH_ORDERS = ("likely", "nearest")
@@ -53,9 +53,11 @@ class Autonomy:
     miss: float = 0.0
     """Chance that an item coming into view (at a location, not carried by the person) goes
     unnoticed for as long as it stays in view there: its belief is left as it was."""
-    hearsay: float = 0.0
+    hearsay_per_tick: float = 0.0
     """Chance per tick, for two autonomous people in one region, that one tells the other
-    where they believe an item is (one they disagree on), unheard by the robot."""
+    where they believe an item is (one they disagree on), unheard by the robot (formerly
+    ``hearsay``; the brain's ``hearsay_per_s`` is the same rule per second:
+    ``-ln(1 - hearsay_per_tick) / tick_seconds``)."""
     search: str = "likely"
     """Where a person looks for what they want: ``likely`` (the most probable place; ties:
     the first) or ``nearest`` (the nearest place at least half as probable as the best)."""

@@ -23,7 +23,7 @@ GRIDS: dict[str, tuple[float, ...]] = {
     "ignorance": (0.1, 0.5, 0.9),
     "step_cost": (0.1, 1.0, 3.0),
     "miss": (0.0, 0.1, 0.3),
-    "hearsay": (0.0, 0.1, 0.3),
+    "hearsay_per_s": (0.0, 0.1, 0.3),
     "forget_per_s": (0.0, 0.003, 0.01),
 }
 """The default grid of each parameter ``toyroom fit --params`` may name."""

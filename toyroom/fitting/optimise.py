@@ -74,7 +74,7 @@ BOUNDS: dict[str, Bound] = {
     "step_cost": Bound(0.0, 10.0, log=False),  # any; the grid's range and beyond
     "miss": Bound(1e-3, 0.5),  # 0 <= miss < 1 (per item coming into view); above 0.5 a lapse
     # would be likelier than a sight, and its row would outweigh the noticed one from birth
-    "hearsay": Bound(1e-3, 10.0),  # >= 0 (per second per pair)
+    "hearsay_per_s": Bound(1e-3, 10.0),  # >= 0 (per second per pair)
     "forget_per_s": Bound(1e-5, 0.1),  # >= 0 (per second)
 }
 """Each fittable parameter's range for the optimiser (see the module docstring); every

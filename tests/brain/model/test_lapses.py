@@ -58,7 +58,7 @@ def test_a_rumour_splits_off_a_told_row_with_its_chance() -> None:
     from brain.model.personinterface import StepRecord
     from brain.model.personmodel import base_person_model
 
-    settings = ModelSettings(hearsay=1.0)
+    settings = ModelSettings(hearsay_per_s=1.0)
     scene = corridor_scene()
     model = LapseModel(base_person_model(scene, settings), miss=0.0)
     world = model.model
@@ -128,12 +128,17 @@ def test_a_forgetful_person_outside_grows_unsure() -> None:
 
 
 def test_rumours_come_from_the_others_in_the_region() -> None:
-    """A second person in the room believes the ball at B; ``hearsay`` makes it a rumour
-    for the first, with the chance it was told in the time since their last decision."""
+    """A second person in the room believes the ball at B; by sim2d's rule (issue 53) they
+    tell the first only what the two place differently, the teller surer: nothing while both
+    believe B, the ball at B (with the chance a telling came, half of it from them, over the
+    one item) once the first believes A."""
     import math
+    from types import SimpleNamespace
 
     import msgspec
+    import numpy as np
 
+    from brain.tracking.hearsay import rumours, tellable
     from protocol import AgentKind, AgentSpec, Cell
 
     scene = corridor_scene()
@@ -146,11 +151,16 @@ def test_rumours_come_from_the_others_in_the_region() -> None:
         q = msgspec.structs.replace(base.agents[0], id="q", cell=Cell(6, 0), holding=None)
         return msgspec.structs.replace(base, agents=(*base.agents, q))
 
-    tracker = MindTracker(scene, ModelSettings(hearsay=0.5))
+    tracker = MindTracker(scene, ModelSettings(hearsay_per_s=0.5))
     tracker.observe(state(0, 4), [])
-    rumours = tracker._rumours("p", state(1, 5), 2.0)
+    assert tracker._rumours("p", state(1, 5), 2.0) == (), "both believe B: nothing to tell"
     b = tracker.model.locations.index("B")
-    assert rumours == ((0, 2 * b, (1 - math.exp(-0.5 * 2.0)) / 2),), rumours
+    believes = {"p": np.array([[0.8, 0.2]]), "q": np.array([[0.02, 0.98]])}
+    estimates = {who: SimpleNamespace(beliefs=b) for who, b in believes.items()}
+    told = rumours(state(1, 5), "p", estimates.get, 0.5, 2.0)  # type: ignore[arg-type]
+    assert told == ((0, 2 * b, (1 - math.exp(-0.5 * 2.0)) / 2),), told
+    assert tellable(np.array([[0.6, 0.4]]), np.array([[0.3, 0.7]])) == [], "a teller less sure tells nothing"
+    assert tellable(np.array([[0.4, 0.6]]), None) == [(0, 2 * b)], "an unknown listener is told what is sure"
 
 
 def test_a_forgetful_person_standing_still_still_steps() -> None:

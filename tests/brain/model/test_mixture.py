@@ -102,7 +102,7 @@ def dense_estimates(monkeypatch: pytest.MonkeyPatch, stream: Stream, settings: M
         ModelSettings(forget_per_s=0.05, belief_update="paper"),
         ModelSettings(person_planner="belief", desire_model="graded"),
         ModelSettings(perception="embodied"),
-        ModelSettings(miss=0.1, hearsay=0.05),
+        ModelSettings(miss=0.1, hearsay_per_s=0.05),
     ],
     ids=["default", "forget-paper", "lookahead-desires", "embodied", "lapses"],
 )

@@ -1,4 +1,4 @@
-"""Rich simulated minds (``Autonomy.forget_per_tick / miss / hearsay / search / wander / replan /
+"""Rich simulated minds (``Autonomy.forget_per_tick / miss / hearsay_per_tick / search / wander / replan /
 knows / stale``), each
 knob on a hand-built case, and the guarantee that simple minds are unchanged."""
 
@@ -203,11 +203,11 @@ def test_simple_minds_are_the_same_draw_for_draw() -> None:
     explicit = dataclasses.replace(
         scenario,
         autonomy=dataclasses.replace(
-            scenario.autonomy, forget_per_tick=0.0, miss=0.0, hearsay=0.0, wander=0.0, replan=0.0
+            scenario.autonomy, forget_per_tick=0.0, miss=0.0, hearsay_per_tick=0.0, wander=0.0, replan=0.0
         ),
     )
     assert story(Engine(scenario, seed=2)) == story(Engine(explicit, seed=2))
-    assert story(engine_with(seed=2, miss=0.3, hearsay=0.05)) != story(Engine(scenario, seed=2))
+    assert story(engine_with(seed=2, miss=0.3, hearsay_per_tick=0.05)) != story(Engine(scenario, seed=2))
 
 
 def test_bad_knobs_are_named() -> None:

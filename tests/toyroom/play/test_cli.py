@@ -37,7 +37,8 @@ def test_a_lab_network_address_is_printed_with_a_warning() -> None:
     try:
         assert process.stderr is not None and process.stdout is not None
         warning = process.stderr.readline()
-        links = [process.stdout.readline() for _ in range(3)][1:]
+        lines = [process.stdout.readline() for _ in range(4)]  # the scenario, the study's terms, two links
+        links = [line for line in lines if line.startswith("toyroom play: participant")]
     finally:
         process.terminate()
         process.wait(timeout=30)
