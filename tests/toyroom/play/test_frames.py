@@ -35,8 +35,8 @@ STARTUP = 180.0
 class Server:
     """``toyroom play`` as a process, one participant, its output lines collected."""
 
-    def __init__(self, out: Path) -> None:
-        command = [sys.executable, "-m", "toyroom", "play", "--scenario", "paper-robot", "--as", "A1",
+    def __init__(self, out: Path, scenario: str = "paper-robot") -> None:
+        command = [sys.executable, "-m", "toyroom", "play", "--scenario", scenario, "--as", "A1",
                    "--participants", "1", "--listen", "127.0.0.1:0", "--out", str(out), "--rate", "2",
                    "--grace", "1", "--log-level", "WARNING"]  # fmt: skip
         self.out = out
@@ -146,3 +146,32 @@ def test_a_malformed_frame_gets_an_error_and_the_world_runs_on(server: Server) -
     assert code == 0, f"the server did not exit 0 once the world ended (got {code}): {server.lines[-30:]}"
     tracebacks = [line for line in server.lines if "Traceback" in line]
     assert tracebacks == [], f"expected no traceback from the server, got: {server.lines}"
+
+
+def test_a_study_that_asks_for_consent_starts_only_with_it(tmp_path: Path) -> None:
+    """A ``[study]`` with a ``consent`` text: Start without the box ticked is refused, saying
+    so; with it, the clock starts."""
+    from sim2d.scenario.maps import SCENARIO_DIR
+
+    text = (SCENARIO_DIR / "paper-robot.toml").read_text(encoding="utf-8")
+    text = text.replace('map = "paper"', f'map = "{(SCENARIO_DIR / "paper.map.toml").as_posix()}"')
+    scenario = tmp_path / "consenting.toml"
+    scenario.write_text(text.replace("time_limit = 400", 'time_limit = 400\nconsent = "You agree."'))
+    running = Server(tmp_path / "out", str(scenario))
+    try:
+        link = running.line("participant p1: http", 60).split(": ", 2)[-1]
+        url = link.replace("http://", "ws://").replace("/play/", "/ws/")
+        with connect(url, open_timeout=30, max_size=None) as socket:
+            layout = _next(socket, "scene", STARTUP)
+            assert (layout.get("study") or {}).get("consent") == "You agree.", layout.get("study")
+            _next(socket, "view", STARTUP)
+            socket.send(json.dumps({"type": "start", "consented": False}))
+            refused = _next(socket, "error", 30)
+            assert "consent" in refused["message"], refused
+            socket.send(json.dumps({"type": "start", "consented": True}))
+            view = _next(socket, "view", 30)
+            while not view["started"]:
+                view = _next(socket, "view", 30)
+    finally:
+        running.process.terminate()
+        running.process.wait(timeout=60)
