@@ -208,7 +208,11 @@ class Checker(ClockChecks, ItemChecks):
         reply = self.step(1)
         if reply.tick != before + 1:
             raise CheckFailed(f"after malformed input, expected step to tick {before + 1}, got {reply.tick}")
-        return "error replies to bad queries, and still stepping"
+        return (
+            "error replies to bad queries, and still stepping (this check also puts '{}' on "
+            "engine/control and garbage on the robot's command key: an engine or gateway that logs "
+            "them as dropped is right to)"
+        )
 
     def check_truth(self) -> str:
         assert self.info is not None

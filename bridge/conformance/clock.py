@@ -30,6 +30,10 @@ from .probe import CheckFailed, CheckSkipped, NotApplicable, Probe
 
 HEARTBEAT_SECONDS = 0.25
 """How often the kit beats while it drives the robot (as the brain does)."""
+BEATING_SECONDS = 1.5
+"""How long the kit beats before falling silent; a robot that reaches its far cell sooner is
+sent back to the cell farthest from where it stands, so that a fast robot still walks when the
+beats stop."""
 SILENT_SECONDS = 5.0
 """How long after the last heartbeat the engine must have stopped the robot."""
 
@@ -84,16 +88,17 @@ class ClockChecks(Probe):
         robot = next(a for a in self.info.scene.agents if a.id == self.robot)
         if not robot.acts:
             raise CheckSkipped(f"robot '{robot.id}' only observes in this scene (acts: false)")
-        home = robot.home
-        far = max(self.info.scene.walkable(), key=lambda c: abs(c[0] - home.col) + abs(c[1] - home.row))
-        command = self.send(Navigate(cell=Cell(*far)))
+        command = self._walk_far(robot.home.col, robot.home.row)
         # in MessagePack: an engine must read it on every key (and a JSON-only one stops the robot)
         beats: Publisher[Heartbeat] = Publisher(
             self.bridge.session, self.keys.heartbeat(self.robot), encoding=Encoding.MSGPACK
         )
-        for seq in range(int(1.5 / HEARTBEAT_SECONDS)):
+        for seq in range(int(BEATING_SECONDS / HEARTBEAT_SECONDS)):
             beats.put(Heartbeat(robot=self.robot, seq=seq))
             time.sleep(HEARTBEAT_SECONDS)
+            done = self.statuses_of(command)
+            if done and done[-1].state is CommandState.SUCCEEDED:  # a fast robot: walk it back
+                command = self._walk_far(*self.cell_of(self.robot))
         while_beating = self.statuses_of(command)
         if while_beating and while_beating[-1].state.final:
             if while_beating[-1].state is CommandState.FAILED and "heartbeat" in while_beating[-1].reason:
@@ -116,6 +121,12 @@ class ClockChecks(Probe):
             raise CheckFailed(f"no heartbeat: expected the command failed with a reason, got {last}")
         beats.close()
         return f"kept driving with MessagePack heartbeats, stopped without: {last.reason}"
+
+    def _walk_far(self, col: int, row: int) -> str:
+        """Send the robot to the walkable cell farthest from ``(col, row)``; the command's id."""
+        assert self.info is not None
+        far = max(self.info.scene.walkable(), key=lambda c: abs(c[0] - col) + abs(c[1] - row))
+        return self.send(Navigate(cell=Cell(*far)))
 
     def _raw_query(self, key: str, payload: bytes) -> tuple[bytes, Encoding]:
         replies = list(
