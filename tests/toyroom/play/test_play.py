@@ -37,6 +37,9 @@ from websockets.sync.client import connect
 from bridge import Bridge
 from protocol import Ask, Event, Mind, PersonAction, PersonCommand, RobotCommand
 from tests.toyroom.devtools import Browser, Tab, wait_until
+from tests.toyroom.play.participant import VIEW, press_start
+from tests.toyroom.play.participant import goto as _goto
+from tests.toyroom.play.participant import view as _view
 from tests.toyroom.view.test_framing import ocr
 from toyroom.play import held_rate, play_metadata
 
@@ -46,7 +49,6 @@ RATE = 2.0
 """The engines run at twice wall-clock speed (the test's time; people walk as fast, in ticks)."""
 SHOT_VARIABLE = "TOYROOM_PLAY_SHOT"
 """Set to a path, the test also saves its screenshot of the page there (docs/img/play-page.png)."""
-VIEW = "window.playState && window.playState.view"
 ROOMS = ("Playground 1", "Storage 1", "Storage 2", "Playground 2", "Entrance", "Outside")
 
 
@@ -95,34 +97,6 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
         except subprocess.TimeoutExpired:
             process.kill()
             process.wait(timeout=10)
-
-
-def _view(tab: Tab) -> dict[str, Any]:
-    return dict(tab.evaluate(f"{VIEW} ? JSON.parse(JSON.stringify({VIEW})) : null") or {})
-
-
-def _at(tab: Tab, xy: tuple[float, float], what: str, timeout: float = 60) -> None:
-    def there() -> bool:
-        me = next((a for a in _view(tab).get("agents", []) if a["you"]), None)
-        return me is not None and abs(me["x"] - xy[0]) < 0.05 and abs(me["y"] - xy[1]) < 0.05
-
-    try:
-        wait_until(there, timeout, what)
-    except AssertionError:
-        mine = [a for a in _view(tab).get("agents", []) if a["you"]]
-        raise AssertionError(f"waited {timeout:g} s for {what} at {xy}; the person is at {mine}") from None
-
-
-def _goto(tab: Tab, key: str, xy: tuple[float, float], what: str) -> None:
-    """Press ``key`` and wait until the person stands at ``xy``; as a participant would, press
-    it again once when the person has not set off after 10 s (on this shared 2-core machine a
-    loaded Zenoh link has been seen to drop a command)."""
-    tab.press(key)
-    try:
-        _at(tab, xy, what, timeout=10)
-    except AssertionError:
-        tab.press(key)
-        _at(tab, xy, what)
 
 
 @pytest.fixture(scope="module")
@@ -220,14 +194,6 @@ def _intro(tab: Tab) -> dict[str, Any]:
         "ticks": (tick, _view(tab)["tick"]),
         "started": _view(tab)["started"],
     }
-
-
-def press_start(tab: Tab) -> None:
-    """Press the page's Start button and wait until the world runs."""
-    tab.evaluate("document.getElementById('start').click()")
-    tab.wait_for(
-        f"{VIEW}.started && document.getElementById('intro').style.display === 'none'", 30, "the start"
-    )
 
 
 def _p_ball(mind: Mind) -> float | None:
