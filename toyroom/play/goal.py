@@ -73,7 +73,6 @@ class GoalWatch:
             self._by_limit = False
         return self.outcome
 
-
     def reason(self) -> str:
         """The outcome in words, as the page and the recording's ``reason`` say it."""
         limit = self.study.time_limit if self.study is not None else None

@@ -181,8 +181,8 @@ def _follow(server: PlayServer, stop: threading.Event) -> None:
             if world.ended is not None or world.bridge is None:
                 continue
             problem = world.failed()
-            if world.outcome is not None:  # the study's goal met, or its time limit passed
-                world.end(world.goal.reason(), world.outcome)
+            if world.goal.outcome is not None:  # the study's goal met, or its time limit passed
+                world.end(world.goal.reason(), world.goal.outcome)
             elif world.brain_finished():
                 outcome = world.goal.finish()
                 world.end(world.goal.reason(), outcome)

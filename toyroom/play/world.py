@@ -29,6 +29,7 @@ from bridge.bridge import Bridge
 from bridge.processes import node_command, start_node, stop_nodes, wait_for_engine
 from bridge.pubsub import Received
 from protocol import (
+    AgentKind,
     CommandStatus,
     ControlReply,
     EngineInfo,
@@ -48,13 +49,11 @@ from .keys import command_for, digit_keys
 from .palette import person_colours
 from .recording import PlayRecorder
 from .sight import Memory, Sight
-from .speech import Speech
+from .speech import Speech, in_earshot
 
 log = logging.getLogger("toyroom.play")
 STOP_GRACE = 120.0
 """Seconds a stopped brain may take to write its outputs before it is killed."""
-EARSHOT_CELLS = 2
-"""A person hears the robot in the same region or within this many cells (as sim2d)."""
 
 Send = Callable[[dict[str, Any]], None]
 
@@ -81,8 +80,9 @@ class PlayWorld:
         self.view: dict[str, Any] = {"type": "status", "status": "starting"}
         self.ended: str | None = None
         """Why the world ended (``None`` while it runs)."""
-        self.complete = False
         self.outcome: StudyOutcome | None = None
+        """How the world ended (``None`` while it runs); the study's own terms, while it runs,
+        are :attr:`goal`'s."""
         self.goal = GoalWatch(config.study, config.person)
         self.started = False
         """The participant has pressed Start (after the instructions, and consent if asked)."""
@@ -249,7 +249,7 @@ class PlayWorld:
         regions = {r.id: r.name or r.id for r in info.scene.regions}
         places = {loc.id: regions.get(loc.region, loc.region) for loc in info.scene.locations}
         self.speech = Speech(person, sight.names, places, digit_keys([i.id for i in info.scene.items]))
-        people = [a.id for a in info.scene.agents if a.kind.value == "person"]
+        people = [a.id for a in info.scene.agents if a.kind is AgentKind.PERSON]
         with self._lock:
             self.layout = sight.layout(self.participant) | {
                 "world": self.world,
@@ -286,7 +286,7 @@ class PlayWorld:
                     self.ready.set()
             self._state = state
             if self.ready.is_set() and self.started:
-                self.outcome = self.outcome or self.goal.on_state(state)
+                self.goal.on_state(state)
             self.view = sight.look(state, self.memory)
             self._push(self._heard_view())
 
@@ -316,9 +316,8 @@ class PlayWorld:
             return
         with self._lock:
             command = speech.commands.get(status.command)
-            changed = speech.on_status(
-                status, state.tick, self._hears(state, status.robot), self._holds(status.robot)
-            )
+            hears = in_earshot(state, self.config.person, status.robot)
+            changed = speech.on_status(status, state.tick, hears, self._holds(status.robot))
             action = command.action if command is not None else None
             told = (
                 isinstance(action, Say)
@@ -330,14 +329,6 @@ class PlayWorld:
                     self.memory.note(item.item, item.location, state.tick)
             if changed:
                 self._push(self._heard_view())
-
-    def _hears(self, state: State, robot: str) -> bool:
-        agents = {a.id: a for a in state.agents}
-        me, it = agents.get(self.config.person), agents.get(robot)
-        if me is None or it is None:
-            return False
-        near = abs(me.cell.col - it.cell.col) + abs(me.cell.row - it.cell.row) <= EARSHOT_CELLS
-        return near or me.region == it.region
 
     def _holds(self, robot: str) -> str | None:
         state = self._state
@@ -357,6 +348,11 @@ class PlayWorld:
             "reason": self.ended or "",
             "last_tick": str(state.tick if state is not None else -1),
         }
+
+    @property
+    def complete(self) -> bool:
+        """Whether the world ended whole (at its goal, its limit or its end), not cut short."""
+        return self.outcome is not None and self.outcome is not StudyOutcome.INCOMPLETE
 
     @property
     def world_time(self) -> float | None:
@@ -384,7 +380,6 @@ class PlayWorld:
             first = self.ended is None
             if first:
                 self.ended, self.outcome = reason, outcome
-                self.complete = outcome is not StudyOutcome.INCOMPLETE
         if not first:  # another thread is ending it: wait until it has (the server may be exiting)
             self._closed.wait(timeout=60.0)
             return

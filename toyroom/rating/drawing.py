@@ -108,6 +108,7 @@ def frames(trace: Trace, until: int, rate: float = 1.0) -> list[dict[str, Any]]:
 
 def _caption(event: Event, names: dict[str, str]) -> str | None:
     """One line of what was said aloud at ``event`` (``None``: the event says nothing)."""
+
     def name(ident: str | None) -> str:
         return names.get(ident or "", ident or "someone")
 

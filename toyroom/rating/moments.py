@@ -28,6 +28,10 @@ class MomentError(ValueError):
     """A moment that cannot be read, or does not happen in a recording; says why."""
 
 
+class MomentMissing(MomentError):
+    """A moment that can be read but does not happen (often enough) in this recording."""
+
+
 @dataclass(frozen=True)
 class Moment:
     """A moment, read: who does what to what."""
@@ -105,12 +109,12 @@ def moment_tick(phrase: str, trace: Trace, nth: int = 1) -> int:
     """The tick of the ``nth`` time ``phrase`` happens in ``trace``.
 
     Raises:
-        MomentError: the phrase cannot be read, or happens fewer than ``nth`` times (saying
-            how many).
+        MomentError: the phrase cannot be read.
+        MomentMissing: it happens fewer than ``nth`` times (saying how many).
     """
     matches = _matches(read_moment(phrase, trace))
     ticks = [state.tick for state, events in trace.ticks for e in events if matches(e)]
     if len(ticks) < nth:
         times = "never" if not ticks else f"only {len(ticks)} time{'s' if len(ticks) > 1 else ''}"
-        raise MomentError(f"{phrase!r} happens {times} in this recording (wanted time {nth})")
+        raise MomentMissing(f"{phrase!r} happens {times} in this recording (wanted time {nth})")
     return ticks[nth - 1]

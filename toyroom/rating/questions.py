@@ -47,7 +47,7 @@ from bridge.errors import BridgeError
 from bridge.recording import Trace
 from protocol import AgentKind
 
-from .moments import MomentError, moment_tick
+from .moments import MomentError, MomentMissing, moment_tick
 
 ASKS = ("belief", "desire")
 """What a question asks for: ``belief`` (over locations, for an item) or ``desire`` (over goals)."""
@@ -242,8 +242,7 @@ def _tick(table: dict[str, Any], where: str, trace: Trace) -> int:
     try:
         moment = moment_tick(_text(table, "at", where), trace, nth)
     except MomentError as err:
-        absent = " happens never " in str(err) or " happens only " in str(err)
-        raise (_Absent if absent else QuestionsError)(f"{where}: at: {err}") from None
+        raise (_Absent if isinstance(err, MomentMissing) else QuestionsError)(f"{where}: at: {err}") from None
     tick = moment + offset
     if not first <= tick <= last:  # the run ended too soon (or began too late) for this moment
         raise _Absent(
