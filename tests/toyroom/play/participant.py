@@ -4,6 +4,7 @@ protocol): pressing Start, walking to places, and playing ``paper-robot`` as A1 
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from typing import Any
 
 from bridge import Bridge
@@ -47,14 +48,13 @@ def goto(tab: Tab, key: str, xy: tuple[float, float], what: str) -> None:
         at(tab, xy, what, timeout=10)
     except AssertionError:
         tab.press(key)
-        at(tab, xy, what, timeout=120)
+        at(tab, xy, what)
 
 
-def play_paper_robot_to_the_goal(tab: Tab) -> str:
-    """A1's part of ``paper-robot`` as its instructions ask (play with the skate, leave it on the
-    Storage 1 shelf, go outside, come back), then a yes to the robot's offer of the skate; the
-    page's ``ended`` once the world ends (``goal reached``)."""
-    press_start(tab)
+def go_out_and_back(tab: Tab, outside: Callable[[], None] | None = None) -> None:
+    """A1's part of ``paper-robot`` as its instructions ask: play with the skate, leave it on the
+    Storage 1 shelf, go outside (``outside``: called there), wait for A2's swap and come back to
+    the shelf."""
     world = tab.evaluate("window.playState.scene.world")
     swapped = threading.Event()
     with Bridge(world) as bridge:
@@ -65,15 +65,24 @@ def play_paper_robot_to_the_goal(tab: Tab) -> str:
         )
         tab.press("p")
         start = tab.wait_for(f"{VIEW}.playing && {VIEW}.tick", 30, "A1 playing with the skate")
-        tab.wait_for(f"{VIEW}.tick >= {start + 20}", 60, "20 ticks of play")
+        tab.wait_for(f"{VIEW}.tick >= {start + 20}", 30, "20 ticks of play")
         goto(tab, "2", (5.5, 10.5), "A1 at the Storage 1 shelf")
         tab.press("d")
         tab.wait_for(f"!({VIEW}.holding)", 30, "the skate dropped")
-        goto(tab, "5", (5.5, 6.5), "A1 in the entrance")
-        goto(tab, "6", (7.5, 2.5), "A1 outside")
-        assert swapped.wait(180), "A2 never swapped the ball for the skate"
+        goto(tab, "5", (5.5, 6.5), "A1 in the entrance (its cell nearest Storage 1)")
+        goto(tab, "6", (7.5, 2.5), "A1 outside (its cell nearest the entrance)")
+        if outside is not None:
+            outside()
+        assert swapped.wait(120), "A2 never swapped the ball for the skate (A1's label 4 not completed?)"
     goto(tab, "5", (7.5, 4.5), "A1 back in the entrance")
     goto(tab, "2", (5.5, 10.5), "A1 back at the Storage 1 shelf")
+
+
+def play_paper_robot_to_the_goal(tab: Tab) -> str:
+    """Start, :func:`go_out_and_back`, then a yes to the robot's offer of the skate; the page's
+    ``ended`` once the world ends (``goal reached``)."""
+    press_start(tab)
+    go_out_and_back(tab)
     tab.wait_for(f"{VIEW}.question && {VIEW}.question.kind === 'give'", 240, "the robot's offer of the skate")
     tab.press("y")
     return str(tab.wait_for(f"{VIEW}.ended", 120, "the end of the episode"))

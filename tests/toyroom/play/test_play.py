@@ -37,8 +37,7 @@ from websockets.sync.client import connect
 from bridge import Bridge
 from protocol import Ask, Event, Mind, PersonAction, PersonCommand, RobotCommand
 from tests.toyroom.devtools import Browser, Tab, wait_until
-from tests.toyroom.play.participant import VIEW, press_start
-from tests.toyroom.play.participant import goto as _goto
+from tests.toyroom.play.participant import VIEW, go_out_and_back, press_start
 from tests.toyroom.play.participant import view as _view
 from tests.toyroom.view.test_framing import ocr
 from toyroom.play import held_rate, play_metadata
@@ -111,50 +110,34 @@ def played(served: Served, tmp_path_factory: pytest.TempPathFactory) -> Served:
         press_start(p1)
         scene = p1.evaluate("window.playState.scene")
         served.notes["p1_world"] = scene["world"]
-        swapped = threading.Event()
-        with Bridge(scene["world"]) as bridge:
-            bridge.subscribe(
-                bridge.keys.events,
-                lambda e, _: swapped.set() if e.actor == "A2" and e.label == "swapped" else None,
-                expected=Event,
-            )
-            p2 = _second_participant(browser, served)
-            p1.press("p")
-            start = p1.wait_for(f"{VIEW}.playing && {VIEW}.tick", 30, "A1 playing with the skate")
-            p1.wait_for(f"{VIEW}.tick >= {start + 20}", 30, "20 ticks of play")
-            _goto(p1, "2", (5.5, 10.5), "A1 at the Storage 1 shelf")
-            p1.press("d")
-            p1.wait_for(f"!({VIEW}.holding)", 30, "the skate dropped")
-            _goto(p1, "5", (5.5, 6.5), "A1 in the entrance (its cell nearest Storage 1)")
-            _goto(p1, "6", (7.5, 2.5), "A1 outside (its cell nearest the entrance)")
+        p2 = _second_participant(browser, served)
+
+        def outside() -> None:
             p1.screenshot(shots / "outside.png")
             served.notes["outside_shot"] = shots / "outside.png"
-            assert swapped.wait(120), "A2 never swapped the ball for the skate (A1's label 4 not completed?)"
-            _goto(p1, "5", (7.5, 4.5), "A1 back in the entrance")
-            _goto(p1, "2", (5.5, 10.5), "A1 back at the Storage 1 shelf")
-            heard = p1.wait_for(
-                f"{VIEW}.speech && {VIEW}.speech.filter(l => l.to_you).length", 120, "the robot"
-            )
-            served.notes["heard"] = _view(p1)["speech"]
-            assert heard
-            question = p1.wait_for(f"{VIEW}.question", 120, "the robot's offer of the skate")
-            served.notes["question"] = question
-            asked_at = float(_view(p1)["time"])  # a participant who takes 20 s to answer (issue 55)
-            p1.wait_for(f"{VIEW}.time >= {asked_at + 20}", 60, "20 s of the robot's offer")
-            served.notes["still_asked"] = _view(p1).get("question")
-            p1.screenshot(shots / "play.png")
-            served.notes["shot"] = shots / "play.png"
-            if os.environ.get(SHOT_VARIABLE):  # the picture in the docs
-                shutil.copyfile(shots / "play.png", os.environ[SHOT_VARIABLE])
+
+        go_out_and_back(p1, outside)
+        heard = p1.wait_for(f"{VIEW}.speech && {VIEW}.speech.filter(l => l.to_you).length", 120, "the robot")
+        served.notes["heard"] = _view(p1)["speech"]
+        assert heard
+        question = p1.wait_for(f"{VIEW}.question", 120, "the robot's offer of the skate")
+        served.notes["question"] = question
+        asked_at = float(_view(p1)["time"])  # a participant who takes 20 s to answer (issue 55)
+        p1.wait_for(f"{VIEW}.time >= {asked_at + 20}", 60, "20 s of the robot's offer")
+        served.notes["still_asked"] = _view(p1).get("question")
+        p1.screenshot(shots / "play.png")
+        served.notes["shot"] = shots / "play.png"
+        if os.environ.get(SHOT_VARIABLE):  # the picture in the docs
+            shutil.copyfile(shots / "play.png", os.environ[SHOT_VARIABLE])
+        p1.press("y")
+        try:
+            p1.wait_for(f"{VIEW}.holding === 'skate'", 10, "the skate in A1's hands")
+        except AssertionError:  # as a participant would, once more while the robot still asks
+            p1.wait_for(f"{VIEW}.question", 5, "the robot's offer, still open")
             p1.press("y")
-            try:
-                p1.wait_for(f"{VIEW}.holding === 'skate'", 10, "the skate in A1's hands")
-            except AssertionError:  # as a participant would, once more while the robot still asks
-                p1.wait_for(f"{VIEW}.question", 5, "the robot's offer, still open")
-                p1.press("y")
-                p1.wait_for(f"{VIEW}.holding === 'skate'", 30, "the skate in A1's hands")
-            served.notes["ended"] = p1.wait_for(f"{VIEW}.ended", 120, "the end of the episode")
-            browser.close_tab(p2)  # p2's world ran beside p1's all along
+            p1.wait_for(f"{VIEW}.holding === 'skate'", 30, "the skate in A1's hands")
+        served.notes["ended"] = p1.wait_for(f"{VIEW}.ended", 120, "the end of the episode")
+        browser.close_tab(p2)  # p2's world ran beside p1's all along
     served.wait_line(r"participant p1: recording .* \(complete, goal_reached: goal reached;", 180)
     served.wait_line(r"participant p2: recording .* \(incomplete", 60)
     return served
@@ -218,7 +201,7 @@ def _asked(p2: Tab, world: str, served: Served) -> None:
         )
         bridge.subscribe(bridge.keys.mind, lambda m, _: minds.append(m), expected=Mind)
         p2.press("5")
-        if not entered.wait(15):  # as a participant would, press once more (see _goto)
+        if not entered.wait(15):  # as a participant would, press once more (see goto)
             p2.press("5")
             assert entered.wait(60), "A1 never entered the entrance, where the robot stands"
         wait_until(lambda: minds, 30, "the brain's minds")
