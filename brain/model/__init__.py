@@ -5,6 +5,7 @@ a posterior."""
 
 from .arrays import BoolArray, FloatArray, IntArray
 from .belief import BeliefModel, Percept, percept, told, true_values
+from .desires import RATING_SCALE, DesireSummary, goal_scale, on_scale
 from .estimates import OUT, Estimate, estimate, false_belief_probability, reread
 from .exactperson import ExactModel
 from .factoredperson import FactoredModel
@@ -18,6 +19,7 @@ from .world import MOVE_STEPS, WorldModel, build_world_model
 __all__ = [
     "MOVE_STEPS",
     "OUT",
+    "RATING_SCALE",
     "TAKE",
     "build_world_model",
     "cached_policy",
@@ -26,6 +28,8 @@ __all__ = [
     "reread",
     "forward",
     "forward_step",
+    "goal_scale",
+    "on_scale",
     "percept",
     "person_model",
     "plan",
@@ -35,6 +39,7 @@ __all__ = [
     "true_values",
     "BeliefModel",
     "BoolArray",
+    "DesireSummary",
     "Estimate",
     "ExactModel",
     "FactoredModel",

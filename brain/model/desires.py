@@ -17,7 +17,8 @@ goals. A desire is a utility vector ``u`` over them; the planner solves one MDP 
 
 From weights over the ``U`` vectors: P(each goal is the most wanted) (ties split evenly),
 the expected utility of each goal, P(goal ``a`` preferred to goal ``b``) (ties count half)
-and the most probable ranking. Pure numpy.
+and the most probable ranking; and the expected utility on a study's rating scale
+(:func:`on_scale`: what people are asked, "how much does she want each?"). Pure numpy.
 """
 
 from __future__ import annotations
@@ -66,6 +67,32 @@ def utilities(settings: ModelSettings, n_items: int, leaves: bool = True) -> Flo
     if settings.desire_model == "graded":
         return graded_utilities(settings, n_items, leaves)
     return favourite_utilities(settings, n_items)
+
+
+def goal_scale(settings: ModelSettings, n_items: int) -> tuple[FloatArray, FloatArray]:
+    """``(D,)`` each goal's least and ``(D,)`` most utility under the model's desires (either
+    desire model): ``other_utility`` to ``preferred_utility`` for an item,
+    ``leave_utility_item`` to ``leave_utility_out`` for ``out``."""
+    low = np.array([settings.other_utility] * n_items + [settings.leave_utility_item])
+    high = np.array([settings.preferred_utility] * n_items + [settings.leave_utility_out])
+    return low, high
+
+
+RATING_SCALE = (1.0, 7.0)
+"""The rating scale of Baker, Jara-Ettinger, Saxe and Tenenbaum (2017): 1 (not at all) to 7."""
+
+
+def on_scale(
+    utility: FloatArray, settings: ModelSettings, scale: tuple[float, float] = RATING_SCALE
+) -> FloatArray:
+    """``(D,)`` expected utilities ``utility`` (``DesireSummary.utility``) on a rating scale:
+    each goal's ``[low, high]`` (:func:`goal_scale`) mapped linearly onto ``scale``, so the
+    least a goal can be worth reads ``scale[0]`` and the most ``scale[1]``. With one
+    favourite it is ``scale[0] + (scale[1] - scale[0]) P(most wanted)``; with graded desires,
+    the mean of the goal's level over the grid, rescaled."""
+    low, high = goal_scale(settings, len(utility) - 1)
+    unit = (utility - low) / np.where(high > low, high - low, 1.0)
+    return scale[0] + (scale[1] - scale[0]) * unit
 
 
 def most_wanted(u: FloatArray) -> FloatArray:

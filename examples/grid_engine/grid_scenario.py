@@ -118,7 +118,8 @@ def read_map(path: Path) -> Map:
 def read_scenario(path: Path) -> Scenario:
     data = tomllib.loads(path.read_text(encoding="utf-8"))
     map_name = data["map"]
-    map_path = Path(map_name) if map_name.endswith(".toml") else path.parent / f"{map_name}.map.toml"
+    # a .toml path is relative to the scenario's folder, a name is <name>.map.toml beside it
+    map_path = path.parent / (map_name if map_name.endswith(".toml") else f"{map_name}.map.toml")
     game_map = read_map(map_path)
     agents = []
     for table in data.get("agents", []):

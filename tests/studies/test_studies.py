@@ -43,3 +43,14 @@ def test_eval_cpu_splits_a_runs_cpu_by_process() -> None:
         assert float(row["brain_cpu_s"]) > float(row["engine_cpu_s"]), (
             f"the brain infers, the engine steps: {row}"
         )
+
+
+def test_food_truck_paths_prints_every_path_for_both_desire_models() -> None:
+    result = subprocess.run(
+        [sys.executable, str(STUDIES / "food_truck_paths.py")], capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 0, result.stderr
+    rows = [line for line in result.stdout.splitlines() if line.startswith("| ") and "---" not in line][1:]
+    assert len(rows) == 16, f"expected 8 paths x 2 desire models, got {len(rows)} rows:\n{result.stdout}"
+    arrival = [r for r in rows if "on arrival" in r]
+    assert all("0.50 / 0.50" in r for r in arrival), f"read on arrival, L and M should tie:\n{arrival}"

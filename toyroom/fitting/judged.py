@@ -29,11 +29,14 @@ from collections.abc import Sequence
 import numpy as np
 
 from brain.model.arrays import FloatArray
+from brain.model.desires import goal_scale, on_scale
 from brain.model.estimates import Estimate
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 
 from .judgments import Judgment
+
+__all__ = ["estimate_at", "expected_rank", "goal_scale", "predictions", "rank_of", "read", "utility"]
 
 
 def estimate_at(
@@ -49,20 +52,12 @@ def estimate_at(
     return (track.estimates if smoothed is None else smoothed)[n - 1]
 
 
-def goal_scale(settings: ModelSettings, n_items: int) -> tuple[FloatArray, FloatArray]:
-    """``(D,)`` each goal's least and ``(D,)`` most utility under the model's desires."""
-    low = np.array([settings.other_utility] * n_items + [settings.leave_utility_item])
-    high = np.array([settings.preferred_utility] * n_items + [settings.leave_utility_out])
-    return low, high
-
-
 def utility(est: Estimate, settings: ModelSettings) -> FloatArray:
     """``(D,)`` each goal's posterior mean utility on its own scale, in ``[0, 1]`` (P(most
     wanted) for an estimate without a desire summary: the favourite model's reading)."""
     if est.desire is None:
         return est.preference
-    low, high = goal_scale(settings, len(est.preference) - 1)
-    return (est.desire.utility - low) / np.where(high > low, high - low, 1.0)
+    return on_scale(est.desire.utility, settings, (0.0, 1.0))
 
 
 def expected_rank(est: Estimate) -> FloatArray:

@@ -70,7 +70,7 @@ class AnswerBook:
                 question.episode,
                 question.tick,
                 question.person,
-                question.ask,
+                question.quantity,
                 target,
                 f"{values[target]:.4f}",
                 question.estimate,

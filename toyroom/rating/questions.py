@@ -104,6 +104,13 @@ class Question:
     text: str
 
     @property
+    def quantity(self) -> str:
+        """The answers' ``quantity`` column, as ``toyroom fit --judgments`` reads it: ``belief``,
+        or ``utility`` for a desire question (its sliders ask how much the person wants each
+        goal, which the fit reads as the posterior expected utility, not P(most wanted))."""
+        return "utility" if self.ask == "desire" else self.ask
+
+    @property
     def estimate(self) -> str:
         """``smoothed`` for a retrospective question, else ``online``."""
         return "smoothed" if self.retrospective else "online"

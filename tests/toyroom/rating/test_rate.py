@@ -187,8 +187,9 @@ def test_a_rater_answers_and_the_fit_reads_the_csv(
     fitted = toyroom_fit(*recordings, "--judgments", served.answers, *fit, "--out", tmp_path / "fit")
     assert fitted.returncode == 0, f"toyroom fit --judgments failed on the rater's CSV:\n{fitted.stderr}"
     kinds = set(json.loads((tmp_path / "fit" / "fit.json").read_text())["judgments"]["graded"]["r"])
-    assert {"belief", "desire"} <= kinds and any("smoothed" in k for k in kinds), (
-        f"expected the fit to compare beliefs, desires and the retrospective (smoothed) beliefs; got {kinds}"
+    assert {"belief", "utility"} <= kinds and any("smoothed" in k for k in kinds), (
+        "expected the fit to compare beliefs, desires (read as utilities: the sliders ask how much)"
+        f" and the retrospective (smoothed) beliefs; got {kinds}"
     )
 
 

@@ -72,8 +72,8 @@ def test_answers_survive_a_restart(recordings: list[Path], tmp_path: Path) -> No
         assert "question 2 of 2" in page, "the page after a restart should be the next question"
     lines = (tmp_path / "a.csv").read_text().splitlines()
     assert lines[1:] == [
-        "robot,100,A1,desire,skate,0.2500,online,p1,q1",
-        "robot,100,A1,desire,ball,0.7500,online,p1,q1",
+        "robot,100,A1,utility,skate,0.2500,online,p1,q1",
+        "robot,100,A1,utility,ball,0.7500,online,p1,q1",
     ]
 
 
