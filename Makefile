@@ -12,7 +12,7 @@ PIP_VERSION := 26.3
 UV_VERSION := 0.13.9
 LATEST := .venv-latest
 
-.PHONY: run test sweeps check lock test-latest wheel-check schema clean chromium mono tesseract
+.PHONY: run test sweeps check lock test-latest wheel-check schema clean chromium mono tesseract godot
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
@@ -33,13 +33,13 @@ run: $(VENV)/.run-installed
 # brains and browsers (subprocesses that have cores of their own to use), so three at a time
 # keep it busy; every test has its own world and port. The 30 slowest are listed at the end:
 # the suite must stay under 12 minutes here.
-test: $(VENV)/.test-installed chromium mono tesseract
+test: $(VENV)/.test-installed chromium mono tesseract godot
 	$(PY) -m pytest -n 3 --durations=30
 
 # The sweeps: tests that run a benchmark or a study end to end (`toyroom bench --quick`, a
 # parameter's recovery over a dozen episodes), minutes of CPU each; CI runs them after `make
 # test` (tests/tiers.py, the `sweep` mark).
-sweeps: $(VENV)/.test-installed chromium mono tesseract
+sweeps: $(VENV)/.test-installed chromium mono tesseract godot
 	$(PY) -m pytest -n 2 --tier sweeps --durations=10
 
 # The fast tier: lint, types and every test that starts no process, Zenoh session, browser or
@@ -57,7 +57,7 @@ lock: | $(VENV)/bin/python
 		--python-version 3.11 --upgrade --quiet --custom-compile-command "make lock" -o $(LOCK)
 
 # The suite against the newest releases of everything (no lock), to find drift on purpose.
-test-latest: chromium mono tesseract
+test-latest: chromium mono tesseract godot
 	rm -rf $(LATEST)
 	$(PYTHON) -m venv $(LATEST)
 	$(LATEST)/bin/python -m pip install --quiet --upgrade pip
@@ -81,6 +81,11 @@ tesseract:
 # sample engine under mono; install both when missing (as root).
 mono:
 	@{ command -v mcs >/dev/null 2>&1 && pkg-config --exists newtonsoft-json 2>/dev/null; } || { apt-get update -qq && apt-get install -y -qq mono-devel libnewtonsoft-json-cil-dev >/dev/null; }
+
+# The Godot add-on's tests run its sample headless under Debian's Godot 3.2 server build
+# (clients/godot/, tests/clients/test_godot.py); install it when missing (as root).
+godot:
+	@command -v godot3-server >/dev/null 2>&1 || { apt-get update -qq && apt-get install -y -qq godot3-server >/dev/null; }
 
 schema: $(VENV)/.run-installed
 	$(VENV)/bin/toyroom schema

@@ -12,6 +12,7 @@ from protocol import (
     Cell,
     ClockMode,
     CommandState,
+    CommandStatus,
     ControlReply,
     Encoding,
     EngineInfo,
@@ -26,16 +27,23 @@ from protocol import (
 )
 
 from ..pubsub import Publisher, zenoh_encoding
-from .probe import CheckFailed, CheckSkipped, NotApplicable, Probe
+from .probe import HEARTBEAT_SECONDS, CheckFailed, CheckSkipped, NotApplicable, Probe
 
-HEARTBEAT_SECONDS = 0.25
-"""How often the kit beats while it drives the robot (as the brain does)."""
 BEATING_SECONDS = 1.5
-"""How long the kit beats before falling silent; a robot that reaches its far cell sooner is
-sent back to the cell farthest from where it stands, so that a fast robot still walks when the
-beats stop."""
+"""How long the kit beats before falling silent, walking the robot to and fro across the map;
+as the beats stop it queues one more walk back across the map, so that the robot still has
+two walks' way to go when the silence starts (a robot that covers both within
+:data:`SILENT_LIMIT` is too fast to test on that map: the check is skipped, saying so)."""
 SILENT_SECONDS = 5.0
-"""How long after the last heartbeat the engine must have stopped the robot."""
+"""How long after the last heartbeat the kit waits for the engine to stop the robot."""
+SILENT_LIMIT = 1.0
+"""The protocol's heartbeat loss: an engine stops the robot once neither a heartbeat nor a
+command has come for this long (it may take a tick or two more)."""
+
+
+def shown_status(status: CommandStatus) -> str:
+    """``failed (reason)``, or the state alone."""
+    return f"{status.state.value} ({status.reason})" if status.reason else status.state.value
 
 
 class ClockChecks(Probe):
@@ -88,7 +96,19 @@ class ClockChecks(Probe):
         robot = next(a for a in self.info.scene.agents if a.id == self.robot)
         if not robot.acts:
             raise CheckSkipped(f"robot '{robot.id}' only observes in this scene (acts: false)")
-        command = self._walk_far(robot.home.col, robot.home.row)
+        self.silent = True  # the kit's own beats (which keep other checks' robot going) held
+        try:
+            return self._beat_then_fall_silent(robot.home.col, robot.home.row)
+        finally:
+            self.silent = False
+
+    def _beat_then_fall_silent(self, col: int, row: int) -> str:
+        """Walk the robot to and fro while beating for :data:`BEATING_SECONDS`; then, as the
+        beats stop, queue one more walk back across the map (a command counts as hearing from
+        the brain, so the silence starts there) and expect the engine to fail the robot's
+        commands within :data:`SILENT_SECONDS`."""
+        assert self.robot is not None
+        command, target = self._walk_far(col, row)
         # in MessagePack: an engine must read it on every key (and a JSON-only one stops the robot)
         beats: Publisher[Heartbeat] = Publisher(
             self.bridge.session, self.keys.heartbeat(self.robot), encoding=Encoding.MSGPACK
@@ -98,35 +118,45 @@ class ClockChecks(Probe):
             time.sleep(HEARTBEAT_SECONDS)
             done = self.statuses_of(command)
             if done and done[-1].state is CommandState.SUCCEEDED:  # a fast robot: walk it back
-                command = self._walk_far(*self.cell_of(self.robot))
-        while_beating = self.statuses_of(command)
-        if while_beating and while_beating[-1].state.final:
-            if while_beating[-1].state is CommandState.FAILED and "heartbeat" in while_beating[-1].reason:
-                raise CheckFailed(f"the robot stopped although heartbeats came: {while_beating[-1].reason}")
-            raise CheckSkipped(
-                f"the navigation ended {while_beating[-1].state.value} before the heartbeats stopped"
-            )
+                command, target = self._walk_far(*target)
+            elif done and done[-1].state.final:
+                if done[-1].state is CommandState.FAILED and "heartbeat" in done[-1].reason:
+                    raise CheckFailed(f"the robot stopped although heartbeats came: {done[-1].reason}")
+                raise CheckSkipped(f"the navigation ended {shown_status(done[-1])} while the kit beat")
+        last, _ = self._walk_far(*target)  # queued behind the running walk: back across the map
+        silent_since = time.monotonic()
 
         def stopped() -> bool:
-            got = self.statuses_of(command)
+            got = self.statuses_of(last)
             return bool(got) and got[-1].state.final
 
-        if not self.stream.wait(stopped, SILENT_SECONDS):
-            raise CheckFailed(
-                f"no heartbeat for {SILENT_SECONDS:g} s: expected the running command to fail, got "
-                f"{[s.state.value for s in self.statuses_of(command)]}"
+        try:
+            if not self.stream.wait(stopped, SILENT_SECONDS):
+                raise CheckFailed(
+                    f"no heartbeat for {SILENT_SECONDS:g} s: expected the robot's commands to fail, got "
+                    f"{[s.state.value for s in self.statuses_of(last)]}"
+                )
+        finally:
+            beats.close()
+        ended = self.statuses_of(last)[-1]
+        quiet = time.monotonic() - silent_since
+        if ended.state is CommandState.SUCCEEDED and quiet < SILENT_LIMIT + 0.5:
+            raise CheckSkipped(
+                f"the robot crossed the map {quiet:.2f} s after the brain fell silent, within the "
+                f"{SILENT_LIMIT:g} s an engine may wait: too fast a robot to test on this map (the check "
+                f"needs two walks across it to last longer than {SILENT_LIMIT:g} s; "
+                "run it with a slower clock)"
             )
-        last = self.statuses_of(command)[-1]
-        if last.state is not CommandState.FAILED or not last.reason:
-            raise CheckFailed(f"no heartbeat: expected the command failed with a reason, got {last}")
-        beats.close()
-        return f"kept driving with MessagePack heartbeats, stopped without: {last.reason}"
+        if ended.state is not CommandState.FAILED or not ended.reason:
+            raise CheckFailed(f"no heartbeat: expected the command failed with a reason, got {ended}")
+        return f"kept driving with MessagePack heartbeats, stopped without: {ended.reason}"
 
-    def _walk_far(self, col: int, row: int) -> str:
-        """Send the robot to the walkable cell farthest from ``(col, row)``; the command's id."""
+    def _walk_far(self, col: int, row: int) -> tuple[str, tuple[int, int]]:
+        """Send the robot to the walkable cell farthest from ``(col, row)``; the command's id
+        and that cell."""
         assert self.info is not None
         far = max(self.info.scene.walkable(), key=lambda c: abs(c[0] - col) + abs(c[1] - row))
-        return self.send(Navigate(cell=Cell(*far)))
+        return self.send(Navigate(cell=Cell(*far))), far
 
     def _raw_query(self, key: str, payload: bytes) -> tuple[bytes, Encoding]:
         replies = list(

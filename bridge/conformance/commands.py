@@ -73,6 +73,19 @@ class CommandChecks(Probe):
     def _go(self, cell: GridCell, what: str) -> None:
         self._succeed(Navigate(cell=Cell(*cell)), f"navigate to ({cell[0]},{cell[1]}) {what}")
 
+    def _beside(self, person: str, action: Action, tries: int = 3) -> tuple[int, list[CommandStatus]]:
+        """Walk the robot to ``person``, then send ``action`` (a say or an ask); in real time
+        the person may have walked on meanwhile, so a command failed out of earshot is tried
+        again from where they are now, up to ``tries`` times. The event count before the last
+        try, and its statuses."""
+        for _ in range(tries):
+            self._go(self.cell_of(person), f"to {person}")
+            mark = len(self.stream.events)
+            statuses = self.command(action)
+            if not (self.realtime and "earshot" in statuses[-1].reason):
+                break
+        return mark, statuses
+
     def _until_running(self, command: str, what: str) -> None:
         def running() -> bool:
             return CommandState.RUNNING in [s.state for s in self.statuses_of(command)]
@@ -128,12 +141,10 @@ class CommandChecks(Probe):
         if len(scene.items) < 2 or not scene.locations or not people:
             raise CheckSkipped("the scene has fewer than two items, no location or no person")
         first, second, place = scene.items[0].id, scene.items[1].id, scene.locations[0].id
-        self._go(self.cell_of(people[0]), f"to {people[0]}")
-        mark = len(self.stream.events)
         say = Say(
             person=people[0], item=first, topic=SayTopic.LOCATION, location=place, also=(Told(second, place),)
         )
-        statuses = self.command(say)
+        mark, statuses = self._beside(people[0], say)
         if statuses[-1].state is not CommandState.SUCCEEDED:
             if "earshot" in statuses[-1].reason:
                 raise CheckSkipped(f"{people[0]} walked out of earshot: {shown(statuses)}")
@@ -160,9 +171,7 @@ class CommandChecks(Probe):
         people = [a.id for a in self.info.scene.agents if a.kind is AgentKind.PERSON]
         if not people:
             raise CheckSkipped("the scene has no person to ask")
-        self._go(self.cell_of(people[0]), f"to {people[0]}")
-        mark = len(self.stream.events)
-        statuses = self.command(Ask(person=people[0]))
+        mark, statuses = self._beside(people[0], Ask(person=people[0]))
         final = statuses[-1]
         if final.state is CommandState.FAILED and ("earshot" in final.reason or "no answer" in final.reason):
             raise CheckSkipped(f"{people[0]} could not be asked: {shown(statuses)}")
@@ -198,7 +207,7 @@ class CommandChecks(Probe):
         trail = [
             (a.cell.col, a.cell.row)
             for s in self.stream.states[mark:]
-            if s.episode == self.last.episode
+            if s.episode == self.latest().episode
             for a in s.agents
             if a.id == self.robot
         ]

@@ -7,18 +7,21 @@ from __future__ import annotations
 
 import enum
 import threading
+import uuid
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from protocol import (
     Action,
     AgentKind,
+    ClockMode,
     CommandStatus,
     ControlReply,
     Encoding,
     EngineInfo,
     Event,
     GridCell,
+    Heartbeat,
     Message,
     Pause,
     Reset,
@@ -33,6 +36,12 @@ from protocol import (
 from ..bridge import Bridge
 from ..errors import BridgeError
 from ..pubsub import Publisher, Received
+
+HEARTBEAT_SECONDS = 0.25
+"""How often the kit beats while it drives a real-time engine's robot (as the brain does)."""
+REALTIME_SLACK = 2.0
+"""Real time: the kit waits for ``n`` ticks up to ``REALTIME_SLACK * n * tick_seconds`` plus its
+timeout (the engine's clock, not the kit's, decides when a tick comes)."""
 
 
 def kind_of(action: Action | UnknownAction) -> str:
@@ -126,9 +135,16 @@ class Probe:
         self.episode = 0
         self.tick = 0
         self._ids = 0
+        self._run = uuid.uuid4().hex[:6]
+        """A command id prefix of this run: a real-time engine is not reset between runs, and
+        may refuse an id it has seen (``conform<run>-<n>``)."""
         self._publishers: dict[tuple[str, Encoding | None], Publisher[Message]] = {}
         self.last = ControlReply(episode=0, tick=0, time=0.0)
         """The newest control reply."""
+        self.silent = False
+        """Real time: whether the kit holds its heartbeats (the heartbeat check does)."""
+        self._beater: threading.Thread | None = None
+        self._closing = threading.Event()
         # one subscriber for states, events and truth, so their arrival order is the wire's
         bridge.subscribe(f"{self.keys.prefix}/engine/*", self._on_engine)
         bridge.subscribe(self.keys.status(), self._on_status, expected=CommandStatus)
@@ -155,10 +171,55 @@ class Probe:
         self.last = reply
         return reply
 
+    @property
+    def realtime(self) -> bool:
+        """Whether the engine runs its own clock (the kit then waits for ticks instead of
+        stepping them, and beats for its robot)."""
+        return self.info is not None and self.info.clock is ClockMode.REALTIME
+
     def step(self, n: int) -> ControlReply:
-        reply = self.control(Step(n=n))
-        self.tick = reply.tick
-        return reply
+        """Lock-step: ``step n``, the reply. Real time: wait for the engine's clock to pass ``n``
+        more ticks (see :data:`REALTIME_SLACK`); a reply made of the newest state."""
+        if not self.realtime:
+            reply = self.control(Step(n=n))
+            self.tick = reply.tick
+            return reply
+        assert self.info is not None
+        start = self.latest().tick
+        allowed = REALTIME_SLACK * n * self.info.tick_seconds + self.timeout
+        if not self.stream.wait(lambda: self.latest().tick >= start + n, allowed):
+            raise CheckFailed(
+                f"real time: expected tick {start + n} within {allowed:.1f} s, "
+                f"the newest is {self.latest().tick}"
+            )
+        state = self.latest()
+        self.tick = state.tick
+        return ControlReply(episode=state.episode, tick=state.tick, time=state.time, state=state)
+
+    def keep_beating(self) -> None:
+        """Real time: beat for the robot every :data:`HEARTBEAT_SECONDS` from now on (held
+        while :attr:`silent`), so that the engine does not stop it while a check drives it."""
+        if self._beater is not None or not self.realtime or self.robot is None:
+            return
+        robot = self.robot
+        beats: Publisher[Message] = Publisher(self.bridge.session, self.keys.heartbeat(robot))
+
+        def beat() -> None:
+            seq = 0
+            while not self._closing.wait(HEARTBEAT_SECONDS):
+                if not self.silent:
+                    beats.put(Heartbeat(robot=robot, seq=seq))
+                    seq += 1
+            beats.close()
+
+        self._beater = threading.Thread(target=beat, name="conform heartbeats", daemon=True)
+        self._beater.start()
+
+    def close(self) -> None:
+        """Stop beating (before the bridge closes)."""
+        self._closing.set()
+        if self._beater is not None:
+            self._beater.join(timeout=2.0)
 
     @property
     def robot(self) -> str | None:
@@ -169,8 +230,9 @@ class Probe:
     def send(self, action: Action | UnknownAction, encoding: Encoding | None = None) -> str:
         """Publish a command for the robot (in ``encoding``, default the bridge's); its id."""
         assert self.robot is not None
+        self.keep_beating()
         self._ids += 1
-        command = RobotCommand(id=f"conform{self._ids}", robot=self.robot, action=action)  # type: ignore[arg-type]
+        command = RobotCommand(id=f"conform{self._run}-{self._ids}", robot=self.robot, action=action)  # type: ignore[arg-type]
         key = self.keys.command(self.robot)
         publisher = self._publishers.get((key, encoding))
         if publisher is None:
@@ -194,7 +256,11 @@ class Probe:
         return self.statuses_of(command)
 
     def run_until(self, done: Callable[[], bool], max_steps: int) -> bool:
-        """Step one tick at a time until ``done()``; whether it came within ``max_steps``."""
+        """Step one tick at a time until ``done()``; whether it came within ``max_steps`` (real
+        time: within that many of the engine's ticks, :data:`REALTIME_SLACK`)."""
+        if self.realtime:
+            assert self.info is not None
+            return self.stream.wait(done, REALTIME_SLACK * max_steps * self.info.tick_seconds + self.timeout)
         for _ in range(max_steps):
             if done():
                 return True
@@ -208,6 +274,15 @@ class Probe:
             got = self.statuses_of(command)
             return bool(got) and got[-1].state.final
 
+        if self.realtime:
+            if self.run_until(final, max_steps):
+                ended = self.statuses_of(command)[-1].tick  # the state of its tick may come after it
+                self.stream.wait(lambda: self.latest().tick >= ended, self.timeout)
+                return self.statuses_of(command)
+            raise CheckFailed(
+                f"{what}: expected a final status within {max_steps} ticks of real time, got "
+                f"{[s.state.value for s in self.statuses_of(command)]}"
+            )
         for _ in range(max_steps):
             if final() or (
                 any(s.command == command and s.state.final for s in self.last.statuses)
@@ -229,8 +304,9 @@ class Probe:
         return self.finish(command, kind_of(action), max_steps)
 
     def latest(self) -> State:
-        """The newest state: the last control reply's, else the newest published."""
-        if self.last.state is not None:
+        """The newest state: the last control reply's, else (and always in real time) the
+        newest published."""
+        if self.last.state is not None and not self.realtime:
             return self.last.state
         with self.stream.cond:
             if not self.stream.states:

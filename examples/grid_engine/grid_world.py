@@ -544,6 +544,14 @@ class GridWorld:
         self.event("answer", person, item=said, target=me, answer=wants)
         return self.finish("succeeded", answer=wants)
 
+    def stop_robot(self, reason: str) -> None:
+        """Real time, the brain silent: fail the running command and every queued one."""
+        for command in [c for c in (self.running, *self.queue) if c is not None]:
+            self.status(command, "failed", reason)
+        self.running, self.queue = None, deque()
+        if self.robot is not None:
+            self.paths[self.robot] = []
+
     def finish(self, state: str, reason: str = "", answer: bool | None = None) -> None:
         assert self.running is not None
         self.status(self.running, state, reason, answer)

@@ -10,6 +10,12 @@ JSON frames over a WebSocket to ``toyroom gateway`` (transport.py has both wires
 ``--break MODE`` makes it deliberately wrong in one realistic way, to show that
 ``toyroom conform`` catches each fault (``--break list`` prints the modes).
 
+``--realtime [--tick-seconds S]`` runs its own clock: a tick every S seconds of wall time
+(default 0.7, one move of one cell per tick), paused and resumed on ``engine/control``, and
+the robot stopped (its commands failed) when neither a heartbeat nor a command has come on
+``robot/<id>/heartbeat`` or ``robot/<id>/command`` for 1 s, as the protocol asks. Without it
+the engine is lock-step (``step n``).
+
 ``--newer`` makes it a peer of a newer minor version (1.99) that uses what 1.1 does not
 know: a capability ``teleport``, item shape ``cup``, region kind ``closet`` (for storage
 rooms), an event ``sneeze`` every 10 ticks and a field ``mood`` on every state; a 1.1 peer
@@ -22,6 +28,7 @@ import argparse
 import signal
 import sys
 import threading
+import time
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +38,7 @@ from grid_world import PROTOCOL, GridWorld
 from transport import MALFORMED, GatewayTransport, Request, ZenohTransport
 
 TICK_SECONDS = 0.7  # one move of one cell per tick
+HEARTBEAT_TIMEOUT = 1.0  # real time: the robot stops after this long without a heartbeat
 SCENARIOS = Path(__file__).resolve().parents[2] / "sim2d" / "scenarios"
 NEWER = "1.99"
 BREAKS = {
@@ -80,8 +88,12 @@ class GridEngine:
         broken: str | None,
         newer: bool = False,
         gateway: str | None = None,
+        tick_seconds: float | None = None,
     ) -> None:
         self.world = world
+        self.realtime = tick_seconds is not None
+        self.tick_seconds = TICK_SECONDS if tick_seconds is None else tick_seconds
+        self.heard = time.monotonic()
         self.newer = newer
         self.paused = False
         self.prefix = f"toyroom/{world}"
@@ -96,8 +108,12 @@ class GridEngine:
         self.wire.serve("engine/info", self.on_info)
         self.wire.serve("engine/control", self.on_control)
         self.wire.subscribe("robot/*/command", self.on_command)
+        self.wire.subscribe("robot/*/heartbeat", self.on_heartbeat)
         if broken != "no-token":
             self.wire.announce("engine", "grid")
+        self.stopping = threading.Event()
+        if self.realtime:
+            threading.Thread(target=self.run_clock, name="grid clock", daemon=True).start()
 
     def load(self, name: str) -> None:
         path = Path(name) if name.endswith(".toml") else SCENARIOS / f"{name}.toml"
@@ -106,7 +122,7 @@ class GridEngine:
         self.game = GridWorld(
             self.scenario,
             episode=self.episode,
-            tick_seconds=TICK_SECONDS,
+            tick_seconds=self.tick_seconds,
             robot_acts=acts,
             broken=self.broken,
         )
@@ -171,9 +187,13 @@ class GridEngine:
             "engine": "grid-engine 0.1 (example)",
             "world": self.world,
             "scenario": self.scenario.name,
-            "capabilities": ["lockstep", "robot", *(["teleport"] if self.newer else [])],
-            "clock": "lockstep",
-            "tick_seconds": TICK_SECONDS,
+            "capabilities": [
+                "realtime" if self.realtime else "lockstep",
+                "robot",
+                *(["teleport"] if self.newer else []),
+            ],
+            "clock": "realtime" if self.realtime else "lockstep",
+            "tick_seconds": self.tick_seconds,
             "episode": self.episode,
             "scene": scene,
         }
@@ -236,6 +256,11 @@ class GridEngine:
                     query.reply_err(error("unknown_scenario", f"cannot load scenario: {err}"))
                     return
                 self.publish([], [], self.game.state())
+            elif kind == "step" and self.realtime:
+                query.reply_err(
+                    error("unsupported", "step needs a lock-step engine; this one runs in real time")
+                )
+                return
             elif kind == "step":
                 n = request.get("n", 1)
                 if not isinstance(n, int) or not 1 <= n <= 1_000_000:
@@ -245,12 +270,9 @@ class GridEngine:
                     return
                 ticks = {"double-step": 2 * n, "extra-tick": n + 1}.get(self.broken or "", n)
                 for _ in range(ticks):
-                    self.game.step()
-                    if self.newer and self.game.tick % 10 == 0 and self.game.people:
-                        self.game.event("sneeze", next(iter(self.game.people)), detail="atchoo")
+                    self.tick()
                     events += self.game.events
                     statuses += self.game.statuses
-                    self.publish(self.game.events, self.game.statuses, self.game.state())
             elif kind in ("pause", "resume"):
                 self.paused = kind == "pause"  # lock-step: only reported, as sim2d does
             else:
@@ -277,18 +299,49 @@ class GridEngine:
                     del reply[key]
             self.reply(query, reply)
 
+    def tick(self) -> None:
+        """One tick of the world, published (the caller holds the lock)."""
+        self.game.step()
+        if self.newer and self.game.tick % 10 == 0 and self.game.people:
+            self.game.event("sneeze", next(iter(self.game.people)), detail="atchoo")
+        self.publish(self.game.events, self.game.statuses, self.game.state())
+
+    def run_clock(self) -> None:
+        """Real time: a tick every ``tick_seconds`` of wall time unless paused; first, the
+        robot stopped when the brain has been silent for ``HEARTBEAT_TIMEOUT``."""
+        next_at = time.monotonic()
+        while not self.stopping.is_set():
+            if not self.paused:
+                with self.lock:
+                    silent = time.monotonic() - self.heard
+                    if silent > HEARTBEAT_TIMEOUT:
+                        self.game.statuses = []
+                        self.game.stop_robot(f"stopped: no heartbeat or command for {silent:.1f} s")
+                        self.publish_statuses(self.game.statuses)
+                    self.tick()
+            next_at += self.tick_seconds
+            delay = next_at - time.monotonic()
+            if delay < -1.0:  # far behind: do not race to catch up
+                next_at = time.monotonic()
+            self.stopping.wait(max(delay, 0.0))
+
+    def on_heartbeat(self, beat: dict[str, Any], key: str) -> None:
+        self.heard = time.monotonic()
+
     # ----- robot commands -----------------------------------------------------------------
 
     def on_command(self, command: dict[str, Any], key: str) -> None:
         if command.get("type") != "robot_command" or not isinstance(command.get("action"), dict):
             print(f"grid engine: dropped a message on {key}: not a robot_command", file=sys.stderr)
             return
+        self.heard = time.monotonic()
         with self.lock:
             self.game.statuses = []
             self.game.receive(command)
             self.publish_statuses(self.game.statuses)
 
     def close(self) -> None:
+        self.stopping.set()
         self.wire.close()
 
 
@@ -307,8 +360,15 @@ def main() -> int:
         metavar="VERSION",
         help=f"stamp every message with this version, e.g. 1.1 (default {PROTOCOL})",
     )
+    parser.add_argument("--lockstep", action="store_true", help="the default: step on 'step n' requests")
     parser.add_argument(
-        "--lockstep", action="store_true", help="accepted for symmetry with sim2d (always lock-step)"
+        "--realtime", action="store_true", help="run its own clock, a tick every --tick-seconds"
+    )
+    parser.add_argument(
+        "--tick-seconds",
+        type=float,
+        default=TICK_SECONDS,
+        help=f"real time: seconds per tick (default {TICK_SECONDS})",
     )
     parser.add_argument("--log-level", default="WARNING", help="accepted for symmetry with sim2d")
     parser.add_argument(
@@ -321,7 +381,10 @@ def main() -> int:
         return 0
     if args.speak:  # an older peer: the same messages (nothing this engine sends is newer than 1.1)
         PROTOCOL = grid_world.PROTOCOL = args.speak
-    engine = GridEngine(args.world, args.scenario, args.robot, args.broken, args.newer, args.gateway)
+    if args.tick_seconds <= 0:
+        parser.error(f"--tick-seconds must be above 0, got {args.tick_seconds}")
+    tick = args.tick_seconds if args.realtime else None
+    engine = GridEngine(args.world, args.scenario, args.robot, args.broken, args.newer, args.gateway, tick)
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())

@@ -122,10 +122,11 @@ def _run_command(command: Command) -> None:
     )
     run.add_argument(
         "--engine",
-        choices=("sim2d", "grid", "csharp"),
+        choices=("sim2d", "grid", "csharp", "godot"),
         default="sim2d",
-        help="sim2d (pymunk), grid (examples/grid_engine/) or csharp (the C# SDK's grid engine under "
-        "Mono, through the gateway; needs mono-devel); grid and csharp need a source checkout",
+        help="sim2d (pymunk), grid (examples/grid_engine/), csharp (the C# SDK's grid engine under "
+        "Mono, through the gateway; needs mono-devel) or godot (the Godot add-on's sample under "
+        "godot3-server, through the gateway); grid, csharp and godot need a source checkout",
     )
     run.add_argument(
         "--gateway",

@@ -69,6 +69,8 @@ RUN_LEASE_MS = 8000
 to 8 s keeps its links, so the episode simply waits for it; it is below the brain's 10 s step
 timeout, so an engine stalled for longer is taken for gone (and the brain carries on or stops,
 saying why) before the step times out. A killed node closes its links and is noticed at once."""
+GATEWAY_ONLY = ("csharp", "godot")
+"""Engines without Zenoh: ``toyroom run`` starts a gateway for them and exports the scenario."""
 NOT_ONE_EPISODE = "removed: they are not one episode's; toyroom infer makes them of the trace's last episode"
 """Why a run whose trace is not one episode's ticks keeps no brain outputs (its ``FAILED`` note)."""
 
@@ -87,8 +89,9 @@ class RunConfig:
     robot: str | None = None
     """``act`` or ``observe`` to override the scenario's robot mode."""
     engine: str = "sim2d"
-    """``sim2d`` (the pymunk engine), ``grid`` (the example grid engine) or ``csharp`` (the C#
-    SDK's grid engine under Mono, always through the gateway)."""
+    """``sim2d`` (the pymunk engine), ``grid`` (the example grid engine), ``csharp`` (the C#
+    SDK's grid engine under Mono) or ``godot`` (the Godot add-on's sample under
+    ``godot3-server``); the last two always through the gateway."""
     gateway: bool = False
     """Start ``toyroom gateway`` and connect the engine through it (a WebSocket, no Zenoh)."""
     live: bool | None = None
@@ -160,8 +163,12 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     settings = replace(settings or SessionSettings(), lease_ms=config.lease_ms)
     world = config.world or f"run-{os.getpid()}"
     folder = RunFolder(config.out)
-    if config.engine != "csharp":  # its command is made once the scenario is exported
+    if config.engine not in GATEWAY_ONLY:  # their command is made once the scenario is exported
         engine_command(config.engine, world, settings, gateway="ws://127.0.0.1:0" if config.gateway else None)
+    elif config.engine == "godot":
+        from bridge.gateway import godot
+
+        godot.godot()  # installed, and a source checkout to run
     check_brain_settings(config.settings, config.overrides)
     with StopRequest() as stop:
         staging = folder.open(lambda out: running_note(os.getpid(), infer_argv(out, config.observer, [])))
@@ -217,18 +224,19 @@ class Episode:
         config = self.config
         robot = ["--robot", config.robot] if config.robot else []
         args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
-        if config.engine != "csharp":
+        if config.engine not in GATEWAY_ONLY:
             return engine_command(config.engine, self.world, self.settings, *args, gateway=url)
-        from bridge.gateway import csharp
+        from bridge.gateway import csharp, godot
 
         csharp.export_scenario(config.scenario, self.out / "scenarios")
-        return csharp.engine_command(url or "", self.out / "scenarios", *args)
+        client = godot if config.engine == "godot" else csharp
+        return client.engine_command(url or "", self.out / "scenarios", *args)
 
     def _start(self) -> Outcome:
         """Start the gateway (when the engine needs one), the engine and the viewer, wait for
         the engine's handshake, then :meth:`_follow`."""
         url = None
-        if self.config.gateway or self.config.engine == "csharp":  # the C# engine has no Zenoh
+        if self.config.gateway or self.config.engine in GATEWAY_ONLY:  # no Zenoh in those engines
             log = self.out / "gateway.log"
             gateway, url = start_gateway(self.world, self.settings, log, group=True, stop=self.stop.event)
             self.nodes.append(gateway)

@@ -77,13 +77,30 @@ class TestCSharpEngine(EngineConformance):
 
 
 class TestSim2dRealtime(EngineConformance):
-    """sim2d free-running: the clock, pause and resume, and heartbeat loss."""
+    """sim2d free-running at 4x: the clock, pause and resume, heartbeat loss, and every robot
+    command check (in real time since issue 56)."""
+
+    strict = True
 
     @pytest.fixture(scope="class")
     @classmethod
     def conformance_world(cls) -> Iterator[str]:
         world = f"conform-realtime-{uuid.uuid4().hex[:6]}"
-        with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "1"):
+        with EngineProcess(world, "--scenario", "paper-robot", "--realtime", "4"):
+            yield world
+
+
+class TestGridEngineRealtime(EngineConformance):
+    """The grid engine on its own clock (``--realtime``, a tick every 0.1 s): every check but
+    reset, stepping and the control reply, the robot's among them."""
+
+    strict = True
+
+    @pytest.fixture(scope="class")
+    @classmethod
+    def conformance_world(cls) -> Iterator[str]:
+        world = f"grid-realtime-{uuid.uuid4().hex[:6]}"
+        with GridEngineProcess(world, "--scenario", "paper-robot", "--realtime", "--tick-seconds", "0.1"):
             yield world
 
 
@@ -106,6 +123,16 @@ BROKEN = {
     "say-one": ("say several", "expected a say event per item on one tick"),
 }
 """Each ``--break`` mode of the grid engine: the check that must fail, and what it must say."""
+ROBOT_BREAKS = (
+    "status",
+    "refuse-commands",
+    "duplicate-status",
+    "never-arrive",
+    "ignore-cancel",
+    "drop-queued",
+    "say-one",
+)
+"""The modes that concern the robot: real time must catch them at the same check."""
 
 
 def conform(world: str, timeout: int) -> subprocess.CompletedProcess[str]:
@@ -128,8 +155,25 @@ def test_every_break_mode_is_listed_and_tested() -> None:
 
 @pytest.mark.parametrize("fault", sorted(BROKEN))
 def test_broken_engines_fail_the_named_check(world: str, fault: str) -> None:
+    fails_at(world, fault)
+
+
+@pytest.mark.sweep  # a conform run in real time per fault, 5-120 s each: `make sweeps` (tests/tiers.py)
+@pytest.mark.parametrize("fault", ROBOT_BREAKS)
+def test_broken_robots_fail_the_named_check_in_real_time(world: str, fault: str) -> None:
+    """The robot's faults caught in real time too, at the same check (the grid engine on its
+    own clock, a tick every 0.02 s, so that a navigation that never arrives is given its 400
+    ticks in 16 s)."""
+    fails_at(world, fault, "--realtime", "--tick-seconds", "0.02")
+
+
+def fails_at(world: str, fault: str, *clock: str) -> None:
+    """The grid engine broken with ``fault`` fails ``toyroom conform`` at the check named in
+    :data:`BROKEN`, saying what it says there."""
     check, says = BROKEN[fault]
-    with GridEngineProcess(world, "--scenario", "paper-robot", "--break", fault):
+    if clock:
+        says = says.replace("within 400 ticks", "within 400 ticks of real time")
+    with GridEngineProcess(world, "--scenario", "paper-robot", "--break", fault, *clock):
         result = conform(world, 5)
     assert result.returncode != 0, f"a '{fault}' engine passed:\n{result.stdout}"
     failures = [line for line in result.stdout.splitlines() if line.startswith("FAIL")]

@@ -10,6 +10,9 @@ and ``ray start --address`` refuses to start a second node under that setting. S
 ``ray start`` under it, and the second node is ``ray start``'s own entry point with this
 machine's node address pinned to ``127.0.0.1`` (:data:`LOOPBACK_RAY_START`); its processes
 run under the setting too. A real cluster's nodes need neither (docs/deployment.md).
+
+The tests on the cluster are sweeps (``make sweeps``, tests/tiers.py): starting the two nodes
+takes a minute or more of this machine's two cores, and they are about three minutes in all.
 """
 
 from __future__ import annotations
@@ -36,6 +39,8 @@ from support import toyroom_fit
 
 from toyroom.cli.cli import main as toyroom
 from toyroom.evaluation.raybackend import LOCAL_ONLY, cluster_address, on_loopback
+
+CLUSTER = pytest.mark.sweep  # the tests on the two Ray nodes: `make sweeps` (tests/tiers.py)
 
 RAY = Path(sys.executable).with_name("ray")
 EPISODES, SEED, TICKS = 4, 3, 300
@@ -207,6 +212,7 @@ def _processes(cluster: Cluster) -> list[Any]:
     return found
 
 
+@CLUSTER
 def test_the_cluster_listens_on_loopback_only(cluster: Cluster) -> None:
     assert {node["ip"] for node in cluster.nodes} == {"127.0.0.1"}, cluster.nodes
     listening = []
@@ -222,6 +228,7 @@ def test_the_cluster_listens_on_loopback_only(cluster: Cluster) -> None:
 
 
 @pytest.mark.timeout(600)
+@CLUSTER
 def test_episodes_spread_over_the_nodes_and_score_as_locally(
     evaluations: tuple[Path, Path], cluster: Cluster
 ) -> None:
@@ -242,6 +249,7 @@ def test_episodes_spread_over_the_nodes_and_score_as_locally(
     assert sorted(e["index"] for e in kept) == list(range(EPISODES)), "each entry kept as it arrived"
 
 
+@CLUSTER
 def test_the_driver_gets_the_logs_and_recordings(evaluations: tuple[Path, Path]) -> None:
     """What an episode made on its node is written by the driver into the output folder."""
     _, ray = evaluations
@@ -252,6 +260,7 @@ def test_the_driver_gets_the_logs_and_recordings(evaluations: tuple[Path, Path])
 
 
 @pytest.mark.timeout(600)
+@CLUSTER
 def test_fit_on_the_cluster_finds_what_worker_processes_find(
     evaluations: tuple[Path, Path], cluster: Cluster, tmp_path: Path
 ) -> None:
