@@ -11,7 +11,10 @@ between their item beliefs per person, item and tick (``preference_tv_vs_exact``
 for preferences); elsewhere those are ``null``. ``paper`` does the same on the paper map's
 scenarios.
 
-    python -m toyroom.bench.scaling [--quick]
+    python -m toyroom.bench.scaling [--quick | --households]
+
+``--households`` runs the last house of the family alone (20 rooms, 10 items, 8 people, 1000
+ticks) and prints its tick with and without the nested beliefs against the target.
 """
 
 from __future__ import annotations
@@ -38,13 +41,16 @@ from sim2d.engine import Engine
 from sim2d.generation import write_house_episode
 from sim2d.scenario import load_scenario
 
-from .brainstep import timed_observe
+from .brainstep import nested_timer, timed_observe
 
 FAMILY = ((4, 2, 2), (5, 3, 2), (6, 3, 2), (8, 4, 2), (10, 6, 2), (12, 6, 2), (16, 8, 6), (20, 10, 8))
 """(rooms, items, people) of the generated houses, smallest first: the last, households of
 up to eight (target: at most ``HOUSEHOLD_TICK_MS`` per tick for all people together)."""
 QUICK_FAMILY = ((4, 2, 2), (5, 3, 2), (8, 4, 2), (10, 6, 2), (20, 10, 8))
 HOUSEHOLD_TICK_MS = 20.0
+HOUSEHOLD_TICK_P99_MS = 50.0
+"""Households: the mean and the 99th percentile of a tick, all people and their nested beliefs
+about each other together (issue 57)."""
 EXACT_FITS = 2000
 """The largest ``W`` for which the benchmark also runs the exact model (its planner takes
 seconds and its step tens of milliseconds there; beyond, it does not fit in memory)."""
@@ -75,6 +81,8 @@ class Followed:
     """Seconds per person-step, each tick where someone stepped."""
     per_tick: list[float]
     """Seconds per tick, all people together (nobody stepping included)."""
+    first_order: list[float]
+    """The same less the nested beliefs' update (what each person believes alone)."""
 
 
 def follow(engine: Engine, ticks: Ticks, settings: ModelSettings) -> Followed:
@@ -84,14 +92,16 @@ def follow(engine: Engine, ticks: Ticks, settings: ModelSettings) -> Followed:
     start = time.perf_counter()
     tracker = MindTracker(engine.scene(), settings)
     planner = time.perf_counter() - start
-    per_step, per_tick = [], []
+    nested = nested_timer(tracker)
+    per_step, per_tick, first_order = [], [], []
     for state, events in ticks:
-        started = time.perf_counter()
+        started, before = time.perf_counter(), len(nested)
         elapsed = timed_observe(tracker, state, events)
         per_tick.append(time.perf_counter() - started)
+        first_order.append(per_tick[-1] - sum(nested[before:]))
         if elapsed is not None:
             per_step.append(elapsed)
-    return Followed(tracker, planner, per_step, per_tick)
+    return Followed(tracker, planner, per_step, per_tick, first_order)
 
 
 def memory_per_person(engine: Engine, ticks: Ticks, settings: ModelSettings) -> float:
@@ -199,6 +209,9 @@ def house(rooms: int, items: int, people: int, ticks: int, directory: Path, seed
         "tick_us": statistics.mean(graded.per_tick) * 1e6,
         "tick_median_us": statistics.median(graded.per_tick) * 1e6,
         "tick_p99_us": percentile(graded.per_tick, 0.99) * 1e6,
+        "nested_pairs": len(graded.tracker.nested.pairs),
+        "first_order_tick_us": statistics.mean(graded.first_order) * 1e6,
+        "first_order_tick_p99_us": percentile(graded.first_order, 0.99) * 1e6,
         "memory_per_person_bytes": memory_per_person(engine, recorded, ModelSettings()),
         "graded_tv_vs_exact": None,
         "graded_preference_tv_vs_exact": None,
@@ -227,6 +240,19 @@ def paper(ticks: int) -> dict[str, dict[str, float]]:
         kept += tuple(f"smoothed_{k}" for k in kept)
         out[name] = {k: numbers[k] for k in kept} | {f"graded_{k}": graded[k] for k in kept}
     return out
+
+
+def households_line(row: dict[str, Any]) -> str:
+    """The households' tick with nested beliefs against the target, beside the first-order one."""
+    keys = ("tick_us", "tick_p99_us", "first_order_tick_us", "first_order_tick_p99_us")
+    ms = {k: row[k] / 1e3 for k in keys}
+    return (
+        f"households ({row['rooms']} rooms, {row['items']} items, {row['people']} people, "
+        f"{row['nested_pairs']} ordered pairs): per tick, mean {ms['tick_us']:.1f} ms and p99 "
+        f"{ms['tick_p99_us']:.1f} ms with nested beliefs (target <= {HOUSEHOLD_TICK_MS:g} and "
+        f"<= {HOUSEHOLD_TICK_P99_MS:g}); first-order alone {ms['first_order_tick_us']:.1f} ms and "
+        f"{ms['first_order_tick_p99_us']:.1f} ms"
+    )
 
 
 def main(quick: bool = False) -> dict[str, Any]:
@@ -262,6 +288,7 @@ def main(quick: bool = False) -> dict[str, Any]:
             "-" if r["smoothed"]["tv_vs_exact"] is None else f"{r['smoothed']['tv_vs_exact']:.4f}",
         )
     Console(width=200).print(table)
+    print(households_line(rows[-1]))
     for name, v in numbers["paper_tv_vs_exact"].items():
         print(
             f"{name}: tv_vs_exact {v['tv_vs_exact']:.4f}, preferences {v['preference_tv_vs_exact']:.4f}; "
@@ -271,7 +298,21 @@ def main(quick: bool = False) -> dict[str, Any]:
     return numbers
 
 
+def households(ticks: int = 1000) -> dict[str, Any]:
+    """The households' row alone (the family's last house), its line printed."""
+    rooms, items, people = FAMILY[-1]
+    with tempfile.TemporaryDirectory(prefix="toyroom-households-") as tmp:
+        row = house(rooms, items, people, ticks, Path(tmp))
+    print(households_line(row))
+    return row
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
-    main(parser.parse_args().quick)
+    parser.add_argument("--households", action="store_true", help="the households' row alone")
+    args = parser.parse_args()
+    if args.households:
+        households()
+    else:
+        main(args.quick)

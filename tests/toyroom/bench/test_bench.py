@@ -61,6 +61,8 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
             "worlds",
             "step_us",
             "tick_us",
+            "first_order_tick_us",
+            "nested_pairs",
             "smoothed",
             "memory_per_person_bytes",
             "planner_s",
