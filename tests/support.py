@@ -231,6 +231,17 @@ class CSharpEngineProcess(EngineProcess):
         self._start(csharp.engine_command(url, folder, "--scenario", scenario, *args))
 
 
+class GodotEngineProcess(EngineProcess):
+    """The Godot add-on's sample under ``godot3-server`` (clients/godot/), on the gateway at
+    ``url``, with scenario ``scenario`` exported into ``folder``."""
+
+    def __init__(self, url: str, folder: Path, scenario: str, *args: str) -> None:
+        from bridge.gateway import godot
+
+        godot.export_scenario(scenario, folder)
+        self._start(godot.engine_command(url, folder, "--scenario", scenario, *args))
+
+
 STUDIES = Path(__file__).resolve().parents[1] / "studies"
 
 

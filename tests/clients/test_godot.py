@@ -4,15 +4,14 @@ its TileMap scene export gives every bundled map back; its sample passes ``toyro
 --strict`` in lock-step and in real time; the brain, unchanged, reproduces the paper's
 Section V on it (the same assertions as ``tests/brain/test_section_v.py``) and completes
 ``paper-robot`` with the robot's give succeeding; killed and restarted under a running
-brain, it is handled as the other engines are."""
+brain, it is handled as the other engines are (``tests/faults/test_engine_killed.py``, with
+the grid and C# engines)."""
 
 from __future__ import annotations
 
 import importlib.util
-import queue
 import subprocess
 import sys
-import time
 import uuid
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
@@ -20,10 +19,9 @@ from pathlib import Path
 from types import ModuleType
 
 import pytest
-from support import EngineProcess, EventsCsv, GatewayProcess, MindCsv, toyroom_run
+from support import EventsCsv, GatewayProcess, GodotEngineProcess, MindCsv, toyroom_run
 
 from bridge.gateway import godot
-from protocol import Mind
 
 TESTS = Path(__file__).resolve().parents[1]
 SCENARIOS = TESTS.parent / "sim2d" / "scenarios"
@@ -34,15 +32,6 @@ REALTIME = ("--realtime", "7")
 are then over (they stand still) by the time the kit's say and ask checks walk the robot to
 A1; with 0.1 s ticks (`--tick-seconds 0.1`) A1 may still be walking then, and those checks
 skip ("out of earshot")."""
-
-
-class GodotEngineProcess(EngineProcess):
-    """The Godot sample under ``godot3-server`` on the gateway at ``url``, with scenario
-    ``scenario`` (a name or a ``.toml`` path) exported into ``folder``."""
-
-    def __init__(self, url: str, folder: Path, scenario: str, *args: str) -> None:
-        godot.export_scenario(scenario, folder)
-        self._start(godot.engine_command(url, folder, "--scenario", scenario, *args))
 
 
 def _section_v() -> ModuleType:
@@ -143,54 +132,3 @@ def test_the_sample_passes_conform_strict(sample: tuple[str, str]) -> None:
     assert " 0 skipped, 0 failed" in summary, f"{clock}: expected no skip and no failure, got {summary}"
     other = "lock-step" if clock == "realtime" else "real time"
     assert f"the clock runs in {other}" not in result.stdout, f"{clock}: conform saw the other clock:\n{got}"
-
-
-def test_the_godot_engine_killed_and_restarted_is_handled_as_the_others(world: str, tmp_path: Path) -> None:
-    """Killed, the gateway withdraws its token and the brain reports it lost; a new Godot
-    engine on the same gateway lets the brain finish (as tests/faults/test_engine_killed.py
-    does with the grid and C# engines)."""
-    from faults.test_engine_killed import start_brain
-
-    scenario = tmp_path / "long.toml"
-    (tmp_path / "paper.map.toml").write_text((SCENARIOS / "paper.map.toml").read_text())
-    text = (SCENARIOS / "paper-2.toml").read_text()
-    long_play = '{ do = "play", ticks = 600, label = "0" }'
-    scenario.write_text(text.replace('{ do = "play", ticks = 20, label = "0" }', long_play))
-    assert long_play in scenario.read_text(), "paper-2's first step is no longer what this test lengthens"
-    minds: queue.Queue[Mind] = queue.Queue()
-    exports = tmp_path / "exports"
-    with GatewayProcess(world) as gateway:
-        running = GodotEngineProcess(gateway.url, exports, str(scenario))
-        brain, lines = start_brain(world, "--scenario", str(scenario), "--max-ticks", "700")
-        try:
-            from bridge import Bridge
-
-            with Bridge(world) as watcher:
-                watcher.subscribe(watcher.keys.mind, lambda m, _: minds.put(m), expected=Mind)
-                minds.get(timeout=30)
-                killed_at = time.monotonic()
-                running.process.kill()
-                running.process.wait(timeout=30)
-                try:
-                    at, line = lines.get(timeout=30)
-                except queue.Empty:
-                    raise AssertionError(
-                        f"expected the brain to report the engine lost, it said nothing in 30 s "
-                        f"(exit status {brain.poll()}); gateway log:\n{gateway.output()}"
-                    ) from None
-                assert "lost" in line and at - killed_at < 2.5, (
-                    f"expected 'lost' within 2.5 s, got {line!r} after {at - killed_at:.2f} s"
-                )
-                assert gateway.process.poll() is None, "the gateway must outlive its engine"
-                with GodotEngineProcess(gateway.url, exports, str(scenario)) as again:
-                    at, line = lines.get(timeout=30)
-                    assert "back" in line, f"expected the brain to see the engine back, got {line!r}"
-                    finished = brain.wait(timeout=120)
-                    assert finished == 0, (
-                        f"expected the brain to finish the episode on the new engine, it exited {finished}; "
-                        f"engine log:\n{again.output()}"
-                    )
-        finally:
-            if brain.poll() is None:
-                brain.kill()
-            running.close()

@@ -93,18 +93,20 @@ def test_lockstep_brain_resumes_after_an_engine_restart(world: str) -> None:
         engine.close()
 
 
-@pytest.mark.parametrize("engine", ["grid", "csharp"])
+@pytest.mark.parametrize("engine", ["grid", "csharp", "godot"])
 def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(
     world: str, tmp_path: Path, engine: str
 ) -> None:
-    """The grid engine (Python, or C# under Mono) through ``toyroom gateway``: killed, the gateway
-    withdraws its token and the brain reports it lost; a new engine on the same gateway lets
-    the brain finish."""
-    from support import CSharpEngineProcess, GatewayProcess, GridEngineProcess
+    """The grid engine (Python, C# under Mono, or GDScript under godot3-server) through
+    ``toyroom gateway``: killed, the gateway withdraws its token and the brain reports it lost;
+    a new engine on the same gateway lets the brain finish."""
+    from support import CSharpEngineProcess, GatewayProcess, GodotEngineProcess, GridEngineProcess
 
     def start(url: str) -> EngineProcess:
         if engine == "csharp":
             return CSharpEngineProcess(url, tmp_path / "exports", str(scenario))
+        if engine == "godot":
+            return GodotEngineProcess(url, tmp_path / "exports", str(scenario))
         return GridEngineProcess(world, "--scenario", str(scenario), "--gateway", url)
 
     minds: queue.Queue[Mind] = queue.Queue()
@@ -113,9 +115,9 @@ def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(
     scenario = tmp_path / "long.toml"
     (tmp_path / "paper.map.toml").write_text((SCENARIOS / "paper.map.toml").read_text())
     text = (SCENARIOS / "paper-2.toml").read_text()
-    scenario.write_text(
-        text.replace('{ do = "play", ticks = 20, label = "0" }', '{ do = "play", ticks = 600, label = "0" }')
-    )
+    long_play = '{ do = "play", ticks = 600, label = "0" }'
+    scenario.write_text(text.replace('{ do = "play", ticks = 20, label = "0" }', long_play))
+    assert long_play in scenario.read_text(), "paper-2's first step is no longer what this test lengthens"
     with GatewayProcess(world) as gateway:
         running = start(gateway.url)
         brain, lines = start_brain(world, "--scenario", str(scenario), "--max-ticks", "700")
@@ -130,16 +132,20 @@ def test_a_gateway_engine_killed_and_restarted_is_handled_as_a_zenoh_one(
                     at, line = lines.get(timeout=30)
                 except queue.Empty:
                     raise AssertionError(
-                        f"the brain said nothing within 5 s (exit status {brain.poll()}); "
-                        f"gateway log:\n{gateway.output()}"
+                        f"expected the brain to report the {engine} engine lost, it said nothing in "
+                        f"30 s (exit status {brain.poll()}); gateway log:\n{gateway.output()}"
                     ) from None
-                assert "lost" in line and at - killed_at < 2.5, (line, at - killed_at)
+                assert "lost" in line and at - killed_at < 2.5, (
+                    f"expected 'lost' within 2.5 s, got {line!r} after {at - killed_at:.2f} s"
+                )
                 assert gateway.process.poll() is None, "the gateway must outlive its engine"
-                with start(gateway.url):
+                with start(gateway.url) as again:
                     at, line = lines.get(timeout=30)
-                    assert "back" in line, line
-                    assert brain.wait(timeout=120) == 0, (
-                        "the brain should finish the episode on the new engine"
+                    assert "back" in line, f"expected the brain to see the engine back, got {line!r}"
+                    finished = brain.wait(timeout=120)
+                    assert finished == 0, (
+                        f"expected the brain to finish the episode on the new engine, it exited "
+                        f"{finished}; engine log:\n{again.output()}"
                     )
         finally:
             if brain.poll() is None:
