@@ -13,12 +13,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support import toyroom_run
+from support import study, toyroom_run
 
 from brain.model.desires import on_scale
 from brain.settings import ModelSettings
-from brain.tracking.tracker import MindTracker
-from sim2d.engine import Engine
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "food-trucks"
 TRUCKS = ("korean", "lebanese", "mexican")
@@ -33,7 +31,6 @@ PATTERNS = {
 }
 """The ordering people give after each clip (``examples/food-trucks/README.md`` says where
 each comes from): ``>`` more wanted, ``=`` alike."""
-GAP = (4, 1)
 TIE = 1e-6
 
 
@@ -54,23 +51,12 @@ def read(
     path: str, settings: ModelSettings, on_arrival: bool = False
 ) -> tuple[dict[str, float], dict[str, float]]:
     """The student's smoothed ``(E[u] on 1-7, P(most wanted))`` by truck after the clip
-    (``on_arrival``: after the first tick in the gap)."""
-    engine = Engine(str(SCENES / f"{path}.toml"), robot="observe")
-    tracker = MindTracker(engine.scene(), settings)
-    tracker.observe(engine.state(), ())
-    while not engine.done:
-        result = engine.step()
-        tracker.observe(result.state, result.events)
-        student = next(a for a in result.state.agents if a.id == "student")
-        if on_arrival and (student.cell.col, student.cell.row) == GAP:
-            break
-    est = tracker.smoothed("student")[-1]
-    assert est.desire is not None
-    index = {t: tracker.model.items.index(t) for t in TRUCKS}
-    scale = on_scale(est.desire.utility, settings)
-    return {t: float(scale[i]) for t, i in index.items()}, {
-        t: float(est.preference[i]) for t, i in index.items()
-    }
+    (``on_arrival``: after the first tick in the gap), as ``studies/food_truck_paths.py``
+    reads it."""
+    paths = study("food_truck_paths")
+    reading = paths.read(path, settings, on_arrival)
+    scale, most = (dict(zip(paths.TRUCKS, map(float, v), strict=True)) for v in (reading.scale, reading.most))
+    return scale, most
 
 
 MODELS = {"favourite": ModelSettings(), "graded": dataclasses.replace(ModelSettings(), desire_model="graded")}
