@@ -67,19 +67,21 @@ func is_open() -> bool:
 
 func serve(key: String, target: Object, method: String) -> int:
 	# Answer queries on `key` (relative to the world): target.method(qid, payload).
-	_ids += 1
-	_serves[_ids] = {"key": key, "target": target, "method": method}
-	if is_open():
-		send({"op": "serve", "id": _ids, "key": key})
-	return _ids
+	return _declare("serve", _serves, key, target, method)
 
 
 func subscribe(key: String, target: Object, method: String) -> int:
 	# Every message on `key` (wildcards allowed): target.method(key, payload).
+	return _declare("subscribe", _subs, key, target, method)
+
+
+func _declare(op: String, table: Dictionary, key: String, target: Object, method: String) -> int:
+	# Keep a serve or a subscription in `table` (declared again after every reconnection) and
+	# declare it now when the link is open; its id.
 	_ids += 1
-	_subs[_ids] = {"key": key, "target": target, "method": method}
+	table[_ids] = {"key": key, "target": target, "method": method}
 	if is_open():
-		send({"op": "subscribe", "id": _ids, "key": key})
+		send({"op": op, "id": _ids, "key": key})
 	return _ids
 
 
