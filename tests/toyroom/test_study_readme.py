@@ -21,7 +21,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.toyroom.devtools import Browser, Tab, wait_until
+from tests.toyroom.devtools import Browser, Tab
+from tests.toyroom.output import OutputLines
 from tests.toyroom.play.participant import play_paper_robot_to_the_goal, press_start
 
 pytestmark = [
@@ -54,25 +55,14 @@ class Shell:
             ["bash", "-c", line], cwd=folder, env=env, text=True, start_new_session=True,
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
         )  # fmt: skip
-        self.lines: list[str] = []
-        threading.Thread(target=self._read, daemon=True).start()
+        self.output = OutputLines(self.process, line)
 
-    def _read(self) -> None:
-        assert self.process.stdout is not None
-        for line in self.process.stdout:
-            self.lines.append(line.rstrip("\n"))
+    @property
+    def lines(self) -> list[str]:
+        return self.output.lines
 
     def wait_line(self, pattern: str, timeout: float) -> str:
-        def seen() -> str | None:
-            found = next((x for x in self.lines if re.search(pattern, x)), None)
-            if found is None and self.process.poll() is not None:
-                output = "\n".join(self.lines)
-                raise AssertionError(
-                    f"`{self.line}` exited {self.process.returncode} before {pattern!r}:\n{output}"
-                )
-            return found
-
-        return str(wait_until(seen, timeout, pattern))
+        return self.output.wait(pattern, timeout)
 
     def interrupt(self) -> None:
         """Ctrl-C, as the README says once everyone is done."""

@@ -5,9 +5,9 @@ real WebSocket client in place of the page (no browser needed)."""
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -17,7 +17,7 @@ from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import ClientConnection, connect
 
 from bridge.recording.readable import read_recording
-from tests.toyroom.devtools import wait_until
+from tests.toyroom.output import OutputLines
 from toyroom.play import play_metadata
 
 DEEP = "[" * 30000 + "]" * 30000
@@ -41,17 +41,11 @@ class Server:
                    "--grace", "1", "--log-level", "WARNING"]  # fmt: skip
         self.out = out
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        self.lines: list[str] = []
-        threading.Thread(target=self._read, daemon=True).start()
-
-    def _read(self) -> None:
-        assert self.process.stdout is not None
-        for line in self.process.stdout:
-            self.lines.append(line.rstrip("\n"))
+        self.output = OutputLines(self.process, "toyroom play")
+        self.lines = self.output.lines
 
     def line(self, text: str, timeout: float) -> str:
-        found = wait_until(lambda: next((x for x in self.lines if text in x), None), timeout, text)
-        return str(found)
+        return self.output.wait(re.escape(text), timeout)
 
 
 @pytest.fixture(scope="module")

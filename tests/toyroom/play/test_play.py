@@ -37,6 +37,7 @@ from websockets.sync.client import connect
 from bridge import Bridge
 from protocol import Ask, Event, Mind, PersonAction, PersonCommand, RobotCommand
 from tests.toyroom.devtools import Browser, Tab, wait_until
+from tests.toyroom.output import OutputLines
 from tests.toyroom.play.participant import VIEW, go_out_and_back, press_start
 from tests.toyroom.play.participant import view as _view
 from tests.toyroom.view.test_framing import ocr
@@ -59,19 +60,15 @@ class Served:
     out: Path
     links: dict[str, str]
     origin: str
-    lines: list[str] = field(default_factory=list)
+    output: OutputLines
     notes: dict[str, Any] = field(default_factory=dict)
 
+    @property
+    def lines(self) -> list[str]:
+        return self.output.lines
+
     def wait_line(self, pattern: str, timeout: float) -> str:
-        return str(
-            wait_until(lambda: next((x for x in self.lines if re.search(pattern, x)), None), timeout, pattern)
-        )
-
-
-def _read_lines(served: Served) -> None:
-    assert served.process.stdout is not None
-    for line in served.process.stdout:
-        served.lines.append(line.rstrip("\n"))
+        return self.output.wait(pattern, timeout)
 
 
 @pytest.fixture(scope="module")
@@ -81,8 +78,7 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
                "--participants", "2", "--listen", "127.0.0.1:0", "--out", str(out), "--rate", str(RATE),
                "--grace", "3", "--log-level", "WARNING"]  # fmt: skip
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    served = Served(process, out, {}, "")
-    threading.Thread(target=_read_lines, args=(served,), daemon=True).start()
+    served = Served(process, out, {}, "", OutputLines(process, "toyroom play"))
     try:
         for name in ("p1", "p2"):
             line = served.wait_line(rf"participant {name}: http", 60)
