@@ -34,9 +34,10 @@ from bridge.flags import (
     positive_int,
 )
 from bridge.processes import exit_with_parent
+from bridge.recording.atomic import OutputError, write_text
 from bridge.recording.mcap import McapRecorder
 from bridge.recording.trace import read_trace
-from bridge.session import add_network_args, settings_from_args
+from bridge.session import add_network_args, settings_from_args, world_problem
 from protocol import Error as ProtocolError
 from protocol import Observer, Scene
 
@@ -162,7 +163,7 @@ def infer_main(trace_path: Path, out: Path, observer: Observer, settings: Settin
 def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Settings, note: str = "") -> Path:
     """The outputs, and ``settings.toml``: the settings they were made with."""
     path = write_outputs(tracker, scenario, out, note)
-    (out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
+    write_text(out / "settings.toml", settings_toml(settings))
     return path
 
 
@@ -318,6 +319,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = SUBCOMMANDS.get(sub or "", run_parser)()
     args = parser.parse_args(argv[1:] if sub else argv)
     configure_logging(args.log_level)
+    if getattr(args, "world", None) is not None and (problem := world_problem(args.world)) is not None:
+        print(f"brain: {problem}", file=sys.stderr)
+        return 2
     try:
         if sub == "memory":
             return memory_main(args)
@@ -343,6 +347,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (BrainError, BridgeError, ProtocolError) as err:
         print(f"brain: {err}", file=sys.stderr)
         return 2
+    except OutputError as err:  # a full disk writing the outputs: one line, none half written
+        print(f"brain: {err}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

@@ -1,10 +1,12 @@
-"""What the brain node holds for the engine it follows (:class:`Link`), and the signal that
-it was asked to stop while waiting for one (:class:`Stopped`)."""
+"""What the brain node holds for the engine it follows (:class:`Link`), the signal that it
+was asked to stop while waiting for one (:class:`Stopped`), and what a run declares
+(:class:`Closable`)."""
 
 from __future__ import annotations
 
 import queue
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from bridge import Publisher
 from protocol import CommandStatus, EngineInfo, Message
@@ -14,6 +16,12 @@ from .outputs.shadows import ShadowMinds
 from .realtime import Heartbeats
 from .robot.controller import RobotBrain
 from .tracking.tracker import MindTracker
+
+
+class Closable(Protocol):
+    """What a run subscribes to or declares, withdrawn when it ends."""
+
+    def close(self) -> None: ...
 
 
 class Stopped(Exception):

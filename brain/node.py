@@ -22,7 +22,7 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Literal, Protocol
+from typing import Literal
 
 from bridge import Bridge, LockstepClient, NoReply, StepTimeout, handshake
 from protocol import (
@@ -37,14 +37,15 @@ from protocol import (
 )
 
 from .errors import StateError
-from .link import Link, Stopped
+from .link import Closable, Link, Stopped
 from .memory import MemoryKeeper
 from .model.revisions import SharedRevisions
+from .oracle import oracle_minds, truth_feed
 from .outputs.results import mind_message
 from .outputs.runlog import RunLog
 from .outputs.shadows import ShadowMinds
 from .realtime import EventFeed, Heartbeats
-from .reconnect import await_receipt, drain, where_left
+from .reconnect import ask_again, await_receipt, drain, rejoins
 from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
 from .tracking.tracker import MindTracker, Observer
@@ -52,10 +53,6 @@ from .tracking.tracker import MindTracker, Observer
 log = logging.getLogger("toyroom.brain")
 
 BRAIN_NAME = "toyroom-brain"
-
-
-class Closable(Protocol):
-    def close(self) -> None: ...
 
 
 class BrainNode:
@@ -116,6 +113,7 @@ class BrainNode:
         self._on_tick: Callable[[State, tuple[Event, ...]], None] | None = None
         self.robot_mode = robot
         self.robot_settings = robot_settings or RobotSettings()
+        self._truths = truth_feed(bridge, self.robot_settings, robot, timeout)  # the oracle's, from the start
         self.settings = settings or ModelSettings()
         self.observer = observer
         self.timeout = timeout
@@ -130,7 +128,8 @@ class BrainNode:
         spec = robots[0]
         acts = spec.acts if self.robot_mode is None else self.robot_mode == "act"
         log.info("robot '%s' %s", spec.id, "acts" if acts else "only observes")
-        return RobotBrain(tracker, spec.id, self.robot_settings) if acts else None
+        minds = oracle_minds(self._truths, info, tracker) if acts else None  # None: the inferred minds
+        return RobotBrain(tracker, spec.id, self.robot_settings, minds) if acts else None
 
     def _link(self, info: EngineInfo, old: Link | None, realtime: bool, tick: int | None = None) -> Link:
         """What following the engine of ``info`` takes: the person models (kept from ``old``
@@ -282,26 +281,29 @@ class BrainNode:
     ) -> tuple[Link, State]:
         """The link and the state after one more step of ``state``'s episode. An engine lost
         meanwhile (its liveliness token gone: killed, or stalled past its link's lease) is
-        waited for; back where the brain left it, the step is asked again and the episode
-        carries on; restarted (another episode, or tick), the episode starts again (a reset).
+        waited for, however long; back where the brain left it, or having carried out the step
+        whose answer was lost with the link, the step is asked again under its request id and
+        the episode carries on (:mod:`.reconnect`); restarted (another episode, or tick), the
+        episode starts again (a reset).
 
         Raises:
             BrainError: the engine came back further on in the same episode: it stepped while
                 the link was down, and what happened on those ticks is lost.
             StepTimeout: the engine is there but does not answer.
         """
+        again = False  # ask the unanswered step again, not a new one
         while True:
             try:
-                return link, clock.step(1)
+                return link, ask_again(clock, link.info.engine, state) if again else clock.step(1)
             except (StepTimeout, NoReply):
                 if not lost.wait(2.0):  # the engine is there but does not answer: a real failure
                     raise
             robot = link.robot
             link = self._engine_lost(link, lost, realtime=False)
-            if where_left(clock, link.info.engine, state):
-                continue
-            self._resend(link, robot)
-            return link, clock.reset(scenario=scenario or link.info.scenario or None, seed=seed)
+            again = rejoins(clock, link.info.engine, state)
+            if not again:
+                self._resend(link, robot)
+                return link, clock.reset(scenario=scenario or link.info.scenario or None, seed=seed)
 
     def _watch_engine(self) -> threading.Event:
         """An event set while no engine of the world is alive."""

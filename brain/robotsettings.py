@@ -9,7 +9,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from protocol import Policy
+from protocol import PREFERENCE_THRESHOLD, Policy
 
 MAGNITUDE = 1e6
 """The largest size of any float setting (model's and robot's). The model's numbers are
@@ -20,6 +20,17 @@ worlds, rates (per second) times seconds; within this bound each stays far insid
 did: ``beta * Q`` overflowed before the softmax could subtract its maximum, and mind.csv
 filled with NaN). The softmax itself already subtracts the largest ``beta * Q`` (log-sum-exp)."""
 
+MIN_DECISION_SECONDS = 0.05
+"""The shortest ``decision_seconds`` (s). Every decision time a person stands is one Stay step
+of their filter, so the brain's work per engine second grows as ``1 / decision_seconds``:
+``paper-robot`` ran in 5 s at the default 0.7, 8 s at 0.05, 13 s at 0.01, and at ``1e-9`` it
+reached tick 5 in 170 s. 0.05 s is a sixth of the quickest step sim2d's people take (0.3 s)."""
+MIN_COMMAND_TIMEOUT = 1.0
+"""The shortest ``navigate_timeout``, ``action_timeout`` and ``answer_timeout`` (engine s): an
+engine answers a command a tick later at the soonest, and a walk to the next cell takes 0.67 s
+(1.5 m/s); a shorter timeout fails commands that are going as they should, each then tried
+``attempts`` times for nothing."""
+
 FINITE_ALLOWED = (
     f"a finite number of size at most {MAGNITUDE:.0e}".replace("e+0", "e")
     + ": the model multiplies and sums the settings, so a larger one overflows float64 into inf/NaN"
@@ -29,9 +40,9 @@ FINITE_ALLOWED = (
 ROBOT_ALLOWED = {
     "confirm_seconds": "confirm_seconds >= 0",
     "attempts": "an int >= 1",
-    "navigate_timeout": "navigate_timeout > 0",
-    "action_timeout": "action_timeout > 0",
-    "answer_timeout": "answer_timeout > 0 (engine seconds)",
+    "navigate_timeout": f"navigate_timeout >= {MIN_COMMAND_TIMEOUT:g} (engine seconds)",
+    "action_timeout": f"action_timeout >= {MIN_COMMAND_TIMEOUT:g} (engine seconds)",
+    "answer_timeout": f"answer_timeout >= {MIN_COMMAND_TIMEOUT:g} (engine seconds)",
     "deception_threshold": "0 <= deception_threshold <= 1",
     "interruption_cost": "interruption_cost >= 0 (steps)",
     "robot_step_cost": "robot_step_cost >= 0 (steps)",
@@ -103,7 +114,8 @@ class RobotSettings:
         confirm_seconds: engine seconds a task must be seen, tick after tick, before the
             robot starts it (a passing blip of the online estimates starts nothing).
         attempts: how often the robot tries one task before giving up on it.
-        navigate_timeout: engine seconds a navigation may take.
+        navigate_timeout: engine seconds a navigation may take (each of the three timeouts at
+            least :data:`MIN_COMMAND_TIMEOUT`, 1 s).
         action_timeout: engine seconds a pick, place or say may take.
         answer_timeout: engine seconds a give, request or ask may take: each waits for a
             person's answer, and a participant may take their time (sim2d's own limit for a
@@ -112,7 +124,10 @@ class RobotSettings:
             thresholds above), ``benefit`` (the same minds, each task chosen by its expected
             benefit against the costs below: :mod:`brain.robot.choice`), or a baseline
             without theory of mind: ``tidy`` (put every moved item back where it was) or
-            ``announce`` (tell everyone about every move).
+            ``announce`` (tell everyone about every move); or ``oracle``: reads the simulated
+            people's true minds (an upper bound, not a robot one could build): ``tom``'s tree on
+            the engine's truth (``engine/truth``: sim2d's autonomous people) instead of the
+            inferred minds (:mod:`brain.oracle`).
         deception_threshold: a move reads as a likely deception (:mod:`brain.robot.deception`)
             when its mover believes, at least this probably, that someone who most probably
             wants the item still believes it where it was (did not see the move).
@@ -143,7 +158,7 @@ class RobotSettings:
             the preference posterior, in which an errand reads as wanting to leave).
     """
 
-    preference_threshold: float = 0.6
+    preference_threshold: float = PREFERENCE_THRESHOLD
     intention_threshold: float = 0.5
     belief_threshold: float = 0.6
     put_back_preference: float = 0.0
@@ -177,8 +192,7 @@ class RobotSettings:
             )
         checks = {name: 0.0 <= getattr(self, name) <= 1.0 for name in ROBOT_SHARES}
         checks |= {"confirm_seconds": self.confirm_seconds >= 0, "attempts": self.attempts >= 1}
-        checks |= {"navigate_timeout": self.navigate_timeout > 0, "action_timeout": self.action_timeout > 0}
-        checks |= {"answer_timeout": self.answer_timeout > 0}
+        checks |= {name: getattr(self, name) >= MIN_COMMAND_TIMEOUT for name in ROBOT_TIMEOUTS}
         checks |= {name: getattr(self, name) >= 0 for name in ROBOT_COSTS}
         checks |= {"search_factor": self.search_factor >= 1, "ask_again_after": self.ask_again_after >= 0}
         check_values("robot", self, checks, ROBOT_ALLOWED)
@@ -197,5 +211,7 @@ ROBOT_SHARES = (
     "deception_threshold",
 )
 """:class:`RobotSettings` that are probabilities (or shares of one): each in [0, 1]."""
+ROBOT_TIMEOUTS = ("navigate_timeout", "action_timeout", "answer_timeout")
+""":class:`RobotSettings` that are timeouts (engine seconds): each at least :data:`MIN_COMMAND_TIMEOUT`."""
 ROBOT_COSTS = ("interruption_cost", "robot_step_cost", "put_back_slack", "tell_item_cost")
 """:class:`RobotSettings` that are costs in steps: each at least 0."""

@@ -15,6 +15,7 @@ from protocol import FALSE_BELIEF_MASS, Perception
 
 from .errors import SettingsError
 from .robotsettings import (
+    MIN_DECISION_SECONDS,
     ROBOT_ALLOWED,
     RobotSettings,
     check_values,
@@ -39,7 +40,8 @@ class ModelSettings:
             another goal has ``hazard * (D - 1) / D``. It compounds exactly over a longer gap
             (``1 - (1 - hazard)^n`` over ``n`` decision times), toward the prior.
         decision_seconds: the typical time of one decision (a move to the next cell): a
-            longer gap between two decisions (a wait) compounds the hazard over it.
+            longer gap between two decisions (a wait) compounds the hazard over it. At least
+            :data:`~brain.robotsettings.MIN_DECISION_SECONDS` (0.05 s).
         wait_decisions: a person who stands on their cell this many ``decision_seconds``
             since their last decision, while a decision is due (not after playing, not
             outside), has decided to wait: one Stay, with its likelihood, and one more for
@@ -108,6 +110,15 @@ class ModelSettings:
             sight, may have come back and looked unseen (nested beliefs,
             :mod:`brain.model.nested`: their model of the other drifts toward their own
             belief); 0: what they last saw the other see is all they credit.
+        errand_per_s: the rate (per second) at which a person pursuing their lasting desire
+            starts an errand, out and back (:mod:`brain.model.modes`; graded beliefs in the
+            exact model); 0 (the default, why in ``docs/model.md``): no errands, a walk out
+            reads as wanting to leave.
+        carry_per_s: the rate (per second) at which a person pursuing their lasting desire
+            starts carrying an item away (putting it away, or to someone: the Drop ends it),
+            over all items; 0 (the default): none, a carry reads as wanting the item carried.
+        resume_per_s: the rate (per second) at which an errand or a carry ends on its own and
+            the person resumes their desire: ``1 / resume_per_s`` is its mean length (s).
         desire_levels: graded desires: how many utilities each goal may take, evenly spaced
             from its low to its high value (``desire_levels**(K + 1) - 1``; ``**K - 1`` with no outside).
         memory_drift: households (:mod:`brain.memory`): the chance per day the model assumes
@@ -151,6 +162,9 @@ class ModelSettings:
     answer_reliability: float = 0.9
     forget_per_s: float = 0.0
     nested_peek_per_s: float = 0.002
+    errand_per_s: float = 0.0
+    carry_per_s: float = 0.0
+    resume_per_s: float = 0.05
     memory_drift: float = 0.1
     memory_strength: float = 3.0
     memory_forget: float = 0.1
@@ -162,7 +176,7 @@ class ModelSettings:
             "beta": self.beta >= 0,
             "epsilon": 0.0 <= self.epsilon < 1.0,
             "hazard": 0.0 <= self.hazard < 1.0,
-            "decision_seconds": self.decision_seconds > 0,
+            "decision_seconds": self.decision_seconds >= MIN_DECISION_SECONDS,
             "wait_decisions": self.wait_decisions == 0 or self.wait_decisions > 1,
             "discount": 0.0 < self.discount < 1.0,
             "belief_model": self.belief_model in ("point", "graded"),
@@ -182,6 +196,9 @@ class ModelSettings:
             "forget_per_s": self.forget_per_s >= 0.0,
             "nested_peek_per_s": self.nested_peek_per_s >= 0.0,
             "vi_tolerance": self.vi_tolerance >= 0.0,
+            "errand_per_s": self.errand_per_s >= 0.0,
+            "carry_per_s": self.carry_per_s >= 0.0,
+            "resume_per_s": self.resume_per_s > 0.0,
             "memory_drift": 0.0 <= self.memory_drift <= 1.0,
             "memory_strength": self.memory_strength >= 0.0,
             "memory_forget": 0.0 <= self.memory_forget <= 1.0,
@@ -196,7 +213,8 @@ ALLOWED = {
     "beta": "beta >= 0",
     "epsilon": "0 <= epsilon < 1",
     "hazard": "0 <= hazard < 1",
-    "decision_seconds": "decision_seconds > 0",
+    "decision_seconds": f"decision_seconds >= {MIN_DECISION_SECONDS:g} s: each decision time a person stands "
+    "is one step of their filter, so the brain's work per engine second grows as 1 / decision_seconds",
     "wait_decisions": "0, or wait_decisions > 1",
     "discount": "0 < discount < 1",
     "belief_model": "one of point, graded",
@@ -216,6 +234,9 @@ ALLOWED = {
     "forget_per_s": "forget_per_s >= 0",
     "nested_peek_per_s": "nested_peek_per_s >= 0",
     "vi_tolerance": "vi_tolerance >= 0",
+    "errand_per_s": "errand_per_s >= 0",
+    "carry_per_s": "carry_per_s >= 0",
+    "resume_per_s": "resume_per_s > 0",
     "memory_drift": "0 <= memory_drift <= 1",
     "memory_strength": "memory_strength >= 0",
     "memory_forget": "0 <= memory_forget <= 1",

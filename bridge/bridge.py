@@ -82,10 +82,19 @@ class Bridge:
         return self._track(Subscriber(self.session, key, callback, expected=expected))
 
     def query(
-        self, key: str, request: Message | None, expected: type[M], *, timeout: float | None = 5.0
+        self,
+        key: str,
+        request: Message | None,
+        expected: type[M],
+        *,
+        timeout: float | None = 5.0,
+        request_id: str | None = None,
     ) -> M:
         """Query ``key`` and return the answer (see :func:`bridge.queries.query`)."""
-        return query(self.session, key, request, expected, timeout=timeout, encoding=self.encoding)
+        encoding = self.encoding
+        return query(
+            self.session, key, request, expected, timeout=timeout, encoding=encoding, request_id=request_id
+        )
 
     def queryable(
         self,

@@ -10,10 +10,13 @@ option shows its default; the network flags live with the session
 from __future__ import annotations
 
 import argparse
+import errno
 import logging
 import os
+import stat
 from collections.abc import Sequence
 from pathlib import Path
+from typing import BinaryIO
 
 PROG_ENV = "TOYROOM_PROG"
 """Set by ``toyroom`` when it runs a node (``toyroom sim``), so the node's help names that command."""
@@ -114,9 +117,23 @@ def settings_argv(settings: Path | None, overrides: Sequence[str]) -> list[str]:
     return argv + [arg for text in overrides for arg in ("--set", text)]
 
 
+def name_problem(path: Path, flag: str = "--out") -> str | None:
+    """Why ``flag`` ``path`` cannot name an output: its name is not valid UTF-8 (the outputs
+    name their files in text: notes, reports, commands to run), or ``None``."""
+    try:
+        os.fsencode(path).decode("utf-8")
+    except UnicodeDecodeError:
+        shown = os.fsencode(path).decode("utf-8", "backslashreplace")
+        named = f"{flag} {shown}" if flag else shown
+        return f"{named}: the name is not valid UTF-8; name an output in UTF-8"
+    return None
+
+
 def out_folder_problem(path: Path, flag: str = "--out") -> str | None:
-    """Why ``flag`` ``path`` cannot be a folder (it, or a folder above it, is a file), or
-    ``None`` (it is a folder, or can be made)."""
+    """Why ``flag`` ``path`` cannot be a folder (its name is not UTF-8, or it, or a folder
+    above it, is a file), or ``None`` (it is a folder, or can be made)."""
+    if (problem := name_problem(path, flag)) is not None:
+        return problem
     for part in (path, *path.parents):
         if part.exists():
             if part.is_dir():
@@ -128,8 +145,10 @@ def out_folder_problem(path: Path, flag: str = "--out") -> str | None:
 
 def out_file_problem(path: Path, flag: str = "--out", make_folder: bool = True) -> str | None:
     """Why ``flag`` ``path`` (a positional argument: ``flag`` empty) cannot be written as a
-    file (it is a folder, a folder above it is a file, or, unless the command makes it
-    (``make_folder``), its folder is missing), or ``None``."""
+    file (its name is not UTF-8, it is a folder, a folder above it is a file, or, unless the
+    command makes it (``make_folder``), its folder is missing), or ``None``."""
+    if (problem := name_problem(path, flag)) is not None:
+        return problem
     named = f"{flag} {path}" if flag else str(path)
     if path.is_dir():
         return f"{named}: expected a file, got a folder"
@@ -142,3 +161,33 @@ def out_file_problem(path: Path, flag: str = "--out", make_folder: bool = True) 
     if not make_folder and not folder.is_dir():
         return f"{named}: the folder {folder} does not exist"
     return None
+
+
+_KINDS = (
+    (stat.S_ISDIR, "a folder"),
+    (stat.S_ISFIFO, "a FIFO"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
+def open_regular(path: Path) -> BinaryIO:
+    """``path`` opened for reading in binary, when it is a regular file. Anything else is
+    refused at once, without blocking: a FIFO would block the open until a writer came (and
+    a process blocked there does not stop on SIGTERM), a device may never end.
+
+    Raises:
+        OSError: it cannot be opened, or is not a regular file (``strerror``: what it is,
+            e.g. ``a FIFO, not a regular file``)."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            kind = next((name for test, name in _KINDS if test(mode)), "a special file")
+            raise OSError(errno.EINVAL, f"{kind}, not a regular file", str(path))
+        os.set_blocking(fd, True)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise

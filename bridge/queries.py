@@ -6,6 +6,13 @@ with the type the querier expects; a peer's refusal arrives as an ``error`` repl
 raised as :class:`~bridge.errors.RemoteError` (or :class:`~protocol.VersionMismatch`). A
 queryable answers every failure, a malformed request or a handler that raises, with an
 ``error`` reply and keeps running.
+
+A query may carry a request id (its Zenoh attachment, UTF-8 text): a queryable keeps its last
+:data:`REMEMBERED_ANSWERS` answers by id and answers a query repeating an id with the answer
+it gave, without calling its handler again. That is what lets a lock-step client whose link
+went down under a ``step`` (an engine paused past its lease: the engine, continued, still
+carries out the step it was sent, and its answer is lost with the link) ask again and get that
+step's answer instead of a second step (:meth:`bridge.LockstepClient.again`).
 """
 
 from __future__ import annotations
@@ -14,6 +21,7 @@ import logging
 import queue
 import threading
 import time
+from collections import OrderedDict
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
 
@@ -38,6 +46,9 @@ log = logging.getLogger("toyroom.bridge")
 M = TypeVar("M", bound=Message)
 Q = TypeVar("Q", bound=Message)
 
+REMEMBERED_ANSWERS = 16
+"""How many answers a :class:`Queryable` keeps by their queries' request ids."""
+
 
 def query(
     session: zenoh.Session,
@@ -47,12 +58,15 @@ def query(
     *,
     timeout: float | None = 5.0,
     encoding: Encoding = Encoding.JSON,
+    request_id: str | None = None,
 ) -> M:
     """Send a query and return the first answer, decoded as ``expected``.
 
     Args:
         request: the query's payload (``None``: no payload).
         timeout: seconds to wait for an answer; ``None`` waits forever (for debugging).
+        request_id: sent as the query's attachment: a queryable that has answered this id
+            answers with that answer again instead of handling the request twice.
 
     Raises:
         NoReply: nobody serves ``key``, or no answer came within ``timeout``.
@@ -65,6 +79,8 @@ def query(
     if request is not None:
         kwargs["payload"] = encode(request, encoding)
         kwargs["encoding"] = zenoh_encoding(encoding)
+    if request_id is not None:
+        kwargs["attachment"] = request_id.encode()
     for reply in session.get(key, **kwargs):
         if reply.ok is not None:
             message, _ = decode_payload(reply.ok.payload, reply.ok.encoding, key, expected)
@@ -102,7 +118,9 @@ class Queryable(Generic[Q]):
     request payload is decoded as one of ``expected`` (``None`` accepts a query without
     payload, delivered as ``None``). Failures become ``error`` replies: a malformed request
     ``bad_request``, another major version ``version_mismatch``, a handler raising
-    :class:`~bridge.errors.Refused` its code, any other exception ``internal``.
+    :class:`~bridge.errors.Refused` its code, any other exception ``internal``. The answers
+    to the last :data:`REMEMBERED_ANSWERS` queries that carried a request id are kept, and a
+    query repeating one of those ids gets the same answer again (the module docstring).
     """
 
     def __init__(
@@ -122,6 +140,8 @@ class Queryable(Generic[Q]):
         self._handler = handler
         self._queue: queue.Queue[zenoh.Query | None] = queue.Queue()
         self._drops = DropLog()
+        self._answers: OrderedDict[str, tuple[bytes, Encoding]] = OrderedDict()
+        """The last answers given to queries with a request id, by id (oldest first)."""
         self._closed = False
         self._worker: threading.Thread | None = None
         if not inline:
@@ -155,6 +175,13 @@ class Queryable(Generic[Q]):
 
     def _answer(self, query: zenoh.Query) -> None:
         key = str(query.key_expr)
+        attached = query.attachment
+        request_id = None if attached is None else attached.to_bytes().decode("utf-8", "replace")
+        if request_id is not None and request_id in self._answers:
+            payload, kept = self._answers[request_id]
+            log.warning("request '%s' on '%s' asked again: answered with its first answer", request_id, key)
+            query.reply(query.key_expr, payload, encoding=zenoh_encoding(kept))
+            return
         encoding = Encoding.from_mime(str(query.encoding) if query.encoding is not None else None)
         request: Message | None = None
         if query.payload is None or len(query.payload.to_bytes()) == 0:
@@ -188,7 +215,12 @@ class Queryable(Generic[Q]):
             self._refuse(query, ErrorCode.INTERNAL, f"{type(err).__name__}: {err}", encoding)
             return
         self.handled += 1
-        query.reply(query.key_expr, encode(answer, encoding), encoding=zenoh_encoding(encoding))
+        payload = encode(answer, encoding)
+        if request_id is not None:
+            self._answers[request_id] = (payload, encoding)
+            while len(self._answers) > REMEMBERED_ANSWERS:
+                self._answers.popitem(last=False)
+        query.reply(query.key_expr, payload, encoding=zenoh_encoding(encoding))
 
     def close(self) -> None:
         """Undeclare the queryable and stop its worker; safe to call twice."""

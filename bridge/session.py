@@ -25,7 +25,7 @@ from typing import Literal
 
 import zenoh
 
-from protocol import check_name
+from protocol import ProtocolError, check_name
 
 from .errors import ConfigError
 
@@ -43,6 +43,17 @@ def world_port(world: str) -> int:
     """The default TCP port of a world: ``17000 + crc32(world) % 10000`` (stable, below
     Linux's ephemeral range)."""
     return PORT_BASE + zlib.crc32(check_name(world).encode()) % PORT_SPAN
+
+
+def world_problem(world: str) -> str | None:
+    """What is wrong with ``--world`` ``world`` (a name that cannot be a key chunk:
+    :func:`protocol.check_name`), in one line, or ``None``: a command checks it before it
+    starts anything."""
+    try:
+        check_name(world)
+    except ProtocolError as err:
+        return f"--world: {err.reason}"
+    return None
 
 
 def world_endpoint(world: str) -> str:

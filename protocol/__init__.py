@@ -36,6 +36,7 @@ from .limits import (
 )
 from .message import Header, Message
 from .mind import (
+    PREFERENCE_THRESHOLD,
     AgentMind,
     Desire,
     GoalUtility,
@@ -58,6 +59,7 @@ from .registry import BY_TAG, MESSAGE_TYPES, tag_of
 from .replies import ControlReply, ErrorCode, ErrorReply
 from .robot import (
     COMMAND_KINDS,
+    EARSHOT_CELLS,
     Action,
     Ask,
     Cancel,
@@ -110,6 +112,7 @@ __all__ = [
     "TaskKind",
     "task_of",
     "COMMAND_KINDS",
+    "EARSHOT_CELLS",
     "NEIGHBOURS",
     "GridCell",
     "PROTOCOL_VERSION",
@@ -169,6 +172,7 @@ __all__ = [
     "Message",
     "Observer",
     "Mind",
+    "PREFERENCE_THRESHOLD",
     "Navigate",
     "Pause",
     "PersonAction",

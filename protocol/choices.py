@@ -28,7 +28,11 @@ class Policy(Choice):
     - ``tom``: the paper's tree, acting on the people's inferred minds;
     - ``benefit``: the same minds, each task chosen by its expected benefit against its costs;
     - ``tidy``: no theory of mind: put every moved item back where it was;
-    - ``announce``: no theory of mind: tell everyone about every move.
+    - ``announce``: no theory of mind: tell everyone about every move;
+    - ``oracle``: reads the simulated people's true minds (an upper bound, not a robot one
+      could build): ``tom``'s tree on the engine's truth (``engine/truth``, sim2d only)
+      instead of the inferred minds. Beside ``tom`` and ``none`` it splits help into reading
+      (``tom`` against ``oracle``) and acting (``oracle`` against ``none``).
 
     The robot that only observes has no policy (nothing to choose): an evaluation runs it
     beside every policy, always, under the name :data:`OBSERVING`.
@@ -38,6 +42,7 @@ class Policy(Choice):
     BENEFIT = "benefit"
     TIDY = "tidy"
     ANNOUNCE = "announce"
+    ORACLE = "oracle"
 
 
 OBSERVING = "none"

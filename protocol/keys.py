@@ -8,12 +8,12 @@ from dataclasses import dataclass
 from .errors import ProtocolError
 
 ROOT = "toyroom"
-_NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_-]{0,63}$")
+_NAME_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}")
 
 
 def check_name(name: str, what: str = "world") -> str:
     """Return ``name`` when it is a safe single key chunk, else raise naming what is wrong."""
-    if not isinstance(name, str) or not _NAME_RE.match(name):
+    if not isinstance(name, str) or not _NAME_RE.fullmatch(name):
         raise ProtocolError(
             f"{what} name must be 1-64 letters, digits, '_' or '-' (starting with a letter or "
             f"digit), got {name!r}"

@@ -6,11 +6,19 @@ house: 39 x 11 = 429 grid cells, 21 regions, 20 spots, 10 items, 9 agents).
 
 The brain's own bound on its model's memory (which grows with cells, spots and items
 together) is :data:`brain.model.size.MAX_MODEL_BYTES`.
+
+The counts alone do not bound the scene's size on the wire: its visibility table lists, for
+every walkable cell, the id of every spot seen from it, so an open 100 x 100 room with 200
+spots of 64-character ids is 10,000 x 200 x 67 bytes, a 134 MB ``engine_info``. The encoded
+scene is bounded too (:data:`MAX_SCENE_BYTES`), so that every scene within the limits fits
+one frame of the WebSocket gateway (:data:`MAX_FRAME_BYTES`).
 """
 
 from __future__ import annotations
 
 import math
+
+import msgspec
 
 from .scene import Scene
 
@@ -30,6 +38,14 @@ MAX_AGENTS = 100
 """Agents (people and robots): the brain tracks every person, and each pair for nested beliefs."""
 MAX_CELL_SIZE = 1_000.0
 """The largest cell side (m); with the grid limit, coordinates stay far inside float64."""
+
+MAX_FRAME_BYTES = 16 * 1024 * 1024
+"""The WebSocket gateway's largest frame (:mod:`bridge.gateway`; 16 MiB): an engine behind it
+answers the handshake with its whole ``engine_info`` in one frame."""
+MAX_SCENE_BYTES = MAX_FRAME_BYTES - 1024 * 1024
+"""The largest scene, encoded as JSON (15 MiB): the frame less 1 MiB for the rest of
+``engine_info`` and the frame around it. The bundled scenes are 2 to 7 kB; an open 100 x 100
+room fits with up to 22 spots of 64-character ids seen from every cell."""
 
 LIMITS = {
     "grid cells (columns x rows)": MAX_GRID_CELLS,
@@ -59,4 +75,20 @@ def limit_problems(scene: Scene) -> list[str]:
     problems = [p for what, n in counts.items() if (p := over_limit(what, n, LIMITS[what])) is not None]
     if not (math.isfinite(scene.cell_size) and scene.cell_size <= MAX_CELL_SIZE):
         problems.append(f"cell_size: {scene.cell_size} m, not a finite size of at most {MAX_CELL_SIZE:g} m")
+    if not problems:
+        problems += size_problems(scene)
     return problems
+
+
+def size_problems(scene: Scene) -> list[str]:
+    """One line naming the scene's encoded size, its visibility table's share and the limit,
+    when the scene encoded as JSON is above :data:`MAX_SCENE_BYTES` (empty otherwise)."""
+    size = len(msgspec.json.encode(scene))
+    if size <= MAX_SCENE_BYTES:
+        return []
+    table = size - len(msgspec.json.encode(msgspec.structs.replace(scene, visibility=()))) + len(b"[]")
+    return [
+        f"scene: {size:,} bytes as JSON (its visibility table {table:,}: {len(scene.visibility):,} cells, "
+        f"each listing the spots seen from it), above the limit of {MAX_SCENE_BYTES:,} bytes "
+        f"(an engine_info must fit the WebSocket gateway's frame of {MAX_FRAME_BYTES:,} bytes)"
+    ]

@@ -14,6 +14,10 @@ import msgspec
 
 from .message import Id, Message, Probability, Tick
 
+PREFERENCE_THRESHOLD = 0.6
+"""The probability of a person's want at which a robot acts on it: the brain's default
+``preference_threshold``, and the threshold the evaluation's ``fb_want_confident`` counts at."""
+
 
 class Observer(enum.Enum):
     """Which model of a person a brain's minds come from (the names every command takes).
@@ -134,6 +138,15 @@ class AgentMind(msgspec.Struct, frozen=True):
     nested_beliefs: tuple[NestedBelief, ...] = ()
     """Protocol 1.3: per other person B, where this person believes B believes each item is
     (what this person can tell of B's percepts: what B saw while this person saw B)."""
+    mode: tuple[Prob, ...] = ()
+    """Protocol 1.7: P(each mode) of the person's current mode beside their lasting desire:
+    ``pursue`` (acting on it), ``errand`` (out and back: a walk out that is not a want to
+    leave) and ``carry`` (putting an item away or carrying it to someone: a carry that is not
+    a want for the item); empty when the brain's model has no modes. ``preference`` is then
+    the lasting desire's: an errand or a carry does not move it."""
+    carry: tuple[Prob, ...] = ()
+    """Protocol 1.7: per item id, P(the person is carrying it away): ``carry`` of ``mode``
+    item by item."""
 
 
 class TaskOutcome(enum.Enum):

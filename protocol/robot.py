@@ -19,6 +19,10 @@ import msgspec
 from .geometry import Cell
 from .message import Id, Message, Tick
 
+EARSHOT_CELLS = 2
+"""A person hears the robot (a ``say`` or an ``ask``) in the same region or within this many
+cells (Manhattan, walls ignored): the protocol's earshot, every engine's."""
+
 
 class Navigate(msgspec.Struct, frozen=True, tag_field="kind", tag="navigate"):
     """Drive to ``cell`` along walkable cells."""

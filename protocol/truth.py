@@ -1,6 +1,7 @@
 """Simulated people's true minds, on ``engine/truth`` (optional capability ``truth``).
 
-For evaluation only: a brain never subscribes to it.
+For evaluation only: a brain subscribes to it only for the ``oracle`` robot policy
+(:class:`protocol.Policy`), an upper bound that acts on these true minds.
 """
 
 from __future__ import annotations

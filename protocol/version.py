@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from .errors import ProtocolError, VersionMismatch
 
-PROTOCOL_VERSION = "1.6"
+PROTOCOL_VERSION = "1.7"
 """The version this implementation speaks."""
 
 _VERSION_RE = re.compile(r"^(0|[1-9][0-9]{0,5})\.(0|[1-9][0-9]{0,5})$")

@@ -22,7 +22,7 @@ from bridge.flags import (
     out_folder_problem,
 )
 from bridge.recording.mcap import McapRecorder
-from bridge.session import add_network_args, settings_from_args
+from bridge.session import add_network_args, settings_from_args, world_problem
 from protocol import ClockMode, Morning
 
 from .engine import Engine
@@ -273,6 +273,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     if args.realtime is not None and args.realtime <= 0:
         print("sim2d: --realtime RATE must be > 0", file=sys.stderr)
+        return 2
+    if (problem := world_problem(args.world)) is not None:
+        print(f"sim2d: {problem}", file=sys.stderr)
         return 2
     try:
         policy = load_policy_table(args.policy) if args.policy else None

@@ -23,5 +23,5 @@ class ScenarioError(Sim2dError):
         self.path = Path(path)
         self.entry = entry
         self.problem = problem
-        where = f" {entry}:" if entry else ":"
+        where = f" {entry}:" if entry else ""
         super().__init__(f"{self.path}:{where} {problem}")

@@ -14,6 +14,7 @@ from collections.abc import Mapping
 
 from protocol import (
     COMMAND_KINDS,
+    EARSHOT_CELLS,
     AgentKind,
     Ask,
     Cancel,
@@ -39,8 +40,6 @@ MANIPULATION_TICKS = 3
 """Ticks a pick, place or give takes."""
 SPEECH_TICKS = 10
 """Ticks saying something or asking (and getting the answer) takes."""
-EARSHOT_CELLS = 2
-"""A person hears the robot in the same region or within this many cells (Manhattan)."""
 ANSWER_TICKS = 300
 """Ticks a ``request``, ``give`` or ``ask`` to a puppet (a participant,
 :mod:`sim2d.people.puppet`) waits for the participant's answer beyond its own duration; then a

@@ -10,7 +10,7 @@ item they wanted, read off the truth and ``events.csv``:
   what no word can beat (an optimistic bound: a scripted person may not act on the word at
   once, an errand first);
 - ``robot``: the same, told by a robot that knew everything at ``fb`` and walked into earshot
-  from where it stood (what an omniscient, instant decider could do);
+  (:data:`protocol.EARSHOT_CELLS`) from where it stood (what an omniscient, instant decider could do);
 - ``begin``: the tick the acting robot began a task about the item (``-``: none).
 
     python studies/bound_help_loss.py [--seed 303] [--episodes 14] [--tasks moved,...] [--perception embodied]
@@ -36,17 +36,13 @@ import numpy as np
 from brain.model.world import build_world_model
 from brain.robot.benefit import cell_distances
 from bridge.recording.trace import trace_records
-from protocol import EngineInfo, State, Truth
+from protocol import EARSHOT_CELLS, EngineInfo, State, Truth, believes_falsely
 from toyroom.evaluation.generation import generate_all
-
-FALSE = 0.1
-"""A belief giving the item's true place less than this is false (the evaluation's mass)."""
-EARSHOT = 2
-"""Cells within which a person hears the robot (sim2d's ``EARSHOT_CELLS``)."""
 
 
 def owners(run: Path) -> list[dict[str, object]]:
-    """Every person of a run who held a false belief about the item they wanted: its first
+    """Every person of a run who held a false belief about the item they wanted (the one rule,
+    :func:`protocol.believes_falsely`, as the evaluation's ``ticks_to_goal_fb``): its first
     tick, their goal tick, and the bounds ``told`` and ``robot`` (see the module's text)."""
     records = [m for _, _, m in trace_records(run / "trace.jsonl", strict=False)]
     info = next(m for m in records if isinstance(m, EngineInfo))
@@ -66,13 +62,13 @@ def owners(run: Path) -> list[dict[str, object]]:
                 continue
             belief = {p.id: p.p for b in mind.beliefs if b.item == mind.preference for p in b.locations}
             place = where.get(mind.preference)
-            if place is None or place not in model.locations or belief.get(place, 1.0) >= FALSE:
+            if place is None or place not in model.locations or not believes_falsely(belief, place):
                 continue
             cells = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in state.agents}
             robot = next((a.id for a in info.scene.agents if a.kind.value == "robot"), None)
             spot = int(np.argmin(model.distance[model.locations.index(place)]))
             walk = float(steps[cells[mind.agent], spot])
-            reach = max(float(steps[cells[robot], cells[mind.agent]]) - EARSHOT, 0.0) if robot else 0.0
+            reach = max(float(steps[cells[robot], cells[mind.agent]]) - EARSHOT_CELLS, 0.0) if robot else 0.0
             pace = info.tick_seconds and round(0.7 / info.tick_seconds)  # a cell per decision time
             goal = next(
                 (

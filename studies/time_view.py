@@ -17,8 +17,10 @@ from rich.table import Table
 
 from brain.outputs.results import mind_message
 from brain.tracking.tracker import MindTracker
+from bridge.processes import stop_process_group
 from sim2d.engine import Engine
 from toyroom.view import SceneView
+from toyroom.view.server import start_server
 
 
 def main() -> dict[str, float]:
@@ -33,8 +35,9 @@ def main() -> dict[str, float]:
         state = result.state
         tracker.observe(state, result.events)
         frames.append((state, mind_message(tracker, state)))
-    vis = meshcat.Visualizer()
+    server, zmq_url = start_server()  # on 127.0.0.1 only
     try:
+        vis = meshcat.Visualizer(zmq_url=zmq_url)
         view = SceneView(vis)
         scene = engine.scene()
         view.draw_scene(scene)
@@ -48,7 +51,7 @@ def main() -> dict[str, float]:
             view.draw_mind(scene, state, mind)
             minds.append(time.perf_counter() - start)
     finally:
-        vis.window.server_proc.terminate()
+        stop_process_group(server)
     times.sort()
     minds.sort()
     numbers = {

@@ -66,6 +66,56 @@ class EngineProcess:
         self.log.close()
 
 
+class BrainProcess(EngineProcess):
+    """``python -m brain`` as a real process on a world (logs at WARNING), its output in a
+    temporary file (:meth:`output`); a context manager that kills it."""
+
+    def __init__(self, world: str, *args: str) -> None:
+        self.world = world
+        self._start([sys.executable, "-m", "brain", "--world", world, "--log-level", "WARNING", *args])
+
+    def finish(self, timeout: float) -> int:
+        """The brain's exit status, failing the test if it runs past ``timeout`` seconds."""
+        import pytest
+
+        try:
+            return self.process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            pytest.fail(f"the brain did not exit within {timeout} s:\n{self.output()}")
+
+
+def pause(process: subprocess.Popen[bytes], seconds: float) -> None:
+    """Stop ``process`` (SIGSTOP) for ``seconds``, counted from when it is really stopped (a
+    signal is delivered when the process is next scheduled), then continue it (SIGCONT): an
+    editor's breakpoint, held ``seconds``."""
+    import signal
+    import time
+
+    import psutil
+
+    process.send_signal(signal.SIGSTOP)
+    try:
+        stopped = psutil.Process(process.pid)
+        deadline = time.monotonic() + 10
+        while stopped.status() != psutil.STATUS_STOPPED:
+            assert time.monotonic() < deadline, f"pid {process.pid} never stopped: {stopped.status()}"
+            time.sleep(0.01)
+        time.sleep(seconds)  # the fault itself
+    finally:
+        process.send_signal(signal.SIGCONT)
+
+
+def handled(run_log: Path) -> list[dict[str, Any]]:
+    """The states and events a brain handled, in order, from its ``--run-log`` folder
+    (``inputs.jsonl``), without the engine's handshakes and without episode numbers (an engine
+    reset by several brains in turn counts its episodes on): what two runs of one scenario
+    must share when both followed the episode to its end."""
+    import json
+
+    records = [json.loads(line) for line in (run_log / "inputs.jsonl").read_text().splitlines()]
+    return [{k: v for k, v in r.items() if k != "episode"} for r in records if r.get("type") != "engine_info"]
+
+
 def run_brain(world: str, *args: str, timeout: float = 240) -> subprocess.CompletedProcess[str]:
     """``python -m brain`` on ``world`` as a real process, to its end (logs at WARNING)."""
     return subprocess.run(

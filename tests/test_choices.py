@@ -37,7 +37,7 @@ def _help_lists(help_text: str, names: tuple[str, ...]) -> list[str]:
 
 def test_policies_are_built_from_the_enum() -> None:
     names = Policy.names()
-    assert names == ("tom", "benefit", "tidy", "announce"), names
+    assert names == ("tom", "benefit", "tidy", "announce", "oracle"), names
     for consumer, values in {
         "brain.robotsettings.ROBOT_POLICIES": ROBOT_POLICIES,
         "brain.robot.branches.POLICIES": TREE_POLICIES,
@@ -48,7 +48,7 @@ def test_policies_are_built_from_the_enum() -> None:
         assert RobotSettings(policy=name).policy == name
         assert build_tree("robot", name) is not None
     assert OBSERVING not in names, f"{OBSERVING!r}, the observing run, is not a policy: {names}"
-    with pytest.raises(ValueError, match="one of tom, benefit, tidy, announce"):
+    with pytest.raises(ValueError, match="one of tom, benefit, tidy, announce, oracle"):
         RobotSettings(policy=OBSERVING)
     help_text = _option(build_parser(), "--policies", "eval").help or ""
     assert _help_lists(help_text, (*names, OBSERVING)) == [], help_text

@@ -48,6 +48,8 @@ class Estimate:
             what a :func:`slim` estimate keeps of its hypotheses, so that its false beliefs can
             still be read against any world (:func:`false_belief_probability`); ``None`` until
             slimmed.
+        mode: ``(M,)`` P(each mode) of :class:`brain.model.modes.Mode` (pursuing the lasting
+            desire, on an errand); ``None`` for a model without modes.
     """
 
     beliefs: FloatArray
@@ -59,6 +61,7 @@ class Estimate:
     worlds: FloatArray | None = None
     log_evidence: float = 0.0
     false_table: FloatArray | None = None
+    mode: FloatArray | None = None
 
     def top_worlds(self, k: int) -> list[tuple[int, float]]:
         """The ``k`` most probable ``(world index, probability)`` of the person's belief
@@ -203,8 +206,10 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
     evidence = np.array([e.log_evidence for e in estimates])
     top = evidence.max()
     tables = [e.false_table for e in estimates]
+    modes = [e.mode for e in estimates]
     return dataclasses.replace(
         best,
+        mode=None if any(m is None for m in modes) else average(modes),  # type: ignore[arg-type]
         false_table=None if any(t is None for t in tables) else average(tables),  # type: ignore[arg-type]
         beliefs=average([e.beliefs for e in estimates]),
         preference=average([e.preference for e in estimates]),

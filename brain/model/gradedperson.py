@@ -27,9 +27,10 @@ from .graded import (
     unnormalised_update,
     update_beliefs,
 )
-from .inference import hazard_matrix, log_of, switched
+from .inference import hazard_matrix, log_of, switch_probability, switched
 from .lookahead import cached_lookahead
 from .mixture import Beliefs, Mixture, certain, mixture_of, revised
+from .modes import ModeColumns, ModeRates, ModeStep, joint_likelihood, joint_prior, mode_back, mode_step
 from .personinterface import StepRecord
 from .planner import Policy, cached_policy
 from .remembered import Remembered
@@ -74,6 +75,35 @@ class GradedModel:
         self.revision_key: tuple[object, ...] = (scene.name, settings.belief_update)
         """What :meth:`revise` reads besides its arguments: models with equal keys revise alike."""
         self.revision_key += (settings.r, settings.delta, settings.prior_resolution, settings.ignorance)
+        errand = settings.errand_per_s if bool(self.model.outside.any()) else 0.0  # none with no outside
+        modes = errand > 0 or settings.carry_per_s > 0
+        self.rates = (
+            ModeRates(errand, settings.carry_per_s, settings.resume_per_s, self.model.n_items)
+            if modes
+            else None
+        )
+        """The modes' rates (:mod:`brain.model.modes`); ``None``: no modes (none set)."""
+        self.columns = ModeColumns.of(self.policy.utilities, settings.epsilon)
+        """Where each mode's likelihood comes from."""
+
+    def desire_switch(self, record: StepRecord) -> float:
+        """The lasting desire's redraw chance over the pause before ``record``: the record's,
+        but one decision's worth after a pause spent outside (:mod:`brain.model.modes`)."""
+        return switch_probability(self.settings.hazard, 1.0) if record.away else record.switch
+
+    def mode_step(self, beliefs: Beliefs, record: StepRecord) -> ModeStep:
+        """What the joint over the modes takes of ``record`` (:mod:`brain.model.modes`): the
+        pause's switches and the step's likelihood in each mode, what they said included."""
+        assert self.rates is not None
+        action = self._action_likelihood(beliefs, record)
+        likelihood = None if action is None else joint_likelihood(action, record.decision, self.columns)  # type: ignore[arg-type]
+        if record.said is not None:
+            said = said_over(self.desires, record.said)[None, :, None]
+            likelihood = said if likelihood is None else likelihood * said
+        seconds = record.elapsed * self.settings.decision_seconds
+        return ModeStep(
+            likelihood, record.decision, self.desire_switch(record), self.rates.transition(seconds)
+        )
 
     def prior(self, truth: tuple[int, ...] | None = None, memory: Remembered | None = None) -> FloatArray:
         """``(G, U)``: the hypotheses' prior weights given the true item values at the person's
@@ -193,7 +223,9 @@ class GradedModel:
 
     def smoothed(self, records: Sequence[StepRecord], online: Sequence[Estimate]) -> list[Estimate]:
         """Forward-backward over ``(g, d)`` (``g`` never changes; ``d`` may switch), then the
-        beliefs replayed to read each step's estimate."""
+        beliefs replayed to read each step's estimate; with errands, over ``(g, u, m)``."""
+        if self.rates is not None:
+            return self._smoothed_modes(records)
         beliefs, alpha = self._fresh_start(), self.prior(records[0].truth if records else None)
         alphas, steps = [], []
         for record in records:
@@ -218,9 +250,37 @@ class GradedModel:
             out.append(self.read(beliefs, posterior, record.truth))
         return out
 
-    def read(self, beliefs: Beliefs, posterior: FloatArray, truth: tuple[int, ...]) -> Estimate:
+    def _smoothed_modes(self, records: Sequence[StepRecord]) -> list[Estimate]:
+        """:meth:`smoothed` over ``(g, u, m)``: the adjoint of :func:`brain.model.modes.mode_step`."""
+        assert self.rates is not None
+        beliefs = self._fresh_start()
+        joint = joint_prior(self.prior(records[0].truth if records else None), self.rates)
+        joints, steps = [], []
+        for record in records:
+            step = self.mode_step(beliefs, record)
+            joint, _ = mode_step(joint, step)
+            beliefs = self._revise(beliefs, record)
+            joints.append(joint)
+            steps.append(step)
+        back = np.ones_like(joint)
+        posteriors = [joints[-1]] if joints else []
+        for t in range(len(records) - 1, 0, -1):
+            back = mode_back(back, steps[t])
+            both = joints[t - 1] * back
+            posteriors.append(both / both.sum())
+        posteriors.reverse()
+        beliefs, out = self._fresh_start(), []
+        for record, posterior in zip(records, posteriors, strict=True):
+            beliefs = self._revise(beliefs, record)
+            out.append(self.read(beliefs, posterior.sum(axis=-1), record.truth, posterior.sum(axis=(0, 1))))
+        return out
+
+    def read(
+        self, beliefs: Beliefs, posterior: FloatArray, truth: tuple[int, ...], mode: FloatArray | None = None
+    ) -> Estimate:
         """The estimate of ``(G, W)`` beliefs (or their mixture) under a ``(G, U)`` posterior,
-        with the hypotheses kept for reading false beliefs (:func:`false_belief_probability`)."""
+        with the hypotheses kept for reading false beliefs (:func:`false_belief_probability`)
+        and P(each mode) ``(M,)``, if the model has modes."""
         model = self.model
         marginals = (  # (G, K, L), shared with the other models that hold this very array
             self._marginals(beliefs)
@@ -228,7 +288,7 @@ class GradedModel:
             else self.shared.read(("marginals", *self.revision_key), beliefs, self._marginals)
         )
         base = estimate(model, expected_joint(beliefs, posterior), truth, self.desires)
-        graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals))
+        graded = dataclasses.replace(base, hypotheses=(posterior.sum(axis=1), marginals), mode=mode)
         return reread(graded, truth, self.settings.false_belief_mass)
 
     def _marginals(self, beliefs: Beliefs) -> FloatArray:
@@ -279,13 +339,17 @@ class GradedFilter:
     """Whether a step was taken: the first sets the prior by the world then."""
     memory: Remembered | None = None
     """What the brain remembers of the person from an earlier day (sets the prior instead)."""
+    joint: FloatArray | None = None
+    """``(G, U, M)`` with errands (:mod:`brain.model.modes`): the posterior over the modes
+    too (``posterior`` is its sum over them); ``None`` without."""
 
     def __deepcopy__(self, memo: dict[int, object]) -> GradedFilter:
         """A copy for another row of a lapse mixture (:mod:`brain.model.lapses`): a posterior
         of its own, the model shared (a deep copy would copy its Q-values) and so is a
         mixture (read-only: revisions make new ones)."""
         state = self.state if isinstance(self.state, Mixture) else self.state.copy()
-        return dataclasses.replace(self, state=state, posterior=self.posterior.copy())
+        joint = None if self.joint is None else self.joint.copy()
+        return dataclasses.replace(self, state=state, posterior=self.posterior.copy(), joint=joint)
 
     @property
     def beliefs(self) -> FloatArray:
@@ -293,15 +357,24 @@ class GradedFilter:
         return self.state.dense if isinstance(self.state, Mixture) else self.state
 
     def step(self, record: StepRecord) -> None:
+        owner = self.owner
         if not self.started:
-            self.posterior, self.started = self.owner.prior(record.truth, self.memory), True
-        likelihood = self.owner.decision_likelihood(self.state, record)
+            self.posterior, self.started = owner.prior(record.truth, self.memory), True
+            self.joint = None if owner.rates is None else joint_prior(self.posterior, owner.rates)
         base = None if self.memory is None else self.memory.desires
-        self.posterior, evidence = _filter_step(self.posterior, likelihood, record.switch, base)
-        if likelihood is not None:
+        if self.joint is not None:
+            step = owner.mode_step(self.state, record)
+            self.joint, evidence = mode_step(self.joint, step, base)
+            self.posterior, judged = self.joint.sum(axis=-1), step.likelihood is not None
+        else:
+            likelihood = owner.decision_likelihood(self.state, record)
+            self.posterior, evidence = _filter_step(self.posterior, likelihood, record.switch, base)
+            judged = likelihood is not None
+        if judged:
             self.log_evidence += log_of(evidence)
         self.state = self.owner.revise(self.state, record)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        est = self.owner.read(self.state, self.posterior, truth)
+        mode = None if self.joint is None else self.joint.sum(axis=(0, 1))
+        est = self.owner.read(self.state, self.posterior, truth, mode)
         return dataclasses.replace(est, log_evidence=self.log_evidence)

@@ -50,6 +50,9 @@ class StepRecord:
     item, and the chance they told it since the last step (``ModelSettings.hearsay_per_s``)."""
     elapsed: float = 0.0
     """Decision times since the previous decision (``switch``: the hazard over them)."""
+    away: bool = False
+    """Whether the pause before this decision was spent outside (an errand's absence: the
+    lasting desire's hazard counts it as one decision, :mod:`brain.model.modes`)."""
     said: FloatArray | None = None
     """``(D,)`` the likelihood of what the person answered the robot at this step, over their
     favourite goal (:func:`brain.model.answers.answer_likelihood`); ``None``: nothing."""

@@ -26,6 +26,8 @@ import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
+from bridge.recording.atomic import write_text
+
 from ..model.arrays import FloatArray
 from ..model.desires import ranking_text
 from ..model.estimates import OUT, Estimate, false_belief_probability, world_text
@@ -234,5 +236,8 @@ def render_csv(rows: list[MindRow]) -> str:
 
 
 def write_csv(rows: list[MindRow], path: Path) -> None:
-    """Write ``mind.csv``."""
-    path.write_text(render_csv(rows), encoding="utf-8")
+    """Write ``mind.csv``, whole or not at all (a full disk leaves none half written).
+
+    Raises:
+        OutputError: it could not be written."""
+    write_text(path, render_csv(rows))

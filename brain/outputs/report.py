@@ -9,6 +9,8 @@ from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
 
+from bridge.recording.atomic import replacing, write_text
+
 from .groundtruth import GroundTruth
 from .mindtable import MindRow
 from .steps import Table, labelled, steps_caption, steps_of, steps_section, truth_caption, truth_labels
@@ -170,9 +172,13 @@ def _truth_preference(truth: GroundTruth | None, label: str, option: str) -> flo
 
 
 def _save(fig: Figure, path: Path) -> None:
-    """Write the figure with its caption (which lies below the axes) and close it."""
-    fig.savefig(path, dpi=110, bbox_inches="tight", pad_inches=0.15)
-    pyplot().close(fig)
+    """Write the figure with its caption (which lies below the axes), whole or not at all,
+    and close it."""
+    try:
+        with replacing(path) as partial:
+            fig.savefig(partial, dpi=110, bbox_inches="tight", pad_inches=0.15)
+    finally:
+        pyplot().close(fig)
 
 
 def belief_figure(rows: list[MindRow], agent: str, truth: GroundTruth | None, path: Path) -> None:
@@ -276,7 +282,7 @@ def write_report(
     agent = observed_agent(rows, truth)
     if agent is None:
         text = f"# {scenario}\n{first}\nNo labelled steps to report.\n{truth_note(truth)}{note}"
-        (out / "report.md").write_text(text, encoding="utf-8")
+        write_text(out / "report.md", text)
         return
     belief_figure(rows, agent, truth, out / "beliefs.png")
     preference_figure(rows, agent, truth, out / "preferences.png")
@@ -288,4 +294,4 @@ def write_report(
         + truth_note(truth, labels)
         + note
     )
-    (out / "report.md").write_text(text, encoding="utf-8")
+    write_text(out / "report.md", text)

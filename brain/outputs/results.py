@@ -27,8 +27,10 @@ from protocol import (
     WorldBelief,
 )
 
+from ..model.arrays import FloatArray
 from ..model.desires import DesireSummary
 from ..model.estimates import OUT, Estimate
+from ..model.modes import MODE_NAMES, on_the_wire
 from ..model.nested import NestedBeliefs
 from ..model.world import WorldModel, is_held, location_of
 from ..tracking.tracker import MindTracker
@@ -142,7 +144,19 @@ def agent_mind(
             for w, p in est.top_worlds(tracker.settings.top_worlds)
         ),
         nested_beliefs=nested,
+        **_modes(model.items, est.mode),
     )
+
+
+def _modes(items: Sequence[str], mode: FloatArray | None) -> dict[str, tuple[Prob, ...]]:
+    """The ``mode`` and ``carry`` fields of a person's mind (none without modes)."""
+    if mode is None:
+        return {}
+    modes, carry = on_the_wire(mode)
+    return {
+        "mode": tuple(map(Prob, MODE_NAMES, np.round(modes, 6).tolist())),
+        "carry": tuple(map(Prob, items, np.round(carry, 6).tolist())),
+    }
 
 
 def desire_message(summary: DesireSummary | None, goals: Sequence[str]) -> Desire | None:

@@ -302,12 +302,15 @@ POLICIES = ROBOT_POLICIES
 """The robot's policies: ``tom`` (the paper's tree, acting on the people's inferred minds),
 ``benefit`` (the same minds, each task chosen by its expected benefit, and asking or looking
 where that is worth it),
-and two without theory of mind to measure it against: ``tidy`` (put every moved item back
-where it was) and ``announce`` (tell everyone about every move)."""
+two without theory of mind to measure it against: ``tidy`` (put every moved item back
+where it was) and ``announce`` (tell everyone about every move), and ``oracle``: ``tom``'s tree
+on the simulated people's true minds (an upper bound, not a robot one could build:
+:mod:`brain.robot.oracle`)."""
 
 
 def build_tree(namespace: str, policy: str = "tom") -> py_trees.behaviour.Behaviour:
-    """The robot's tree for ``policy``; its behaviours use the context at ``<namespace>/context``."""
+    """The robot's tree for ``policy``; its behaviours use the context at ``<namespace>/context``
+    (``tom`` and ``oracle`` share one tree: they differ in the minds it reads)."""
     if policy == Policy.TIDY.value:
         branches = [put_back_branch(namespace, tidy_tasks)]
     elif policy == Policy.ANNOUNCE.value:

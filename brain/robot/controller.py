@@ -2,12 +2,14 @@
 
 :class:`RobotBrain` keeps who left which item where, builds the tree's snapshot each tick,
 ticks the tree, and hands back the commands to send; statuses from the engine come back
-through :meth:`RobotBrain.record`. No I/O: the node sends and receives.
+through :meth:`RobotBrain.record`. No I/O: the node sends and receives. The ``oracle`` policy's
+robot acts on the minds its ``minds`` source gives (the engine's truth,
+:mod:`brain.robot.oracle`) instead of the tracker's.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
 
 import numpy as np
 
@@ -23,6 +25,7 @@ from protocol import (
 )
 
 from ..model.arrays import FloatArray
+from ..model.estimates import Estimate
 from ..settings import RobotSettings
 from ..tracking.tracker import MindTracker
 from .deception import deceptions
@@ -33,8 +36,17 @@ from .tree import RobotTree
 class RobotBrain:
     """Decides what the robot does, given a :class:`MindTracker` that follows the people."""
 
-    def __init__(self, tracker: MindTracker, robot: str, settings: RobotSettings | None = None) -> None:
+    def __init__(
+        self,
+        tracker: MindTracker,
+        robot: str,
+        settings: RobotSettings | None = None,
+        minds: Callable[[State], Mapping[str, Estimate]] | None = None,
+    ) -> None:
         spec = next(a for a in tracker.scene.agents if a.id == robot)
+        self.minds = minds
+        """Where the minds the robot acts on come from, given the tick's state, in place of the
+        tracker's estimates (a person it leaves out keeps theirs): the ``oracle`` policy's truth."""
         self.tracker = tracker
         self.robot = robot
         self.tree = RobotTree(robot, (spec.home.col, spec.home.row), settings)
@@ -79,6 +91,8 @@ class RobotBrain:
     def tick(self, state: State) -> list[RobotCommand]:
         """Tick the tree on the world as it is now; return the commands to send."""
         estimates = {p: e for p in self.tracker.people if (e := self.tracker.online(p)) is not None}
+        if self.minds is not None:
+            estimates |= self.minds(state)
         for person, est in estimates.items():
             items = est.preference[:-1]
             if est.preference[-1] < 0.5 and items.sum() > 0:

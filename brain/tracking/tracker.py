@@ -339,6 +339,7 @@ class MindTracker:
                 forget=forget,
                 rumours=rumours,
                 elapsed=elapsed,
+                away=decision is not None and bool(self.model.outside[decision[0]]),  # from outside
                 said=track.said,
             )
             if chain.filter is None:

@@ -2,10 +2,12 @@
 
 A :class:`ClientLink` reads the client's frames on the socket's handler thread and acts on
 them (puts, declarations, replies); Zenoh's threads hand it samples and queries, which it
-sends at once (a WebSocket send is thread-safe); it holds each query until the client
-replies (:mod:`.pending`). Everything it declared, its liveliness token included, is
-undeclared when the socket closes, and its unanswered queries are answered with an error,
-so the querier learns at once that the engine has gone.
+queues for the client's own writer thread (:mod:`.outbox`: a client too slow to read is
+dropped, and holds up nobody else); it holds each query until the client replies
+(:mod:`.pending`). Everything it declared, its liveliness token first, is undeclared as soon
+as the socket closes, and its unanswered queries are let go, so the querier learns at once
+that the engine has gone; a client dropped for a frame above the gateway's limit (1009) has
+them refused with a line that says so (:func:`too_big_message`).
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import hmac
 import logging
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -22,7 +25,7 @@ import zenoh
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.server import ServerConnection
 
-from protocol import Encoding, ErrorCode, ErrorReply, ProtocolError, check_name, decode, encode
+from protocol import Encoding, ErrorCode, ErrorReply, ProtocolError, check_name, encode
 from protocol.frames import (
     FRAMES_VERSION,
     NONE,
@@ -43,13 +46,16 @@ from protocol.frames import (
     Unsubscribe,
     Welcome,
 )
+from protocol.limits import MAX_FRAME_BYTES
 
 from ..pubsub import FOREVER
+from .checks import Refusal, checked_payload, read_frame, to_json
+from .keepalive import Keepalive
+from .outbox import Outbox, QueueLimits
 from .pending import PendingQueries
 
 log = logging.getLogger("toyroom.gateway")
 
-_frames = msgspec.json.Decoder(ClientFrame)
 _encoder = msgspec.json.Encoder()
 _JSON = zenoh.Encoding(Encoding.JSON.value)
 
@@ -62,62 +68,29 @@ class LinkSettings:
     secret: str | None
     gateway: str
     """The gateway's program and version, for :class:`Welcome`."""
+    queue: QueueLimits = QueueLimits()
+    """How much a client may have waiting to be sent before it is dropped (:mod:`.outbox`)."""
+    ping: float = 0.5
+    """Seconds between pings; a client that answers none and sends nothing for this long after
+    one is dropped (:mod:`.keepalive`)."""
 
     @property
     def prefix(self) -> str:
         return f"toyroom/{self.world}"
 
 
-class Refusal(Exception):
-    """A frame is refused: becomes a :class:`FrameError` to the client."""
-
-    def __init__(self, code: str, message: str, ref: int | None = None) -> None:
-        super().__init__(message)
-        self.code, self.message, self.ref = code, message, ref
+TOO_BIG = 1009
+"""The close code of a client that sent a frame above the gateway's limit (``websockets``' own)."""
+UNAUTHORIZED = 4001
+"""The close code of a client whose hello has the wrong token (after an ``unauthorized`` error)."""
 
 
-def to_json(payload: bytes, mime: str | None) -> bytes:
-    """A Zenoh payload as JSON bytes fit to embed in a frame (MessagePack is transcoded).
-
-    Raises:
-        ValueError: the payload is neither valid JSON nor valid MessagePack.
-    """
-    if Encoding.from_mime(mime) is Encoding.MSGPACK:
-        return _encoder.encode(msgspec.msgpack.decode(payload))
-    msgspec.json.decode(payload)  # must be one JSON value, or the frame would break
-    return payload
-
-
-TOO_DEEP = "nested too deeply to decode"
-"""What a frame or payload nested too deeply to decode is told (msgspec's depth limit)."""
-
-
-def checked_payload(raw: msgspec.Raw, where: str, ref: int | None) -> bytes:
-    """A frame's payload after checking that it is a protocol message (any minor version)."""
-    data = bytes(raw)
-    try:
-        decode(data, None, Encoding.JSON)
-    except ProtocolError as err:
-        raise Refusal("bad_payload", f"{where}: {err}", ref) from None
-    except RecursionError:  # nested deeper than the decoder goes: not a message
-        raise Refusal("bad_payload", f"{where}: {TOO_DEEP}", ref) from None
-    return data
-
-
-def read_frame(data: bytes) -> ClientFrame:
-    """One client frame, decoded.
-
-    Raises:
-        Refusal: ``bad_frame`` naming what is wrong: not JSON, not a frame, a field of the
-            wrong type, or nested too deeply to decode (which raises ``RecursionError`` in the
-            decoder; caught here so that such a frame is refused like any other).
-    """
-    try:
-        return _frames.decode(data)
-    except msgspec.DecodeError as err:
-        raise Refusal("bad_frame", f"not a gateway frame ({err}): {data[:120]!r}") from None
-    except RecursionError:
-        raise Refusal("bad_frame", f"not a gateway frame ({TOO_DEEP}): {data[:40]!r}...") from None
+def too_big_message(client: str, reason: str) -> str:
+    """What the querier of a client dropped for a frame too big is told (one line)."""
+    return (
+        f"the gateway dropped the client serving this key ({client}): it sent a frame above the gateway's "
+        f"limit of {MAX_FRAME_BYTES:,} bytes ({reason}); a scene must fit that limit (docs/usage.md, Limits)"
+    )
 
 
 class ClientLink:
@@ -135,16 +108,19 @@ class ClientLink:
         self._queryables: dict[int, Any] = {}
         self._publishers: dict[str, zenoh.Publisher] = {}
         self._pending = PendingQueries()
+        self._lock = threading.Lock()
+        self._outbox = Outbox(socket, lambda: self.name, settings.queue, on_drop=self.withdraw)
+        self.heard = time.monotonic()
+        """When the last frame came from the client (``time.monotonic``)."""
+        self._keepalive = Keepalive(self._outbox, settings.ping, lambda: self.heard)
         self.closed = False
 
     # ----- sending -------------------------------------------------------------------------
 
     def send(self, frame: msgspec.Struct) -> None:
-        """Send one frame; a closed socket is not an error (the link is closing)."""
-        try:
-            self.socket.send(_encoder.encode(frame), text=True)
-        except ConnectionClosed:
-            pass
+        """Queue one frame for the client's writer (never waits; :mod:`.outbox`); once the
+        link is closing, the frame is discarded."""
+        self._outbox.put(_encoder.encode(frame))
 
     def refuse(self, code: str, message: str, ref: int | None = None) -> None:
         log.warning("client %s: %s: %s", self.name, code, message)
@@ -158,16 +134,32 @@ class ClientLink:
 
     def run(self) -> None:
         """Read and act on frames until the socket closes; then undeclare everything."""
+        too_big = None
         try:
             for data in self.socket:
                 self.handle(data if isinstance(data, bytes) else data.encode())
-        except ConnectionClosed:
-            pass
+        except ConnectionClosed as closed:
+            too_big = self._closed_by_gateway(closed)
         finally:
-            self.close()
+            self.close(too_big)
+
+    def _closed_by_gateway(self, closed: ConnectionClosed) -> str | None:
+        """Log, in one line, a close the gateway made for a fault (unless it was logged as it
+        was made); the reason of a close for a frame too big (1009), else ``None``."""
+        sent = closed.sent
+        if (
+            sent is None
+            or closed.rcvd_then_sent
+            or sent.code in (1000, 1001, UNAUTHORIZED)
+            or self._outbox.dropped
+        ):
+            return None
+        log.warning("client %s dropped: %s (%d)", self.name, sent.reason, sent.code)
+        return sent.reason if sent.code == TOO_BIG else None
 
     def handle(self, data: bytes) -> None:
         """Act on one frame; every failure becomes an error frame, never an exception."""
+        self.heard = time.monotonic()
         try:
             frame = read_frame(data)
         except Refusal as err:
@@ -213,7 +205,7 @@ class ClientLink:
         secret = self.settings.secret
         if secret is not None and not hmac.compare_digest((hello.token or "").encode(), secret.encode()):
             self.refuse("unauthorized", "the hello's token does not match the gateway's --token file")
-            self.socket.close(code=4001, reason="unauthorized")
+            self._outbox.finish(UNAUTHORIZED, "unauthorized")  # after the error frame
             return
         if hello.frames.split(".")[0] != FRAMES_VERSION:
             raise Refusal("bad_frame", f"this gateway speaks frames {FRAMES_VERSION}, got {hello.frames!r}")
@@ -221,7 +213,11 @@ class ClientLink:
             role, name = check_name(hello.role, "role"), check_name(hello.name, "node")
         except ProtocolError as err:
             raise Refusal("bad_frame", f"hello: {err}") from None
-        self._token = self.session.liveliness().declare_token(f"{self.settings.prefix}/@alive/{role}/{name}")
+        token = self.session.liveliness().declare_token(f"{self.settings.prefix}/@alive/{role}/{name}")
+        with self._lock:
+            self._token = token
+        if self._outbox.dropped is not None:  # dropped meanwhile (not before a welcome, in practice)
+            self.withdraw()
         self.hello = hello
         log.info("client %s (%s) joined from %s", self.name, hello.client or "?", self.peer)
         self.send(
@@ -353,13 +349,32 @@ class ClientLink:
 
     # ----- closing -------------------------------------------------------------------------
 
-    def close(self) -> None:
-        """Undeclare everything of this client and refuse its held queries; safe twice."""
+    def withdraw(self) -> None:
+        """Undeclare the client's liveliness token, at once (from any thread; safe twice): it
+        was dropped, or its socket closed."""
+        with self._lock:
+            token, self._token = self._token, None
+        if token is not None:
+            try:
+                token.undeclare()
+            except Exception:
+                pass
+
+    def close(self, too_big: str | None = None) -> None:
+        """Undeclare everything of this client, its liveliness token first, and let go of its
+        held queries (``too_big``: the reason of its 1009 close, and the queries are refused
+        saying so); safe twice."""
         if self.closed:
             return
         self.closed = True
-        self._pending.release_all()
-        for entity in [self._token, *self._subscribers.values(), *self._queryables.values()]:
+        self._keepalive.stop()
+        self._outbox.finish()
+        self.withdraw()
+        if too_big is None:
+            self._pending.release_all()
+        else:
+            self._pending.refuse_all(too_big_message(self.name, too_big))
+        for entity in [*self._subscribers.values(), *self._queryables.values()]:
             try:
                 if entity is not None:
                     entity.undeclare()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import threading
@@ -12,8 +13,13 @@ from pathlib import Path
 from ..errors import BridgeError
 from ..flags import add_log_level, command_parser, configure_logging
 from ..processes import stop_on_signals, wait_for_stop
-from ..session import SessionSettings
+from ..session import SessionSettings, world_problem
+from .outbox import MAX_QUEUED_FRAMES, QueueLimits
 from .server import DEFAULT_URL, Gateway, GatewaySettings
+
+MIN_PING_S = 0.1
+"""The shortest ``--ping`` (s): a client must answer a ping within that time or be dropped."""
+PING_FLOOR_WHY = "a client that takes one slow frame to answer a ping would be dropped"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -34,7 +40,14 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         default=0.5,
         metavar="S",
-        help="seconds between pings (a silent client is dropped)",
+        help="seconds between pings, at least 0.1 (a silent client is dropped)",
+    )
+    parser.add_argument(
+        "--queue-frames",
+        type=int,
+        default=MAX_QUEUED_FRAMES,
+        metavar="N",
+        help="frames a client may have waiting to be sent; a client slower than that is dropped",
     )
     network = parser.add_argument_group("Zenoh (default: loopback only, no multicast)")
     network.add_argument("--zenoh-config", type=Path, help="a Zenoh JSON5 config file to start from")
@@ -56,14 +69,17 @@ def settings_from(args: argparse.Namespace) -> GatewaySettings:
         connect=tuple(args.connect) if args.connect else None,
         config_file=args.zenoh_config,
     )
-    if not args.ping > 0:
-        raise BridgeError(f"--ping must be a positive number of seconds, got {args.ping}")
+    if not (MIN_PING_S <= args.ping < math.inf):
+        raise BridgeError(f"--ping must be at least {MIN_PING_S:g} s ({PING_FLOOR_WHY}), got {args.ping}")
+    if args.queue_frames < 1:
+        raise BridgeError(f"--queue-frames must be a whole number of at least 1, got {args.queue_frames}")
     return GatewaySettings(
         world=args.world,
         listen=args.listen,
         token_file=args.token,
         origins=tuple(args.origin),
         ping=args.ping,
+        queue=QueueLimits(frames=args.queue_frames),
         session=session,
     )
 
@@ -71,6 +87,9 @@ def settings_from(args: argparse.Namespace) -> GatewaySettings:
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level)
+    if (problem := world_problem(args.world)) is not None:
+        print(f"toyroom gateway: {problem}", file=sys.stderr)
+        return 2
     stop = threading.Event()
     stop_on_signals(stop)
     try:

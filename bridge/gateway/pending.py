@@ -5,7 +5,8 @@ sends it to the client as a :class:`~protocol.frames.Query` frame and holds it h
 the client's :class:`~protocol.frames.Reply`. A client holds at most :data:`MAX_PENDING`:
 beyond that the oldest is refused (``internal``). A held query let go unanswered (its key
 unserved, or the client gone) is dropped, so its querier learns at once that nobody answers
-(as when a Zenoh engine dies) instead of waiting out its timeout.
+(as when a Zenoh engine dies) instead of waiting out its timeout; a client dropped for a
+frame above the gateway's limit has them refused instead, saying so.
 """
 
 from __future__ import annotations
@@ -76,6 +77,14 @@ class PendingQueries:
             held = [qid for qid, (_, _, on) in self._pending.items() if on == serve]
         for qid in held:
             self.release(qid)
+
+    def refuse_all(self, why: str) -> None:
+        """Refuse every held query (``internal``, saying ``why``): the client is gone for a
+        reason its queriers must read, not just "nobody answers"."""
+        with self._lock:
+            held = list(self._pending)
+        for qid in held:
+            self.refuse(qid, why)
 
     def release_all(self) -> None:
         """Let go of every held query (the client is gone)."""

@@ -2,13 +2,15 @@
 
 The gateway opens one Zenoh session on the world (loopback, as every node does) and a
 WebSocket server (the ``websockets`` library's threaded server: one thread per client,
-which reads its frames; Zenoh's threads send to it directly). Frames are documented in
-:mod:`protocol.frames` and ``protocol/README.md``.
+which reads its frames; another of the client's own sends them, :mod:`.outbox`). Frames are
+documented in :mod:`protocol.frames` and ``protocol/README.md``.
 
 Safe defaults: it listens on ``127.0.0.1`` only; browsers' pages may connect only from a
 loopback origin (plus ``--origin``); with ``--token FILE`` a client must present the
-file's secret in its hello. Pings every ``ping`` seconds: a client that stops answering is
-dropped after twice that, and its liveliness token goes with it.
+file's secret in its hello. Pings every ``ping`` seconds: a client that answers none and
+sends nothing is dropped after about twice that (:mod:`.keepalive`), and its liveliness
+token goes with it. Each client has its own bounded queue of frames to send
+(:mod:`.outbox`): one too slow to read is dropped, never holding up the others.
 """
 
 from __future__ import annotations
@@ -24,17 +26,23 @@ import zenoh
 from websockets.sync.server import Server, ServerConnection, serve
 from websockets.typing import Origin
 
+from protocol.limits import MAX_FRAME_BYTES
+
 from ..errors import ConfigError
 from ..session import LOOPBACK, SessionSettings, is_loopback, open_session
 from .link import ClientLink, LinkSettings
+from .outbox import QueueLimits
+from .secret import read_secret
 
 log = logging.getLogger("toyroom.gateway")
 
 DEFAULT_PORT = 7448
 """The gateway's default port (beside Zenoh's 7447), so a Unity client needs no setting."""
 DEFAULT_URL = f"ws://{LOOPBACK}:{DEFAULT_PORT}"
-MAX_FRAME = 16 * 1024 * 1024
-"""Largest frame accepted, in bytes (a large house's scene fits many times over)."""
+MAX_FRAME = MAX_FRAME_BYTES
+"""Largest frame accepted, in bytes (16 MiB: every scene within :mod:`protocol.limits` fits)."""
+
+
 _LOOPBACK_ORIGIN = re.compile(r"^https?://(localhost|127\.\d+\.\d+\.\d+|\[::1\])(:\d+)?$")
 
 
@@ -50,17 +58,6 @@ def parse_listen(url: str) -> tuple[str, int]:
     return parts.hostname, port
 
 
-def read_secret(path: Path) -> str:
-    """The token in ``path`` (surrounding whitespace dropped); refuses an unreadable or empty file."""
-    try:
-        secret = path.read_text(encoding="utf-8").strip()
-    except OSError as err:
-        raise ConfigError(f"cannot read the --token file {path}: {err.strerror}") from None
-    if not secret:
-        raise ConfigError(f"the --token file {path} is empty")
-    return secret
-
-
 @dataclass(frozen=True)
 class GatewaySettings:
     """How a gateway serves. ``listen`` is a ``ws://HOST:PORT`` URL (port 0: any free port)."""
@@ -72,6 +69,8 @@ class GatewaySettings:
     """Browser origins allowed besides loopback ones (``https://example.org``)."""
     ping: float = 0.5
     """Seconds between pings; a client silent for twice this is dropped."""
+    queue: QueueLimits = QueueLimits()
+    """How many frames and bytes a client may have waiting to be sent before it is dropped."""
     session: SessionSettings = field(default_factory=SessionSettings)
 
 
@@ -94,7 +93,13 @@ class Gateway:
         self.settings = settings
         self.links: set[ClientLink] = set()
         self._lock = threading.Lock()
-        self._link_settings = LinkSettings(world=settings.world, secret=secret, gateway="toyroom gateway")
+        self._link_settings = LinkSettings(
+            world=settings.world,
+            secret=secret,
+            gateway="toyroom gateway",
+            queue=settings.queue,
+            ping=settings.ping,
+        )
         self.session: zenoh.Session = open_session(settings.world, settings.session)
         try:
             self._server: Server = serve(
@@ -104,8 +109,8 @@ class Gateway:
                 origins=[None, _LOOPBACK_ORIGIN, *(Origin(o) for o in settings.origins)],
                 compression=None,
                 max_size=MAX_FRAME,
-                ping_interval=settings.ping,
-                ping_timeout=settings.ping,
+                ping_interval=None,  # the links' own keepalive (.keepalive)
+                ping_timeout=None,
                 close_timeout=0.2,
             )
         except OSError as err:

@@ -9,9 +9,14 @@ wrong type, a number that is not finite, bytes that are not JSON) is damage and 
 that are not toyroom keys (``toyroom/<world>/...``: another program's) are passed over. A
 :class:`Cut` says where reading stopped (the byte offset) and why, what was dropped, and
 which ticks were kept. Commands warn with :meth:`Cut.warning` and, with ``--strict``,
-refuse such a file. A file that is missing, that is no recording of either format, that
-holds no message on a toyroom key (a foreign MCAP), or whose readable part holds no message
-is a :class:`RecordingError` naming the file and the problem.
+refuse such a file. An MCAP file is read by :mod:`.mcapstream`: one that ends early (inside
+its opening magic, mid-record, without its footer, inside its summary or footer, inside its
+closing magic) is cut off, and keeps every message whole before the cut. A file that is
+missing, that is no recording of either format, that holds no message on a toyroom key (a
+foreign MCAP), whose readable part holds no message (a file cut off before its first whole
+message says so), or that mixes the keys of two worlds (``toyroom/a/...`` and
+``toyroom/b/...``: no recorder writes that) is a :class:`RecordingError` naming the file and
+the problem (the worlds found).
 
 A message of a type this version does not know, declared by a newer minor version of the
 protocol, is no damage (minor versions only add): it is kept for replay and passed over by
@@ -25,19 +30,12 @@ import re
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import IO
-
-from mcap.exceptions import EndOfFile, InvalidMagic, McapError
-from mcap.records import Channel, Footer
-from mcap.records import Message as McapMessage
-from mcap.stream_reader import StreamReader
 
 from protocol import PROTOCOL_VERSION, Message, ProtocolError, State, Version, decode, read_header
 
 from ..errors import BridgeError
+from .mcapstream import read_mcap_file, starts_with_magic
 
-MCAP_MAGIC = b"\x89MCAP0\r\n"
-"""The eight bytes every MCAP file starts (and a finished one ends) with."""
 TOYROOM_KEY = re.compile(r"toyroom/[^/*$#?]+(?:/[^/*$#?]+)+")
 """A key a toyroom recorder writes: ``toyroom/<world>/...``, no empty chunk, no wildcard."""
 SHOWN = 3
@@ -112,11 +110,14 @@ class Cut:
     ticks: tuple[int, int] | None
     messages: int
     dropped: tuple[Dropped, ...] = ()
+    early: bool = True
+    """Whether the file ends early (cut off: its end is missing); ``False``: reading stopped
+    at a damaged record with the file's end after it."""
 
     @property
     def kind(self) -> str:
         """``cut off``, ``damaged`` or ``cut off and damaged``."""
-        if self.reason is None:
+        if self.reason is None or not self.early:
             return "damaged"
         return "cut off and damaged" if self.dropped else "cut off"
 
@@ -132,7 +133,7 @@ class Cut:
             return f"{self.path}: damaged: {dropped}; kept {kept} ({self.messages} messages)"
         also = f"; {dropped}" if self.dropped else ""
         return (
-            f"{self.path}: unreadable from byte {self.offset} of {self.size} ({self.reason}); "
+            f"{self.path}: {self.kind}: unreadable from byte {self.offset} of {self.size} ({self.reason}); "
             f"kept {kept} ({self.messages} messages before it){also}"
         )
 
@@ -218,12 +219,39 @@ def _sort(records: list[Recorded]) -> _Sorted:
     return found
 
 
+def _one_world(path: Path, found: _Sorted) -> None:
+    """Nothing, when the toyroom records (kept or dropped) are of one world.
+
+    Raises:
+        RecordingError: naming the worlds (``toyroom/<world>/...``) found, in file order."""
+    keys = [r.key for r in found.records] + [d.key for d in found.dropped]
+    worlds = list(dict.fromkeys(key.split("/")[1] for key in keys))
+    if len(worlds) > 1:
+        named = ", ".join(map(repr, worlds[:SHOWN]))
+        more = f", and {len(worlds) - SHOWN} more" if len(worlds) > SHOWN else ""
+        raise RecordingError(
+            f"{path}: mixes the messages of {len(worlds)} worlds ({named}{more}): a recording is of "
+            "one world (toyroom/<world>/...); record each world to its own file"
+        )
+
+
 def _ended(
-    path: Path, kind: str, records: list[Recorded], offset: int, size: int, reason: str | None
+    path: Path,
+    kind: str,
+    records: list[Recorded],
+    offset: int,
+    size: int,
+    reason: str | None,
+    early: bool = False,
 ) -> Recording:
-    """The recording (of format ``kind``) read, or the error when nothing of it could be."""
+    """The recording (of format ``kind``) read, or the error when nothing of it could be
+    (``early``: reading stopped because the file ends before its end)."""
     if not records:
         what = "an MCAP recording" if kind == "mcap" else "a recording (trace.jsonl or MCAP)"
+        if early:
+            raise RecordingError(
+                f"{path}: {what} cut off at byte {size}, before its first whole message ({reason})"
+            )
         problem = f"not {what}: {reason}" if reason else "holds no messages"
         raise RecordingError(f"{path}: {problem}")
     found = _sort(records)
@@ -232,71 +260,24 @@ def _ended(
             f"{path}: not a toyroom recording: none of its topics is a toyroom key "
             f"(toyroom/<world>/...): {_listed([repr(t) for t in found.foreign])}"
         )
+    _one_world(path, found)
     cut = None
     if reason is not None or found.dropped:
         end = offset if reason is not None else size
         ticks = _tick_range(found.decoded)
-        cut = Cut(path, end, size, reason, ticks, len(found.records), tuple(found.dropped))
+        cut = Cut(path, end, size, reason, ticks, len(found.records), tuple(found.dropped), early)
     return Recording(path, kind, tuple(found.records), cut, tuple(found.decoded), tuple(found.foreign))
 
 
-def _starts_with_magic(path: Path) -> bool:
-    with path.open("rb") as handle:
-        return handle.read(len(MCAP_MAGIC)) == MCAP_MAGIC
-
-
-class _Counting:
-    """A binary file that counts the bytes read from it (the MCAP reader's position)."""
-
-    def __init__(self, handle: IO[bytes]) -> None:
-        self.handle = handle
-        self.count = 0
-
-    def read(self, size: int = -1) -> bytes:
-        data = self.handle.read(size)
-        self.count += len(data)
-        return data
-
-
 def _read_mcap(path: Path, size: int) -> Recording:
-    records: list[Recorded] = []
-    channels: dict[int, Channel] = {}
-    end, reason = 0, None
-    with path.open("rb") as handle:
-        counting = _Counting(handle)
-        reader = StreamReader(
-            counting,  # type: ignore[arg-type]
-            skip_magic=False,
-            emit_chunks=False,
-            validate_crcs=False,
-            record_size_limit=size,
-        )
-        try:
-            for record in reader.records:
-                start, end = end, counting.count
-                if isinstance(record, Channel):
-                    channels[record.id] = record
-                elif isinstance(record, McapMessage) and record.channel_id in channels:
-                    topic = channels[record.channel_id].topic
-                    records.append(Recorded(topic, bytes(record.data), record.log_time, start))
-                elif isinstance(record, Footer):
-                    return _ended(path, "mcap", records, end, size, None)
-        except InvalidMagic:
-            reason = "it does not start with the MCAP magic bytes"  # (the footer returns first)
-        except EndOfFile:
-            reason = (
-                "it ends without the MCAP footer: the recorder did not finish the file"
-                if counting.count == end
-                else "it ends mid-record"
-            )
-        except (McapError, ValueError, UnicodeDecodeError, OverflowError, MemoryError) as err:
-            reason = f"a damaged record ({type(err).__name__}: {err})"
-    return _ended(path, "mcap", records, end, size, reason)
+    read = read_mcap_file(path, size)
+    records = [Recorded(*message) for message in read.messages]
+    return _ended(path, "mcap", records, read.end, size, read.reason, read.early)
 
 
 def _read_trace(path: Path, size: int) -> Recording:
     records: list[Recorded] = []
-    offset, reason = 0, None
+    offset, reason, cut_short = 0, None, False
     with path.open("rb") as handle:
         for number, raw in enumerate(handle, start=1):
             if raw.strip():
@@ -314,7 +295,7 @@ def _read_trace(path: Path, size: int) -> Recording:
                     break
                 records.append(Recorded(key, json.dumps(payload).encode(), offset=offset))
             offset += len(raw)
-    return _ended(path, "trace", records, offset, size, reason)
+    return _ended(path, "trace", records, offset, size, reason, cut_short)
 
 
 def read_recording(path: Path) -> Recording:
@@ -331,7 +312,7 @@ def read_recording(path: Path) -> Recording:
         raise RecordingError(f"{path}: a folder, not a recording (trace.jsonl or .mcap)")
     try:
         size = path.stat().st_size
-        is_mcap = path.suffix == ".mcap" or _starts_with_magic(path)
+        is_mcap = path.suffix == ".mcap" or starts_with_magic(path)
         if size == 0:
             raise RecordingError(f"{path}: an empty file, not a recording")
         return _read_mcap(path, size) if is_mcap else _read_trace(path, size)

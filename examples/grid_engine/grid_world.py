@@ -9,7 +9,7 @@ from typing import Any
 
 from grid_scenario import Cell, Scenario, scaled
 
-PROTOCOL = "1.6"
+PROTOCOL = "1.7"
 NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1))
 
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from bridge.flags import open_regular
 from protocol import (
     MAX_CELL_SIZE,
     MAX_GRID_CELLS,
@@ -46,6 +47,7 @@ from .tables import (
     VISIBILITY_KEYS,
     check_keys,
     entry_of,
+    table_id,
     tables,
 )
 
@@ -141,9 +143,10 @@ def _str(table: dict[str, Any], key: str, path: Path, entry: str) -> str:
 
 
 def read_toml(path: Path) -> dict[str, Any]:
-    """Read a TOML file; a syntax error names the file and line."""
+    """Read a TOML file; a syntax error names the file and line, and a file that is not a
+    regular one (a FIFO, a folder) is refused without waiting on it."""
     try:
-        with path.open("rb") as handle:
+        with open_regular(path) as handle:
             return tomllib.load(handle)
     except FileNotFoundError:
         if path.parent == SCENARIO_DIR:  # a bundled name that is not: say which ones are
@@ -204,7 +207,7 @@ def _region(
 ) -> Region:
     """``regions[i]``, its cells added to ``region_of`` (each cell in one region only)."""
     table = check_keys(table, REGION_KEYS, path, entry_of(table, "regions", i))
-    rid = _str(table, "id", path, f"regions[{i}]")
+    rid = table_id(table, path, f"regions[{i}]")
     entry = f"regions[{i}] '{rid}'"
     try:
         kind = RegionKind(table.get("kind", "room"))
@@ -245,7 +248,7 @@ def _door(
 ) -> Door:
     """``doors[i]``: a wall cell touching both the regions it joins."""
     table = check_keys(table, DOOR_KEYS, path, entry_of(table, "doors", i))
-    did = _str(table, "id", path, f"doors[{i}]")
+    did = table_id(table, path, f"doors[{i}]")
     entry = f"doors[{i}] '{did}'"
     cell = parse_cell(table.get("cell"), path, entry)
     joins = table.get("joins")
@@ -273,7 +276,7 @@ def _location(
 ) -> Location:
     """``locations[i]``: an item spot on a cell of its region."""
     table = check_keys(table, LOCATION_KEYS, path, entry_of(table, "locations", i))
-    lid = _str(table, "id", path, f"locations[{i}]")
+    lid = table_id(table, path, f"locations[{i}]")
     entry = f"locations[{i}] '{lid}'"
     region = _str(table, "region", path, entry)
     if region not in region_ids:

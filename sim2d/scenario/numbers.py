@@ -26,16 +26,21 @@ def integer(value: Any, path: Path, entry: str, key: str, low: int = 1, high: in
     return value
 
 
-def real(value: Any, path: Path, entry: str, key: str, high: float) -> float:
-    """``value``, a finite number above 0 and at most ``high`` (an integer will do).
+def real(
+    value: Any, path: Path, entry: str, key: str, high: float, low: float | None = None, why: str = ""
+) -> float:
+    """``value``, a finite number above 0 (from ``low``, when given) and at most ``high`` (an
+    integer will do); ``why``: the reason for ``low``, which its error gives.
 
     Raises:
-        ScenarioError: ``key`` is no number, NaN, infinite, at most 0 or above ``high``.
+        ScenarioError: ``key`` is no number, NaN, infinite, at most 0, below ``low`` or above ``high``.
     """
     if not isinstance(value, int | float) or isinstance(value, bool):
         raise ScenarioError(path, entry, f"{key} must be a number, got {value!r}")
-    if not (math.isfinite(value) and 0 < value <= high):
+    if not (math.isfinite(value) and 0 < value <= high and (low is None or value >= low)):
+        bound = "above 0" if low is None else f"from {low:g}"
+        reason = f" ({why})" if why and low is not None else ""
         raise ScenarioError(
-            path, entry, f"{key} must be a finite number above 0 and at most {high:g}, got {value!r}"
+            path, entry, f"{key} must be a finite number {bound} and at most {high:g}{reason}, got {value!r}"
         )
     return float(value)

@@ -13,6 +13,7 @@ from typing import Any, Literal
 import msgspec
 
 from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, Household, ItemShape, Study
+from protocol.message import id_problem
 
 from ..errors import ScenarioError
 from .autonomy import Autonomy, parse_autonomy
@@ -20,12 +21,19 @@ from .jobs import JOB_KEYS, Jobs, job_items, parse_jobs
 from .maps import SCENARIO_DIR, GameMap, load_map, parse_cell, read_toml
 from .numbers import integer, real
 from .script import Step, Take, parse_step
-from .tables import AGENT_KEYS, ITEM_KEYS, SCENARIO_KEYS, check_keys, entry_of, tables
+from .tables import AGENT_KEYS, ITEM_KEYS, SCENARIO_KEYS, check_keys, entry_of, table_id, tables
 
 RobotMode = Literal["act", "observe"]
 
 MAX_TICK_SECONDS = 3600.0
 """The longest tick (s) a scenario may have: a finite time, its multiples too."""
+MIN_TICK_SECONDS = 0.01
+"""The shortest tick (s) a scenario may have. A person walks a cell in 0.67 s (1.5 m/s): at
+10 ms that is 67 ticks, each a lock-step round and a brain update, against 7 at the bundled
+0.1 s; a finer tick adds ticks and nothing else (at ``1e-9`` s a walk to the next cell would
+take 670 million ticks, and a free-running engine could not keep to its clock)."""
+TICK_FLOOR_WHY = "a walk to the next cell takes 0.67 s; a finer tick only adds ticks"
+"""Why :data:`MIN_TICK_SECONDS`, in the loader's error."""
 
 
 @dataclass(frozen=True)
@@ -136,10 +144,9 @@ def _home(table: dict[str, Any], aid: str, game_map: GameMap, path: Path, entry:
 
 
 def _entry_id(table: dict[str, Any], section: str, i: int, path: Path) -> tuple[str, str]:
-    """The ``id`` of ``section[i]`` (a non-empty string) and the entry name errors give it."""
-    value = table.get("id")
-    if not isinstance(value, str) or not value:
-        raise ScenarioError(path, f"{section}[{i}]", "expected a non-empty string 'id'")
+    """The ``id`` of ``section[i]`` (a protocol id: :func:`.tables.table_id`) and the entry
+    name errors give it."""
+    value = table_id(table, path, f"{section}[{i}]")
     return value, f"{section}[{i}] '{value}'"
 
 
@@ -280,9 +287,12 @@ def _check_references(agents: list[AgentSetup], item_ids: set[str], path: Path) 
 
 
 def _timing(data: dict[str, Any], path: Path) -> tuple[float, int, int]:
-    """``tick_seconds`` (s, finite, at most :data:`MAX_TICK_SECONDS`), ``max_ticks`` and
-    ``settle_ticks`` (integers, at least 1)."""
-    tick_seconds = real(data.get("tick_seconds", 0.1), path, "tick_seconds", "tick_seconds", MAX_TICK_SECONDS)
+    """``tick_seconds`` (s, finite, from :data:`MIN_TICK_SECONDS` to :data:`MAX_TICK_SECONDS`),
+    ``max_ticks`` and ``settle_ticks`` (integers, at least 1)."""
+    seconds = data.get("tick_seconds", 0.1)
+    tick_seconds = real(
+        seconds, path, "tick_seconds", "tick_seconds", MAX_TICK_SECONDS, MIN_TICK_SECONDS, TICK_FLOOR_WHY
+    )
     max_ticks = integer(data.get("max_ticks", 3000), path, "max_ticks", "max_ticks")
     settle_ticks = integer(data.get("settle_ticks", 1), path, "settle_ticks", "settle_ticks")
     return tick_seconds, max_ticks, settle_ticks
@@ -339,6 +349,8 @@ def _household(data: dict[str, Any], path: Path) -> Household | None:
     ident = table.get("id")
     if not isinstance(ident, str) or not ident:
         raise ScenarioError(path, "household", f"id must be a non-empty string, got {ident!r}")
+    if (problem := id_problem(ident)) is not None:
+        raise ScenarioError(path, "household", f"id {problem}")
     return Household(id=ident, day=integer(table.get("day", 1), path, "household", "day"))
 
 

@@ -3,7 +3,9 @@ knows. A misspelt key (``max_tiks``, ``speeed``, ``colour``, ``wals``) would oth
 ignored without a word, so it is an error naming the key, the closest known key and the
 known keys, as script steps (:mod:`sim2d.scenario.script`) have always been.
 
-The known keys of each table kind are here, in one place: the file format's vocabulary.
+The known keys of each table kind are here, in one place: the file format's vocabulary; and
+so is what a table's ``id`` may be (:func:`table_id`): a protocol id, refused while reading,
+not at the handshake after the nodes have started.
 """
 
 from __future__ import annotations
@@ -12,6 +14,8 @@ import difflib
 from collections.abc import Collection
 from pathlib import Path
 from typing import Any
+
+from protocol.message import id_problem
 
 from ..errors import ScenarioError
 
@@ -112,4 +116,19 @@ def tables(data: dict[str, Any], key: str, path: Path, limit: int | None = None)
         raise ScenarioError(path, key, f"expected an array of tables ([[{key}]]), got {value!r}")
     if limit is not None and len(value) > limit:
         raise ScenarioError(path, key, f"{len(value):,} {key}, above the limit of {limit:,}")
+    return value
+
+
+def table_id(table: dict[str, Any], path: Path, entry: str) -> str:
+    """The ``id`` of the table ``entry``: a protocol id (:func:`protocol.message.id_problem`:
+    no space, ``*`` or emoji, which no message may carry).
+
+    Raises:
+        ScenarioError: it is missing, not a string, or no id.
+    """
+    value = table.get("id")
+    if not isinstance(value, str) or not value:
+        raise ScenarioError(path, entry, f"expected a non-empty string 'id', got {value!r}")
+    if (problem := id_problem(value)) is not None:
+        raise ScenarioError(path, entry, f"id {problem}")
     return value

@@ -148,3 +148,34 @@ def test_disabled_timeout_waits_for_a_slow_engine(world: str) -> None:
     finally:
         bridge.close()
         engine.close()
+
+
+def test_a_step_asked_again_is_carried_out_once(world: str) -> None:
+    """A step the engine carries out but whose answer never reaches the client (here the client
+    gives up before a slow engine answers; an engine paused past its lease carries out the
+    step it was sent once continued, its answer lost with the link) is asked again with
+    ``again()``, under its request id: the engine answers with that step's answer, not a second
+    step. Before request ids the only way on was a new step: tick 2, and tick 1 never seen."""
+    engine = CounterEngine(world)
+    bridge, client = _client(world, timeout=0.5)
+    engine.delay = 1.0
+    try:
+        with pytest.raises(StepTimeout):
+            client.step(1)
+        assert client.unanswered is not None and str(client.unanswered) == "step 1", client.unanswered
+        deadline = time.monotonic() + 10
+        while engine.tick < 1:  # the engine carries the step out after its delay
+            assert time.monotonic() < deadline, "the engine never carried out the step"
+            time.sleep(0.01)
+        engine.delay = 0.0
+        client.timeout = 5.0
+        state = client.again()
+        assert (state.tick, engine.tick) == (1, 1), (
+            f"asked again, the step's own answer (tick 1, the engine at tick 1) was expected; got "
+            f"tick {state.tick}, the engine at tick {engine.tick}"
+        )
+        assert client.unanswered is None, f"answered, nothing should be left to ask: {client.unanswered}"
+        assert client.step(1).tick == 2, "a new step is a new request, carried out"
+    finally:
+        bridge.close()
+        engine.close()

@@ -66,3 +66,39 @@ def test_nobody_answers_fails_fast(bridges: tuple[Bridge, Bridge]) -> None:
     with pytest.raises(NoReply, match="nobody answers"):
         client.query(client.keys.control, Step(n=1), ControlReply, timeout=3.0)
     assert time.monotonic() - started < 1.0
+
+
+def test_a_request_asked_again_under_its_id_gets_its_first_answer(bridges: tuple[Bridge, Bridge]) -> None:
+    """A query repeating a request id is answered with the answer that id got, without the
+    handler: a step asked again is not carried out twice. The last 16 ids are kept."""
+    from bridge.queries import REMEMBERED_ANSWERS
+
+    engine, client = bridges
+    handled: list[Message | None] = []
+
+    def count(request: Message | None, _: str) -> ControlReply:
+        handled.append(request)
+        return ControlReply(episode=1, tick=len(handled), time=0.0)
+
+    engine.queryable(engine.keys.control, count, expected=(Step,), inline=True)
+    key = client.keys.control
+    deadline = time.monotonic() + 5
+    while True:  # wait for the queryable to be known to the client
+        try:
+            first = client.query(key, Step(n=1), ControlReply, timeout=2.0, request_id="c-1")
+            break
+        except NoReply:
+            assert time.monotonic() < deadline, "the queryable never became known"
+            time.sleep(0.02)
+    again = client.query(key, Step(n=1), ControlReply, request_id="c-1")
+    assert (again, len(handled)) == (first, 1), (
+        f"request c-1 asked again: its first answer (tick {first.tick}) and the handler called once "
+        f"were expected; got tick {again.tick}, the handler called {len(handled)} times"
+    )
+    assert client.query(key, Step(n=1), ControlReply, request_id="c-2").tick == 2, "another id is handled"
+    assert client.query(key, Step(n=1), ControlReply).tick == 3, "so is a query without an id"
+    for n in range(REMEMBERED_ANSWERS):
+        client.query(key, Step(n=1), ControlReply, request_id=f"d-{n}")
+    assert client.query(key, Step(n=1), ControlReply, request_id="c-1").tick == len(handled), (
+        f"after {REMEMBERED_ANSWERS} newer ids, c-1's answer should be forgotten and c-1 handled anew"
+    )

@@ -4,12 +4,16 @@ up and keep serving good messages."""
 from __future__ import annotations
 
 import json
+import os
+import re
+import signal
 import subprocess
 import sys
 import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
@@ -158,3 +162,111 @@ def test_both_still_serve_after_the_fuzzing(running: Running) -> None:
     assert got["mind"].wait(10), "the brain stopped publishing its estimates"
     time.sleep(0.2)
     assert brain.poll() is None, f"the brain died: {brain.stderr.read() if brain.stderr else ''}"
+
+
+# ----- bad command lines: refused in one line, before anything starts --------------------------
+
+BAD_WORLDS = ["**", "a/b", "*", "$", "", "é", "abc\n"]
+"""World names that are no key chunk (a wildcard, a separator, a Zenoh special, nothing,
+not ASCII, a trailing newline)."""
+
+
+def refused(*args: str, timeout: float = 60) -> str:
+    """``toyroom ARGS`` refused: exit 2, one line on stderr and no traceback, nothing on
+    stdout (nothing started); that line. A command that hangs fails the test after
+    ``timeout`` s (it is killed)."""
+    command = [sys.executable, "-m", "toyroom", *args]
+    # a process group of its own: one that hangs is killed with whatever it started
+    process = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+    )
+    try:
+        stdout, stderr = process.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        stdout, stderr = process.communicate()
+        pytest.fail(f"expected `toyroom {' '.join(args)}` to be refused at once; it hung: {stderr!r}")
+    lines = stderr.splitlines()
+    assert process.returncode == 2 and len(lines) == 1 and stdout == "", (
+        f"expected `toyroom {' '.join(args)}` to exit 2 with one line on stderr and nothing on stdout; "
+        f"got {process.returncode}, stderr {stderr!r}, stdout {stdout!r}"
+    )
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["sim"],
+        ["brain"],
+        ["view"],
+        ["gateway", "--listen", "ws://127.0.0.1:0"],
+        ["run", "--no-live"],
+        ["record", "x.mcap"],
+        ["replay", "x.mcap"],
+        ["conform"],
+        ["doctor"],
+    ],
+    ids=lambda command: command[0],
+)
+def test_every_command_refuses_a_world_that_is_no_name(command: list[str], tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    args = [a if a != "x.mcap" else str(tmp_path / a) for a in command]
+    line = refused(*args, "--world", "**", *(["--out", str(out)] if command[0] == "run" else []))
+    assert "--world" in line and "'**'" in line, f"expected the refusal to name --world '**', got {line!r}"
+    assert not out.exists(), f"expected `toyroom run` to start nothing, but it made {sorted(out.rglob('*'))}"
+
+
+@pytest.mark.parametrize("command", ["sim", "view"])
+@pytest.mark.parametrize("name", BAD_WORLDS, ids=repr)
+def test_sim_and_view_refuse_every_bad_world_name(command: str, name: str) -> None:
+    line = refused(command, "--world", name)
+    assert f"got {name!r}" in line, f"expected the refusal to name {name!r}, got {line!r}"
+
+
+def token_refusal(world: str, token: Path) -> str:
+    """What ``toyroom gateway --token TOKEN`` says as it refuses to start."""
+    return refused("gateway", "--world", world, "--listen", "ws://127.0.0.1:0", "--token", str(token))
+
+
+@pytest.mark.parametrize("mode", [0o666, 0o644, 0o640, 0o604, 0o620], ids=lambda mode: f"{mode:04o}")
+def test_a_token_file_others_may_read_or_change_is_refused(world: str, tmp_path: Path, mode: int) -> None:
+    """As ssh refuses a private key others can read: the file and its mode are named."""
+    token = tmp_path / "token"
+    token.write_text("s3cret\n")
+    token.chmod(mode)
+    line = token_refusal(world, token)
+    assert str(token) in line and f"mode {mode:04o}" in line and "chmod 600" in line, (
+        f"expected the refusal to name {token} and its mode {mode:04o}, got {line!r}"
+    )
+
+
+def test_a_token_file_of_no_text_or_no_file_is_refused(world: str, tmp_path: Path) -> None:
+    """Bytes that are not UTF-8, a FIFO (nobody writes: an open would wait forever), a folder."""
+    binary = tmp_path / "binary"
+    binary.write_bytes(b"\xff\xfe\x00s3cret")
+    binary.chmod(0o600)
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo, 0o600)
+    folder = tmp_path / "folder"
+    folder.mkdir(mode=0o700)
+    for path, says in ((binary, "not UTF-8"), (fifo, "a FIFO, not a regular file"), (folder, "a folder")):
+        line = token_refusal(world, path)
+        assert str(path) in line and says in line, (
+            f"expected the refusal to name {path} and say {says!r}, got {line!r}"
+        )
+
+
+def test_a_scenario_or_map_that_is_a_fifo_is_refused(world: str, tmp_path: Path) -> None:
+    """Nobody writes to the FIFO: reading it would wait forever (deaf to SIGTERM)."""
+    os.mkfifo(tmp_path / "fifo.map.toml")
+    os.mkfifo(tmp_path / "fifo.toml")
+    bundled = Path(__file__).parents[2] / "sim2d" / "scenarios" / "paper-1.toml"
+    scenario = tmp_path / "scenario.toml"
+    scenario.write_text(re.sub(r'(?m)^map = ".*"', 'map = "fifo.map.toml"', bundled.read_text()))
+    cases = ((scenario, tmp_path / "fifo.map.toml"), (tmp_path / "fifo.toml", tmp_path / "fifo.toml"))
+    for path, fifo in cases:
+        line = refused("sim", "--world", world, "--scenario", str(path))
+        assert str(fifo) in line and "a FIFO, not a regular file" in line, (
+            f"expected the refusal to name {fifo} as a FIFO, got {line!r}"
+        )

@@ -11,6 +11,7 @@ __all__ = [
     "echo",
     "engine_ab",
     "gateway",
+    "gateway_load",
     "lockstep",
     "perfreport",
     "scaling",

@@ -11,6 +11,10 @@
   ``ratio`` is gateway / direct, the target <= 2. The grid engines come from the source
   checkout (``examples/``, the C# SDK): from an installed package, ``lockstep_tick_us`` is
   empty, and says so in one line.
+
+``python -m toyroom.bench.gateway --stalled-reader [--readers N] [--seconds S] [--rate HZ]``
+measures the gateway under load instead, beside a reader that never reads: each live
+reader's lag, and how the stalled one was dropped (:mod:`.gateway_load`; docs/performance.md).
 """
 
 from __future__ import annotations
@@ -159,6 +163,10 @@ def main(rounds: int, state: State) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
+    if sys.argv[1:2] == ["--stalled-reader"]:
+        from .gateway_load import main as under_load
+
+        sys.exit(under_load(sys.argv[2:]))
     from sim2d.engine import Engine
 
     print(

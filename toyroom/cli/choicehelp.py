@@ -29,6 +29,7 @@ POLICY_NOTES = {
     Policy.BENEFIT: "the same, each task by its expected benefit",
     Policy.TIDY: "put every moved item back",
     Policy.ANNOUNCE: "tell everyone of every move",
+    Policy.ORACLE: "reads the simulated people's true minds: an upper bound, not a robot one could build",
 }
 
 

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import math
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -21,12 +20,14 @@ from bridge.flags import (
     out_file_problem,
     out_folder_problem,
 )
-from bridge.session import add_network_args
+from bridge.recording.atomic import OutputError, disk_full, output_error
+from bridge.session import add_network_args, world_problem
 from protocol import OBSERVING, EpisodeKind, Minds, Observer, Perception, Policy, TaskKind
 from protocol import Error as ProtocolErrorBase
 
 from .choicehelp import KIND_NOTES, MINDS_NOTES, PERCEPTION_NOTES, POLICY_NOTES, described
 from .commands import COMMANDS, NODES, exec_node
+from .floors import time_problem
 
 log = logging.getLogger("toyroom")
 
@@ -116,7 +117,9 @@ def _run_command(command: Command) -> None:
         default=[],
         help="also run this observer on the same ticks, its minds in OUT/minds-NAME.jsonl (repeatable)",
     )
-    run.add_argument("--timeout", type=float, default=10.0, help="seconds per lock-step request")
+    run.add_argument(
+        "--timeout", type=float, default=10.0, help="seconds per lock-step request (0: none; else >= 1)"
+    )
     run.add_argument(
         "--robot", choices=("act", "observe"), help="override whether the robot acts (default: the scene's)"
     )
@@ -159,7 +162,7 @@ def _replay_command(command: Command) -> None:
         type=float,
         default=0.0,
         metavar="S",
-        help="first wait up to S s for a subscriber",
+        help="first wait up to S s (>= 0) for a subscriber",
     )
     add_network_args(replaying)
 
@@ -286,15 +289,16 @@ def _eval_outputs(evaluation: argparse.ArgumentParser) -> None:
     evaluation.add_argument(
         "--fresh",
         action="store_true",
-        help="discard an unfinished evaluation in --out (one stopped by Ctrl-C) instead of resuming it; "
-        "without it, the same command resumes it and one of another command or code is refused",
+        help="first remove the evaluation in --out, finished or not (other files stay); without it, a "
+        "finished one is refused, and an unfinished one (stopped by Ctrl-C, or a full disk) is resumed "
+        "by the same command and refused for another command or code",
     )
 
 
 def _conform_command(command: Command) -> None:
     """``toyroom conform``'s options."""
     conform = command("conform", "check that the engine serving a world speaks the protocol")
-    conform.add_argument("--timeout", type=float, default=5.0, help="seconds per request")
+    conform.add_argument("--timeout", type=float, default=5.0, help="seconds per request (at least 1)")
     conform.add_argument(
         "--strict",
         action="store_true",
@@ -343,26 +347,22 @@ def build_parser() -> argparse.ArgumentParser:
 
 FOLDER_OUT = ("run", "infer", "bench", "eval")
 """Commands whose ``--out`` is a folder (made when missing)."""
-MIN_SPEED = 1e-3
-"""The slowest ``toyroom replay --speed`` other than 0 (a thousand times slower than real time)."""
 
 
 def argument_problem(args: argparse.Namespace) -> str | None:
     """What is wrong with arguments the parser let through (an ``--out`` that is a file, a
-    recording to write that is a folder or in a missing one, a replay speed that is no speed),
-    in one line, or ``None``."""
+    recording to write that is a folder or in a missing one, a time flag below its floor,
+    a world name that is none), in one line, or ``None``."""
+    if getattr(args, "world", None) is not None and (problem := world_problem(args.world)) is not None:
+        return problem
     if args.command in FOLDER_OUT and (problem := out_folder_problem(args.out)) is not None:
         return problem
     if args.command == "run" and args.record is not None:
-        return out_file_problem(args.record, "--record", make_folder=False)
+        if (problem := out_file_problem(args.record, "--record", make_folder=False)) is not None:
+            return problem
     if args.command == "record":
         return out_file_problem(args.file, "", make_folder=False)
-    if args.command == "replay" and not (args.speed == 0 or MIN_SPEED <= args.speed < math.inf):
-        return (
-            f"--speed {args.speed}: expected 0 (as fast as possible) or a number of times real time "
-            f"from {MIN_SPEED:g}"
-        )
-    return None
+    return time_problem(args)  # a time flag below its floor (:mod:`.floors`)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -383,6 +383,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (BridgeError, ProtocolErrorBase) as err:
         print(f"toyroom {args.command}: {err}", file=sys.stderr)
         return 2
+    except OSError as err:  # a full disk writing the outputs: one line, nothing half written
+        if not (isinstance(err, OutputError) or disk_full(err)):
+            raise
+        print(f"toyroom {args.command}: {output_error(err)}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         return 130
 

@@ -283,6 +283,7 @@ def _bench(args: argparse.Namespace) -> int:
 
 def _eval(args: argparse.Namespace) -> int:
     from toyroom.evaluation.conditions import conditions
+    from toyroom.evaluation.folder import check_out
     from toyroom.evaluation.generation import check_autonomy
 
     brain = settings_argv(args.settings, args.overrides)
@@ -313,11 +314,12 @@ def _eval(args: argparse.Namespace) -> int:
     if args.address and args.backend != "ray":
         print("toyroom eval: --address is a Ray cluster's: it needs --backend ray", file=sys.stderr)
         return 2
+    if args.days > 1 and (args.backend != "local" or args.days > MAX_DAYS):
+        print(f"toyroom eval: --days runs on the local backend, 1 to {MAX_DAYS} days", file=sys.stderr)
+        return 2
     command = shlex.join(["toyroom", *sys.argv[1:]])
+    check_out(args.out, args.fresh)  # a finished evaluation there: refused, or (--fresh) removed
     if args.days > 1:
-        if args.backend != "local" or args.days > MAX_DAYS:
-            print(f"toyroom eval: --days runs on the local backend, 1 to {MAX_DAYS} days", file=sys.stderr)
-            return 2
         from .households import days_main
 
         return days_main(args, brain, chosen, command, policies)

@@ -33,6 +33,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from bridge.errors import BridgeError
+from bridge.flags import name_problem
 
 FAILED = "FAILED"
 """The note in the folder of a run that did not finish: why, and how to recover the rest."""
@@ -117,10 +118,13 @@ class RunFolder:
     (:attr:`staging`, made by :meth:`open`).
 
     Raises:
-        BridgeError: ``target`` is a file, or holds files of a run's names but no earlier run.
+        BridgeError: ``target`` is a file, holds files of a run's names but no earlier run, or
+            its name is not valid UTF-8.
     """
 
     def __init__(self, target: Path) -> None:
+        if (problem := name_problem(target)) is not None:  # before the lock: nothing is left behind
+            raise BridgeError(problem)
         self.target = target.resolve() if target.is_symlink() else target.absolute()
         if self.target.parent == self.target:
             raise BridgeError(f"--out {target} is a file system's root; name a folder for the results")

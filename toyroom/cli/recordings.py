@@ -3,7 +3,9 @@ under the one policy of :mod:`bridge.recording.readable`, and only then write or
 anything. A missing file, or one that is no recording, is one line naming it and the
 problem (exit 2), with nothing written; a cut-off or damaged one is used as far as it can be
 read, with a warning naming the byte offset where it broke and the ticks kept, and refused
-with ``--strict`` (exit 1)."""
+with ``--strict`` in one line (exit 1): a file whose end is missing (its footer or closing
+MCAP magic) is cut off, even when every message in it is whole. A file that mixes two
+worlds is no recording (exit 2)."""
 
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ from pathlib import Path
 
 from bridge.flags import settings_argv
 from bridge.processes import stop_on_signals, wait_for_stop
+from bridge.recording.atomic import replacing, write_text
 from bridge.recording.events import write_events_csv
 from bridge.recording.readable import Recording, read_recording
 from bridge.recording.trace import episode_of, write_trace
@@ -24,22 +27,20 @@ from .commands import exec_node
 
 def checked(path: Path, command: str, strict: bool) -> Recording | None:
     """The readable part of the recording at ``path``, after a warning when it is cut off or
-    damaged; ``None`` when it is and ``strict`` refuses it (both said on stderr).
+    damaged; ``None`` when it is and ``strict`` refuses it (one line on stderr, either way).
 
     Raises:
-        RecordingError: the file is missing, of neither format, or holds no message.
+        RecordingError: the file is missing, of neither format, holds no message, or mixes
+            two worlds.
     """
     recording = read_recording(path)
-    if recording.cut is not None:
-        print(f"toyroom {command}: warning: {recording.cut.warning()}", file=sys.stderr, flush=True)
-        if strict:
-            print(
-                f"toyroom {command}: refused: {path} is {recording.cut.kind} (without --strict, what "
-                "is readable of it is used)",
-                file=sys.stderr,
-                flush=True,
-            )
-            return None
+    if recording.cut is None:
+        return recording
+    if strict:
+        line = f"refused: {recording.cut.warning()} (--strict refuses a recording that is not whole)"
+        print(f"toyroom {command}: {line}", file=sys.stderr, flush=True)
+        return None
+    print(f"toyroom {command}: warning: {recording.cut.warning()}", file=sys.stderr, flush=True)
     return recording
 
 
@@ -57,7 +58,7 @@ def _recorded_settings(args: argparse.Namespace, recording: Recording) -> Path |
         if text is None:
             return None
         path = args.out / "recorded-settings.toml"
-        path.write_text(text, encoding="utf-8")
+        write_text(path, text)
         return path
     beside = args.trace.parent / "settings.toml"
     return beside if beside.is_file() else None
@@ -77,9 +78,11 @@ def infer_main(args: argparse.Namespace) -> int:
     trace = args.out / "trace.jsonl"
     if _same_file(trace, args.trace):
         trace = args.trace  # inferring into the run's own folder: the brain reads it in place
-    else:
-        write_trace(messages, trace)
-    rows = write_events_csv(trace, args.out / "events.csv")
+    else:  # each file whole or not at all: a full disk is one line, nothing half written
+        with replacing(trace) as partial:
+            write_trace(messages, partial)
+    with replacing(args.out / "events.csv") as partial:
+        rows = write_events_csv(trace, partial)
     print(f"toyroom infer: {len(messages)} messages; events.csv with {rows} rows in {args.out}", flush=True)
     recorded = _recorded_settings(args, recording)
     settings = args.settings

@@ -60,6 +60,7 @@ from .outcome import (
     trace_span,
 )
 from .outfolder import FAILED, RunFolder
+from .scenariocheck import scenario_checked
 from .stopping import Interrupted, StopRequest, signal_name
 
 log = logging.getLogger("toyroom.run")
@@ -157,8 +158,8 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
         (SIGINT, SIGTERM, SIGHUP) stopped it.
 
     Raises:
-        BridgeError: before any process starts: ``--out`` names a file or another project's
-            folder, a setting is not allowed, the engine cannot be run here.
+        BridgeError: before any node starts: ``--out`` names a file or another project's
+            folder, the scenario or a setting is not allowed, the engine cannot be run here.
     """
     settings = replace(settings or SessionSettings(), lease_ms=config.lease_ms)
     world = config.world or f"run-{os.getpid()}"
@@ -169,7 +170,8 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
         from bridge.gateway import godot
 
         godot.godot()  # installed, and a source checkout to run
-    check_brain_settings(config.settings, config.overrides)
+    with scenario_checked(config.scenario):  # both before any node starts
+        check_brain_settings(config.settings, config.overrides)
     with StopRequest() as stop:
         staging = folder.open(lambda out: running_note(os.getpid(), infer_argv(out, config.observer, [])))
         try:

@@ -1,6 +1,7 @@
 """From every episode's results to one condition's numbers (pure functions): pooled metrics
 per observer with bootstrap 95% intervals paired by episode, and per robot policy the help
-people got (:mod:`toyroom.evaluation.helpfulness`), paired the same way."""
+people got (:mod:`toyroom.evaluation.helpfulness`), paired the same way, with its cut against
+the robot observing and its share of the ``oracle``'s cut (:data:`CUTS`)."""
 
 from __future__ import annotations
 
@@ -8,11 +9,11 @@ import dataclasses
 from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
-from protocol import OBSERVING, Observer
+from protocol import OBSERVING, Observer, Policy
 
 from .conditions import Condition
 from .intervals import METRICS as INTERVAL_METRICS
-from .intervals import intervals, pooled_means
+from .intervals import cuts, intervals, pooled_means
 from .metrics import Counts, Outcome, majority_counts
 from .records import EpisodeRecord, RunScores
 
@@ -30,6 +31,14 @@ HELP = (
     "wasted_trips",
     "interruptions",
 )
+ORACLE = Policy.ORACLE.value
+"""The policy that reads the simulated people's true minds: the upper bound of the cuts."""
+POLICY_NAMES = {ORACLE: f"{ORACLE} (reads true minds)"}
+"""How the reports' robot tables name a policy (by its key otherwise): the oracle marked as one."""
+CUTS = {"ticks_to_goal_fb": "", "ticks_to_goal_any_fb": "_any_fb"}
+"""The help measures each policy's ``cut`` and ``share_of_oracle`` are read on, and the suffix
+of their keys: ``cut`` = (none's mean - the policy's) / none's, ``share_of_oracle`` = (none's -
+the policy's) / (none's - the oracle's) when the oracle ran and cut (:func:`~.intervals.cuts`)."""
 
 
 def mistaken(episode: EpisodeRecord, keys: Sequence[str]) -> set[str]:
@@ -103,8 +112,8 @@ def robot_losses(episodes: Sequence[EpisodeRecord]) -> dict[str, dict[str, float
 
 
 def robot_metrics(episodes: Sequence[EpisodeRecord], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
-    """``(per policy, the first policy minus each other)``: success rate and each of
-    :data:`HELP` as ``{mean, lo, hi}``."""
+    """``(per policy, the first policy minus each other)``: success rate, each of :data:`HELP`,
+    and the cuts of :data:`CUTS` as ``{mean, lo, hi}`` (the cuts ``None`` for ``none``)."""
     policies = policies_of(episodes[0])
     per_policy: dict[str, Any] = {}
     differences: dict[str, Any] = {p: {} for p in list(policies)[1:]}
@@ -121,6 +130,12 @@ def robot_metrics(episodes: Sequence[EpisodeRecord], seed: int) -> tuple[dict[st
             )
         for other, interval in diffs.items():
             differences[other][measure] = interval
+    oracle = ORACLE if ORACLE in policies else None
+    for measure, suffix in CUTS.items():
+        cut = cuts({p: [s[measure] for s in sums[p]] for p in policies}, seed, NONE, oracle)
+        for policy in policies:
+            for name in ("cut", "share_of_oracle"):
+                per_policy[policy][name + suffix] = cut[policy][name] if policy in cut else None
     for policy, key in policies.items():
         outcome = Outcome()
         for episode in episodes:
@@ -167,6 +182,7 @@ def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[
         "paired_differences": differences,
         "revealed_stretches": totals[BTOM].stretches if BTOM in totals else None,
         "nested_pairs": totals[BTOM].nested_n if BTOM in totals else None,
+        "want_ticks": totals[BTOM].want_n if BTOM in totals else None,
         "false_belief_causes": {
             name: counts.recall_by_cause()
             for name, counts in {**totals, MAJORITY: majority_counts(totals[BTOM], goal)}.items()

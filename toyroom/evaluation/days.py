@@ -10,7 +10,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from .aggregate import aggregate
+from bridge.recording.atomic import replacing
+
+from .aggregate import POLICY_NAMES, aggregate
 from .metrics import Counts
 from .records import EpisodeRecord, RunScores
 
@@ -81,8 +83,9 @@ def table(summary: Mapping[str, Any], observers: Sequence[str]) -> list[str]:
         return []
     policies = list(rows[0][1]["robot"])
     differences = list(rows[0][1]["robot_differences"])
-    head = ["day", *(f"{p}: {HELP_METRIC}" for p in policies)]
-    head += [f"{policies[0]} - {d}" for d in differences] + [f"detection {o}" for o in observers]
+    head = ["day", *(f"{POLICY_NAMES.get(p, p)}: {HELP_METRIC}" for p in policies)]
+    head += [f"{policies[0]} - {POLICY_NAMES.get(d, d)}" for d in differences]
+    head += [f"detection {o}" for o in observers]
     lines = ["| " + " | ".join(head) + " |", "|" + " --- |" * len(head)]
     for day, numbers in rows:
         cells = [day, *(_interval(numbers["robot"][p].get(HELP_METRIC)) for p in policies)]
@@ -120,7 +123,7 @@ def plot(summary: Mapping[str, Any], path: Path) -> Path:
             highs.append(entry.get("hi"))
         xs = [int(d) for d, m in zip(days, means, strict=True) if m is not None]
         ys = [m for m in means if m is not None]
-        axes.plot(xs, ys, marker="o", label=policy)
+        axes.plot(xs, ys, marker="o", label=POLICY_NAMES.get(policy, policy))
         band = [
             (int(d), lo, hi)
             for d, lo, hi in zip(days, lows, highs, strict=True)
@@ -133,6 +136,9 @@ def plot(summary: Mapping[str, Any], path: Path) -> Path:
     axes.set_xticks([int(d) for d in days])
     axes.legend(fontsize=8)
     figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
+    try:
+        with replacing(path) as partial:  # whole or not at all: a full disk leaves none
+            figure.savefig(partial, dpi=110)
+    finally:
+        plt.close(figure)
     return path

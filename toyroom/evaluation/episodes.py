@@ -25,13 +25,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from bridge.recording.atomic import OutputError, write_text
 from protocol import OBSERVING, Observer
 
 from .aggregate import ROBOT, aggregate, by_task
 from .batches import run_batch
 from .conditions import Condition
+from .folder import prune_scratch
 from .generation import MAPS, generate, map_of, scenarios_of
 from .interrupt import NODES, EvaluationStopped
+from .noroom import check_room, stopped_for_room
 from .planned import policy_table
 from .pool import run_chunks
 from .records import EpisodeRecord, RunScores
@@ -99,12 +102,13 @@ def episode_runs(
 
 def run_episode(job: EpisodeJob) -> EpisodeRecord:
     """Everything about one episode (:class:`~.records.EpisodeRecord`); an episode whose
-    runs kept failing comes back with its ``error`` and no scores."""
+    runs kept failing comes back with its ``error`` and no scores (a full disk: :mod:`.noroom`)."""
     try:
         return _episode(job)
-    except EvaluationStopped:
+    except (EvaluationStopped, OutputError):
         raise
     except Exception as err:
+        check_room(err, Path(job.workdir), f"episode {job.index}")  # generating it found no room
         log.error("episode %d failed: %s", job.index, err)
         return EpisodeRecord(
             index=job.index,
@@ -200,12 +204,14 @@ def _recorded(spec: RunSpec, directory: Path) -> RunSpec:
 def _run_with_retries(spec: RunSpec, logs: Path, failures: list[str]) -> dict[str, RunResult]:
     """``run_once``, again (up to ``RUN_ATTEMPTS`` times) when a node process failed; each
     failure is kept (with its log, renamed) and counted in ``metrics.json``. A run is
-    deterministic, so a retry measures the same episode."""
+    deterministic, so a retry measures the same episode; one that failed for a full disk is
+    not tried again (:func:`.noroom.check_room` raises ``OutputError``)."""
     for attempt in range(1, RUN_ATTEMPTS + 1):
         try:
             return run_once(spec, logs)
         except (RuntimeError, OSError, subprocess.SubprocessError) as err:
             NODES.check()  # its nodes were stopped by a signal: no failure of the run
+            check_room(err, logs, spec.tag)
             failures.append(str(err))
             log.warning("%s (attempt %d of %d)", err, attempt, RUN_ATTEMPTS)
             tag = spec.tag
@@ -247,7 +253,8 @@ def evaluate(
 
     Raises:
         IncompatibleRun: ``out`` holds an unfinished evaluation of another plan.
-        EvaluationStopped: a stop signal came (:mod:`.interrupt`), with the episodes kept.
+        EvaluationStopped, OutputError: a stop signal came (:mod:`.interrupt`), or the disk
+            is full (:mod:`.noroom`); the finished episodes are kept.
     """
     out.mkdir(parents=True, exist_ok=True)
     NODES.reset()
@@ -275,36 +282,40 @@ def evaluate(
             if (c.name, i) not in entries
         ]
         _run_jobs(jobs, workers, backend, done, batch, address)
+        chunks = [[entries[(c.name, i)] for i in range(episodes)] for c in conditions]
+        used = None if backend == "ray" else ledger.cpu()
+        metrics = {
+            "episodes": episodes,
+            "seed": seed,
+            "brain_args": list(brain_args),
+            "policies": [*policies, OBSERVING],
+            "command": command,
+            "timing": timing([r for chunk in chunks for r in chunk], ledger.seconds(), workers, used),
+            "conditions": [_summary(c, chunk, seed) for c, chunk in zip(conditions, chunks, strict=True)],
+        }
+        _write(out, metrics, {c.name: chunk for c, chunk in zip(conditions, chunks, strict=True)}, workdir)
     except EvaluationStopped as err:
         ledger.save()
         raise EvaluationStopped(err.signum, len(entries), total, out / EPISODES) from None
+    except OutputError as err:  # a full disk: the finished episodes are kept, to resume
+        raise stopped_for_room(err, len(entries), total, out / EPISODES) from None
     finally:  # the solved Q-values (--values-cache) are a cache of this evaluation only
         shutil.rmtree(Path(workdir) / "values", ignore_errors=True)
-    chunks = [[entries[(c.name, i)] for i in range(episodes)] for c in conditions]
-    used = None if backend == "ray" else ledger.cpu()
-    metrics = {
-        "episodes": episodes,
-        "seed": seed,
-        "brain_args": list(brain_args),
-        "policies": [*policies, OBSERVING],
-        "command": command,
-        "timing": timing([r for chunk in chunks for r in chunk], ledger.seconds(), workers, used),
-        "conditions": [
-            _summary(condition, chunk, seed) for condition, chunk in zip(conditions, chunks, strict=True)
-        ],
-    }
-    _write(out, metrics, {c.name: chunk for c, chunk in zip(conditions, chunks, strict=True)})
     return metrics
 
 
-def _write(out: Path, metrics: dict[str, Any], episodes: dict[str, list[EpisodeRecord]]) -> None:
+def _write(
+    out: Path, metrics: dict[str, Any], episodes: dict[str, list[EpisodeRecord]], workdir: str
+) -> None:
     """``metrics.json``, ``episodes.json`` (each condition's episodes) and ``report.md``;
-    then the evaluation is no longer an unfinished one (:mod:`.resume`)."""
-    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
+    then the evaluation is no longer an unfinished one (:mod:`.resume`), and its scratch
+    folder ``workdir`` keeps only its logs and scenarios (:mod:`.folder`)."""
     kept = {name: [entry.to_builtins() for entry in chunk] for name, chunk in episodes.items()}
-    (out / "episodes.json").write_text(json.dumps(kept, indent=1) + "\n")
-    (out / "report.md").write_text(report(metrics, out))
+    write_text(out / "episodes.json", json.dumps(kept, indent=1) + "\n")
+    write_text(out / "report.md", report(metrics, out))
+    write_text(out / "metrics.json", json.dumps(metrics, indent=2) + "\n")  # last: it marks it done
     finished(out)
+    prune_scratch(Path(workdir))
 
 
 def _summary(condition: Condition, chunk: list[EpisodeRecord], seed: int) -> dict[str, Any]:

@@ -31,6 +31,7 @@ from typing import Any
 
 import msgspec
 
+from bridge.recording.atomic import write_text
 from protocol import OBSERVING, Morning, Observer
 
 from .conditions import Condition
@@ -261,9 +262,9 @@ def evaluate_households(
         "observers": list(observers),
         "conditions": summaries,
     }
-    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
-    (out / "episodes.json").write_text(json.dumps(kept, indent=1) + "\n")
-    (out / "report.md").write_text(days_report(metrics, out))
+    write_text(out / "episodes.json", json.dumps(kept, indent=1) + "\n")
+    write_text(out / "report.md", days_report(metrics, out))
+    write_text(out / "metrics.json", json.dumps(metrics, indent=2) + "\n")  # last: it marks it done
     return metrics
 
 

@@ -29,6 +29,9 @@ METRICS = (
     "nested_belief_accuracy",
     "nested_first_order_accuracy",
     "nested_gain",
+    "fb_want_p",
+    "fb_want_confident",
+    "fb_want_top",
 )
 
 
@@ -91,18 +94,9 @@ def pooled_means(
     all episodes with a bootstrap 95% interval, and the first name's mean minus each other's,
     paired by episode (the same resamples)."""
     names = list(per_episode)
-    n = len(per_episode[names[0]]) if names else 0
-    if n == 0:
+    if not names or not per_episode[names[0]]:
         return {}, {}
-    arrays = {name: np.array(per_episode[name], dtype=np.float64).reshape(n, 2) for name in names}
-    rng = np.random.default_rng(seed)
-    picks = rng.integers(0, n, size=(resamples, n))
-
-    def mean(values: np.ndarray) -> float | None:
-        return float(values[:, 0].sum() / values[:, 1].sum()) if values[:, 1].sum() > 0 else None
-
-    points = {name: mean(arrays[name]) for name in names}
-    draws = {name: [mean(arrays[name][p]) for p in picks] for name in names}
+    points, draws = _mean_draws(per_episode, seed, resamples)
     out = {name: _interval(points[name], draws[name]) for name in names}
     first = names[0]
     differences = {
@@ -113,3 +107,63 @@ def pooled_means(
         for other in names[1:]
     }
     return out, differences
+
+
+def _mean_draws(
+    per_episode: Mapping[str, Sequence[tuple[float, int]]], seed: int, resamples: int
+) -> tuple[dict[str, float | None], dict[str, list[float | None]]]:
+    """Per name, the pooled mean ``sum / count`` over all episodes, and over each of
+    ``resamples`` resamples of the episodes (the same ones for every name, by ``seed``)."""
+    names = list(per_episode)
+    n = len(per_episode[names[0]])
+    arrays = {name: np.array(per_episode[name], dtype=np.float64).reshape(n, 2) for name in names}
+    picks = np.random.default_rng(seed).integers(0, n, size=(resamples, n))
+
+    def mean(values: np.ndarray) -> float | None:
+        return float(values[:, 0].sum() / values[:, 1].sum()) if values[:, 1].sum() > 0 else None
+
+    points = {name: mean(arrays[name]) for name in names}
+    return points, {name: [mean(arrays[name][p]) for p in picks] for name in names}
+
+
+def _cut(base: float | None, value: float | None) -> float | None:
+    """``(base - value) / base``: the share of ``base`` that ``value`` cuts."""
+    return None if base is None or value is None or base <= 0 else (base - value) / base
+
+
+def _share(base: float | None, value: float | None, oracle: float | None) -> float | None:
+    """``(base - value) / (base - oracle)``: the share of the oracle's cut (only when it cuts)."""
+    if base is None or value is None or oracle is None or base - oracle <= 0:
+        return None
+    return (base - value) / (base - oracle)
+
+
+def cuts(
+    per_episode: Mapping[str, Sequence[tuple[float, int]]],
+    seed: int,
+    base: str,
+    oracle: str | None = None,
+    resamples: int = RESAMPLES,
+) -> dict[str, dict[str, dict[str, float | None]]]:
+    """Per name other than ``base`` (the robot observing), ``{cut, share_of_oracle}`` of the
+    pooled means (each episode's ``(sum, count)``, as :func:`pooled_means`), each ``{mean, lo,
+    hi}`` with a bootstrap 95% interval paired by episode: ``cut``, ``(base - name) / base``;
+    ``share_of_oracle``, ``(base - name) / (base - oracle)``, when ``oracle`` ran and its cut is
+    positive (else ``None``; a resample in which the oracle cuts nothing is left out of the
+    interval)."""
+    names = list(per_episode)
+    if base not in per_episode or not per_episode[base]:
+        return {}
+    points, draws = _mean_draws(per_episode, seed, resamples)
+    oracles = draws.get(oracle or "", [None] * resamples)
+    out: dict[str, dict[str, dict[str, float | None]]] = {}
+    for name in (n for n in names if n != base):
+        pairs = list(zip(draws[base], draws[name], strict=True))
+        share = _share(points[base], points[name], points.get(oracle or ""))
+        out[name] = {
+            "cut": _interval(_cut(points[base], points[name]), [_cut(b, v) for b, v in pairs]),
+            "share_of_oracle": _interval(
+                share, [_share(b, v, o) for (b, v), o in zip(pairs, oracles, strict=True)]
+            ),
+        }
+    return out

@@ -5,7 +5,12 @@ Per tick, person and item, from the brain's online ``mind`` and the engine's ``t
 - ``belief_tv``: total-variation distance between the inferred and the true belief over
   the item's location, averaged;
 - ``preference_accuracy``: the most probable inferred preference equals the true one,
-  over ticks after the person first took an item;
+  over ticks after the person first took an item (most of them a person playing with the
+  very item they want: an observer without a theory of mind scores as well there);
+- ``fb_want_p``, ``fb_want_confident``, ``fb_want_top``: the want read where help matters,
+  over the ticks from a person's false belief about the item they want to their first take
+  of it (:mod:`.wantread`): the mean P(true want), the share of those ticks at or above the
+  robot's threshold, and how often the true want is the most probable goal (a tie of n: 1/n);
 - false beliefs: the brain's flag against the truth that the person's true belief gives
   the item's true location less than :data:`~protocol.FALSE_BELIEF_MASS` times its likeliest
   location's (:func:`protocol.believes_falsely`, the brain's own rule: a belief spread over
@@ -37,12 +42,13 @@ from __future__ import annotations
 
 import math
 import statistics
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields
 
 from protocol import Mind, Truth, believes_falsely
 
 from .scoredminds import ScoredMind
+from .wantread import WantScore
 
 EPS = 1e-3
 """Probabilities are clipped to ``[EPS, 1 - EPS]`` for the log loss (an observer that says 0
@@ -132,6 +138,13 @@ class Counts:
     nested_first_right: int = 0
     """Nested beliefs that differ from the other's own (:mod:`.nestedscore`), how many the
     observer's nested estimate read right, and how many its first-order estimate did."""
+    want_p_sum: float = 0.0
+    want_confident: int = 0
+    want_top_sum: float = 0.0
+    want_n: int = 0
+    """Over the person-ticks of want stretches (:mod:`.wantread`): the sum of P(true want),
+    the ticks at or above the robot's threshold, the sum of top-goal hits (a tie of n: 1/n),
+    and how many person-ticks."""
 
     def add(self, other: Counts) -> None:
         mine, theirs = self.__dict__, other.__dict__  # the same sums as getattr/setattr, faster
@@ -182,7 +195,26 @@ class Counts:
             "revealed_lead_any_median": float(statistics.median(self.leads_any)) if self.leads_any else None,
             **self.nested_scores(),
             **self.proper_scores(),
+            **self.want_scores(),
         }
+
+    def want_scores(self) -> dict[str, float | None]:
+        """``fb_want_p``, ``fb_want_confident`` and ``fb_want_top`` over the want stretches."""
+        if not self.want_n:
+            return {"fb_want_p": None, "fb_want_confident": None, "fb_want_top": None}
+        return {
+            "fb_want_p": self.want_p_sum / self.want_n,
+            "fb_want_confident": self.want_confident / self.want_n,
+            "fb_want_top": self.want_top_sum / self.want_n,
+        }
+
+    def add_want(self, scores: Iterable[WantScore]) -> None:
+        """Count each person-tick's reading of the want (:func:`.wantread.score_want`)."""
+        for score in scores:
+            self.want_p_sum += score.p
+            self.want_confident += score.confident
+            self.want_top_sum += score.top
+            self.want_n += 1
 
     def nested_scores(self) -> dict[str, float | None]:
         """``nested_belief_accuracy``, its first-order baseline's, and the difference."""

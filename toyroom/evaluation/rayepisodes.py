@@ -23,6 +23,8 @@ from pathlib import Path, PurePosixPath
 
 import msgspec.structs
 
+from bridge.recording.atomic import write_bytes
+
 from .episodes import EpisodeJob, run_episode
 from .interrupt import NODES
 from .raybackend import node_id, run_with_ray
@@ -124,4 +126,4 @@ def write_files(out: Path, files: dict[str, bytes]) -> None:
             raise ValueError(f"an episode task sent back a file outside the output folder: {name!r}")
         target = out.joinpath(*relative.parts)
         target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(data)
+        write_bytes(target, data)  # whole or not at all: a full disk is an OutputError

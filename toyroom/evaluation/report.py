@@ -8,8 +8,10 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from protocol import Minds, Perception
+from bridge.recording.atomic import replacing
+from protocol import PREFERENCE_THRESHOLD, Minds, Perception
 
+from .aggregate import CUTS, POLICY_NAMES
 from .aggregate import HELP as HELP_MEASURES
 
 METRICS = (
@@ -49,8 +51,27 @@ NESTED_NOTE = (
     "`nested_first_order_accuracy`, the same answered with its estimate of the other's own "
     "belief (a baseline); `nested_gain`, the difference (same resamples: a paired interval)."
 )
+WANT = ("fb_want_p", "fb_want_confident", "fb_want_top")
+WANT_NOTE = (
+    "The want read where help matters: over the ticks from a person's false belief about the "
+    "item they want to their first take of it (person-ticks; a stretch also ends when the want "
+    "changes), `fb_want_p`: the mean P(the true want); `fb_want_confident`: the share of those "
+    f"ticks at or above the robot's threshold ({PREFERENCE_THRESHOLD}); `fb_want_top`: the share "
+    "where the true want is the most probable goal (a tie of n counts 1/n). "
+    "`preference_accuracy` counts only ticks after a person's first take, most of them spent "
+    "playing with the item they want."
+)
 HELP = ("success", *HELP_MEASURES)
 """The robot table's columns: the success rate, then each help measure of the aggregate."""
+CUT_COLUMNS = tuple(f"{name}{suffix}" for suffix in CUTS.values() for name in ("cut", "share_of_oracle"))
+"""The robot table's last columns: each policy's cut against ``none`` and its share of the oracle's."""
+CUT_NOTE = (
+    "`cut`: (`none`'s mean `ticks_to_goal_fb` - the policy's) / `none`'s; `share_of_oracle`: "
+    "(`none`'s - the policy's) / (`none`'s - the oracle's), when the oracle ran and cut (the policy's "
+    "reading of minds against reading them true; the oracle's own cut is what acting on true minds "
+    "gains); `_any_fb`: the same on `ticks_to_goal_any_fb`. The oracle reads the simulated people's "
+    "true minds: an upper bound, not a robot one could build."
+)
 ORACLE = (
     "With simple minds and an omniscient robot, `perceptonly` is an oracle of people's beliefs: "
     "the simulated people update on exactly the percepts it computes, from the same true world, "
@@ -76,11 +97,16 @@ def _with_interval(interval: Mapping[str, Any]) -> str:
 
 
 def _rows(
-    table: Mapping[str, Mapping[str, Any]], columns: tuple[str, ...] | list[str], first: str
+    table: Mapping[str, Mapping[str, Any]],
+    columns: tuple[str, ...] | list[str],
+    first: str,
+    names: Mapping[str, str] | None = None,
 ) -> list[str]:
+    """A table: a row per entry of ``table`` (named as ``names`` says, else by its key)."""
     lines = [f"| {first} | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
     for name, values in table.items():
-        lines.append(f"| {name} | " + " | ".join(_cell(values.get(c)) for c in columns) + " |")
+        shown = (names or {}).get(name, name)
+        lines.append(f"| {shown} | " + " | ".join(_cell(values.get(c)) for c in columns) + " |")
     return lines
 
 
@@ -88,7 +114,7 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
     lines = _rows(metrics["observers"], METRICS, "observer")
     differences = metrics.get("paired_differences")
     if differences:
-        names = [m for m in next(iter(differences.values())) if m not in (*BEHAVIOUR, *NESTED)]
+        names = [m for m in next(iter(differences.values())) if m not in (*BEHAVIOUR, *NESTED, *WANT)]
         lines += [
             "",
             "btom minus each other observer, paired by episode (an interval without 0 is a difference):",
@@ -106,6 +132,7 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             "",
             *_rows(differences, names, "observer"),
         ]
+    lines += _want(metrics, differences)
     nested = metrics.get("nested_pairs")
     if nested:
         lines += ["", f"{NESTED_NOTE} ({nested} person-pair-item-ticks)", ""]
@@ -120,14 +147,31 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             "the episode, the same people for every policy (a robot that spares someone a false "
             "belief is credited, one that causes one is charged); "
             "`ticks_from_false_belief`: the same as the first counted from the false belief's first tick; "
-            "trips and interruptions per person):",
+            "trips and interruptions per person). " + CUT_NOTE,
             "",
-            *_rows(metrics["robot"], HELP, "policy"),
+            *_rows(metrics["robot"], (*HELP, *CUT_COLUMNS), "policy", POLICY_NAMES),
         ]
         if metrics.get("robot_differences"):
             lines += ["", "tom minus each other policy, paired by episode:", ""]
-            lines += _rows(metrics["robot_differences"], list(HELP[1:]), "policy")
+            lines += _rows(metrics["robot_differences"], list(HELP[1:]), "policy", POLICY_NAMES)
         lines += _losses(metrics.get("robot_losses"))
+    return lines
+
+
+def _want(metrics: Mapping[str, Any], differences: Mapping[str, Any] | None) -> list[str]:
+    """The table of the want read over false-belief stretches (none when there were none)."""
+    ticks = metrics.get("want_ticks")
+    if not ticks:
+        return []
+    lines = ["", f"{WANT_NOTE} ({ticks} person-ticks)", "", *_rows(metrics["observers"], WANT, "observer")]
+    if differences:
+        names = [m for m in next(iter(differences.values())) if m in WANT]
+        lines += [
+            "",
+            "btom minus each other observer, paired by episode:",
+            "",
+            *_rows(differences, names, "observer"),
+        ]
     return lines
 
 
@@ -150,7 +194,7 @@ def _losses(losses: Mapping[str, Mapping[str, float | None]] | None) -> list[str
             "-" if v is None else f"{v:.2f}" if name == "robot_acted" else f"{v:.1f}"
             for name, v in row.items()
         ]
-        lines.append(f"| {policy} | " + " | ".join(cells) + " |")
+        lines.append(f"| {POLICY_NAMES.get(policy, policy)} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -206,8 +250,11 @@ def plot(condition: Mapping[str, Any], path: Path) -> None:
     right.bar(policies, means, color="#55A868")
     right.set_title("ticks to goal after a false belief", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        with replacing(path) as partial:  # whole or not at all: a full disk leaves none
+            fig.savefig(partial, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def _condition(condition: Mapping[str, Any], out: Path | None) -> list[str]:

@@ -19,7 +19,6 @@ import dataclasses
 import hashlib
 import importlib.metadata
 import json
-import os
 import shutil
 import tempfile
 import time
@@ -32,6 +31,7 @@ import msgspec.structs
 
 from bridge.errors import BridgeError
 from bridge.processes import CHECKOUT
+from bridge.recording.atomic import appended, write_bytes, write_text
 
 from .conditions import Condition
 from .records import EpisodeRecord
@@ -158,7 +158,7 @@ def begin(
     workdir = Path(tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)).name
     state = Unfinished(plan=plan, workdir=workdir)
     save(out, state)
-    (out / EPISODES).write_text("")
+    write_text(out / EPISODES, "")
     return state, {}
 
 
@@ -194,15 +194,12 @@ def read_kept(path: Path, names: Sequence[str], episodes: int) -> dict[tuple[str
 def keep(path: Path, condition: str, entry: EpisodeRecord) -> None:
     """Append a finished episode's ``entry`` (of ``condition``) to ``episodes.jsonl``: its
     JSON object (:meth:`~.records.EpisodeRecord.to_builtins`) with the condition's name."""
-    with path.open("a", encoding="utf-8") as kept:
-        kept.write(json.dumps({**entry.to_builtins(), "condition": condition}) + "\n")
+    appended(path, json.dumps({**entry.to_builtins(), "condition": condition}) + "\n")
 
 
 def save(out: Path, state: Unfinished) -> None:
     """Write :data:`STATE` into ``out`` (replaced whole: never half written)."""
-    partial = out / f"{STATE}.new"
-    partial.write_bytes(msgspec.json.encode(state))
-    os.replace(partial, out / STATE)
+    write_bytes(out / STATE, msgspec.json.encode(state))
 
 
 def finished(out: Path) -> None:

@@ -29,6 +29,7 @@ from .outcome import judge
 from .revealed import Stretch, detection_lead, detection_lead_any, knowable, stretches
 from .scoredminds import ScoredMind, read_scored_minds
 from .truths import subscribe_truths
+from .wantread import score_want, want_stretches
 
 MOTION = "motion"
 """The motion-heuristic observer's name (:mod:`toyroom.evaluation.heuristic`)."""
@@ -82,6 +83,8 @@ class RunRecord:
     states: dict[int, State] = field(default_factory=dict)
     took: dict[int, set[str]] = field(default_factory=dict)
     """Tick -> the people who took an item then."""
+    takes: list[tuple[int, str, str]] = field(default_factory=list)
+    """(tick, person, item) of every take, in order."""
     playing: dict[str, str | None] = field(default_factory=dict)
     regions: dict[str, str] = field(default_factory=dict)
     reached: list[tuple[int, str, str]] = field(default_factory=list)
@@ -101,6 +104,7 @@ class RunRecord:
             self.events.append(event)
             if event.kind is EventKind.TAKE:
                 self.took.setdefault(event.tick, set()).add(event.actor)
+                self.takes.append((event.tick, event.actor, event.item or ""))
             elif event.kind is EventKind.PLAY:
                 self.playing[event.actor] = event.item
                 self.reached.append((event.tick, event.actor, event.item or ""))
@@ -220,7 +224,7 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
         for tick, state in record.states.items()
     }
     spots = {loc.id: (loc.cell.col, loc.cell.row) for loc in scene.locations}
-    truth = TruthView(record.truths, record.took, stretches(record.truths, cells, spots))
+    truth = TruthView(record.truths, record.took, stretches(record.truths, cells, spots), record.takes)
     results = {spec.observer: _score(record.minds, truth, outcome)}
     results[spec.observer].help = helpfulness(scene, record.states, record.truths, record.events)
     if record.truths:
@@ -263,13 +267,21 @@ def check_complete(
 
 class TruthView:
     """What every observer of a run is scored against: the truth by tick, who took an item
-    when, the revealed stretches, and per tick the false beliefs' causes and which of them
-    the robot could know of (:mod:`toyroom.evaluation.revealed`)."""
+    when, the revealed stretches, and per tick the false beliefs' causes, which of them
+    the robot could know of (:mod:`toyroom.evaluation.revealed`) and who is in a want
+    stretch (:mod:`toyroom.evaluation.wantread`)."""
 
-    def __init__(self, truths: dict[int, Truth], took: dict[int, set[str]], found: list[Stretch]) -> None:
+    def __init__(
+        self,
+        truths: dict[int, Truth],
+        took: dict[int, set[str]],
+        found: list[Stretch],
+        takes: Sequence[tuple[int, str, str]] = (),
+    ) -> None:
         self.truths, self.took, self.stretches = truths, took, found
         self.causes = false_belief_causes(truths)
         self.known = knowable(truths, self.causes, found)
+        self.wanting = want_stretches(truths, takes)
 
 
 def _score(minds: Mapping[int, Mind | ScoredMind], truth: TruthView, outcome: Outcome) -> RunResult:
@@ -284,14 +296,15 @@ def _score(minds: Mapping[int, Mind | ScoredMind], truth: TruthView, outcome: Ou
             continue
         now = truth.truths[tick]
         # what a tick's counts depend on: most ticks it is the tick before's, to the value
-        causes, known = truth.causes[tick], truth.known[tick]
-        inputs = (minds[tick].agents, now.agents, now.items, frozenset(seen), causes, known)
+        causes, known, wanting = truth.causes[tick], truth.known[tick], truth.wanting[tick]
+        inputs = (minds[tick].agents, now.agents, now.items, frozenset(seen), causes, known, wanting)
         if last is not None and last[0] == inputs:
             counts = last[1]
         else:
             where = {place.item: place.location for place in now.items}
             counts = score_tick(minds[tick], now, where, seen, causes, known)
             score_nested(minds[tick], now, counts)
+            counts.add_want(score_want(minds[tick], now, wanting))
             last = (inputs, counts)
         result.counts.add(counts)
         result.ticks += 1

@@ -10,6 +10,7 @@ from brain import BrainError
 from brain.settings import load_settings
 from bridge import BridgeError
 from bridge.flags import configure_logging
+from bridge.recording.atomic import OutputError, disk_full, output_error
 from protocol import Error as ProtocolError
 
 from .command import fit_main, fit_parser
@@ -24,6 +25,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (BrainError, BridgeError, ProtocolError) as err:
         print(f"toyroom fit: {err}", file=sys.stderr)
         return 2
+    except OSError as err:  # a full disk: one line, and the outputs all written or none
+        if not (isinstance(err, OutputError) or disk_full(err)):
+            raise
+        print(f"toyroom fit: {output_error(err)}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

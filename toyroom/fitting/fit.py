@@ -11,6 +11,7 @@ paired against the best, and the optimiser's result under ``refinement``), ``fol
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import shlex
@@ -21,6 +22,7 @@ from typing import Any
 
 from brain.errors import SettingsError
 from brain.settings import Settings, settings_toml
+from bridge.recording.atomic import write_texts
 from bridge.recording.trace import TraceError, read_trace
 from toyroom.evaluation.intervals import pooled_means
 
@@ -130,9 +132,10 @@ def write_fit(
     first = fits[0]
     likely = (refined.model, refined.point) if refined is not None else (first.table.model, first.fitted)
     name, point = (judged[0].model, judged[0].fitted) if judged else likely
+    files: dict[str, str] = {}  # written together at the end, all whole or none
     for file, (model, at) in (("settings.toml", (name, point)), ("settings-likelihood.toml", likely)):
         fitted = Settings(model=model_settings(model, settings.model, at), robot=settings.robot)
-        (out / file).write_text(settings_toml(fitted), encoding="utf-8")
+        files[file] = settings_toml(fitted)
     ranked = sorted(fits, key=lambda f: -f.held_out)
     intervals, differences = pooled_means({f.table.model: f.per_episode() for f in ranked}, seed)
     summary = {
@@ -178,14 +181,14 @@ def write_fit(
             }
             for j in judged
         }
-    (out / "fit.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
-    _write_folds(out / "folds.csv", fits, traces)
-    (out / "report.md").write_text(report(summary), encoding="utf-8")
+    files |= {"fit.json": json.dumps(summary, indent=2), "folds.csv": _folds_csv(fits, traces)}
+    write_texts(out, files | {"report.md": report(summary)})
     return summary
 
 
-def _write_folds(path: Path, fits: list[ModelFit], traces: Sequence[Path]) -> None:
-    with path.open("w", newline="", encoding="utf-8") as handle:
+def _folds_csv(fits: list[ModelFit], traces: Sequence[Path]) -> str:
+    """``folds.csv``: each model's folds, their held-out recordings and points."""
+    with io.StringIO(newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(["model", "fold", "held_out", "point", "log_likelihood", "actions", "per_action"])
         for f in fits:
@@ -203,6 +206,7 @@ def _write_folds(path: Path, fits: list[ModelFit], traces: Sequence[Path]) -> No
                         f"{d.per_action:.5f}",
                     ]
                 )
+        return handle.getvalue()
 
 
 def report(summary: Mapping[str, Any]) -> str:

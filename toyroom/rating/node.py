@@ -17,9 +17,11 @@ from bridge.errors import BridgeError
 from bridge.flags import add_log_level, command_parser, configure_logging
 from bridge.processes import stop_on_signals, wait_for_stop
 from bridge.recording import TraceError, read_trace
+from protocol import ProtocolError, check_name
 from toyroom.play.recording import complete_only
 from toyroom.view.screenshot import screenshot
 
+from .answers import check_answers_path
 from .questions import load_study
 from .server import LOOPBACK_HOST, RatingServer, RatingSettings, read_or_make_secret
 
@@ -89,22 +91,29 @@ def parse_listen(url: str) -> tuple[str, int]:
 
 
 def participants(value: str) -> tuple[str, ...]:
-    """``--participants``: a count (``p1``..``pN``) or comma-separated ids (letters, digits,
-    ``_.-``)."""
+    """``--participants``: a count (``p1``..``pN``) or comma-separated ids, each checked as
+    ``toyroom play`` checks its participants' (:func:`protocol.check_name`: 1-64 letters,
+    digits, ``_`` or ``-``; so no ``.`` or ``..``, which a browser's link would resolve away)."""
     if value.strip().isdigit():
         count = int(value)
         if count < 1:
             raise BridgeError("--participants: expected at least 1")
         return tuple(f"p{n}" for n in range(1, count + 1))
     ids = tuple(v.strip() for v in value.split(","))
-    bad = [i for i in ids if not i or not all(c.isalnum() or c in "_.-" for c in i)]
-    if bad or len(set(ids)) != len(ids):
-        raise BridgeError(f"--participants: expected distinct ids of letters, digits, _ . -; got {value!r}")
+    try:
+        for name in ids:
+            check_name(name, "participant")
+    except ProtocolError as err:
+        raise BridgeError(f"--participants: {err.reason}") from None
+    if len(set(ids)) != len(ids):
+        raise BridgeError(f"--participants: expected distinct ids, got {value!r}")
     return ids
 
 
 def settings_from(args: argparse.Namespace) -> RatingSettings:
     """The server's settings: recordings read, the questions checked against them."""
+    ids = participants(args.participants)
+    check_answers_path(args.out)  # before anything is made beside it
     traces, names = [], []
     args.recordings, left = complete_only(args.recordings, args.include_incomplete)
     for note in left:
@@ -126,7 +135,7 @@ def settings_from(args: argparse.Namespace) -> RatingSettings:
     return RatingSettings(
         study=study,
         traces=traces,
-        participants=participants(args.participants),
+        participants=ids,
         answers=args.out,
         secret=secrets.token_hex(16).encode() if shot_only else read_or_make_secret(secret_file),
         origins=tuple(args.origin),
@@ -152,7 +161,8 @@ def _shoot(args: argparse.Namespace, settings: RatingSettings, stop: threading.E
             copy.write_bytes(args.out.read_bytes())
         shot = RatingSettings(settings.study, settings.traces, settings.participants, copy, settings.secret)
         with RatingServer(shot) as server:
-            if not screenshot(server.link(settings.participants[0]) + "#start", args.screenshot, stop):
+            server.agree(settings.participants[0])  # in the scratch server's memory only
+            if not screenshot(server.link(settings.participants[0]), args.screenshot, stop):
                 print("toyroom rate: stopped before the screenshot was saved", file=sys.stderr)
                 return 1
     print(f"toyroom rate: saved {args.screenshot}", flush=True)

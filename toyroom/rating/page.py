@@ -24,7 +24,7 @@ canvas { background: #fff; border: 1px solid #bbb; }
   margin: 8px 0; font-size: 15px; }
 button { font-size: 16px; padding: 6px 16px; margin: 8px 8px 0 0; }
 .text { white-space: pre-wrap; background: #fff; padding: 12px; border: 1px solid #ccc; max-width: 760px; }
-#tick, #status { color: #666; font-size: 14px; }
+#tick, #status, #agreeStatus { color: #666; font-size: 14px; }
 #said { font-size: 15px; margin: 6px 0; min-height: 3.6em; }
 #said div { margin: 2px 0; }
 """
@@ -35,7 +35,7 @@ BODY = """
 <section id="consent" hidden>
   <h2>Instructions</h2><div class="text">{instructions}</div>
   <h2>Consent</h2><div class="text">{consent}</div>
-  <button id="agree">I agree, start</button>
+  <button id="agree">I agree, start</button><div id="agreeStatus"></div>
 </section>
 <section id="task" hidden>
   <canvas id="map" width="640" height="600"></canvas>
@@ -59,6 +59,8 @@ def page_state(
     *,
     answered: int,
     answer_url: str,
+    consent_url: str = "",
+    consented: bool = False,
     plan: dict[str, Any] | None,
     frames: list[dict[str, Any]],
     captions: list[dict[str, Any]] | None = None,
@@ -66,7 +68,8 @@ def page_state(
     tick_seconds: float = 0.1,
 ) -> dict[str, Any]:
     """``window.RATING``: the question (``None`` when all are answered; its text is shown only
-    after consent), how many the participant has answered, where to send the answer, and the
+    after consent), how many the participant has answered, where to send the answer and the
+    consent, whether the server has the participant's consent (the page then skips it), and the
     replay: plan, frames, captions (what was said, by tick), its rate (times real time) and the
     recording's tick (s)."""
     asked = None
@@ -82,6 +85,8 @@ def page_state(
         "question": asked,
         "answered": answered,
         "answerUrl": answer_url,
+        "consentUrl": consent_url,
+        "consented": consented,
         "plan": plan,
         "frames": frames,
         "captions": captions or [],

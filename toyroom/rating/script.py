@@ -3,8 +3,13 @@ drawn on a canvas, the sliders, and the answer sent to the server.
 
 The page reads ``window.RATING`` (written by :mod:`.page`). ``window.replayDone`` is a
 promise that settles once the replay has reached the question's last tick (the answer
-button is enabled then); a test waits on it. After an answer is saved the page reloads and
-the server gives it the next unanswered question, so a reload always resumes there.
+button is enabled then); a test waits on it. ``I agree`` records the consent on the server
+before the question is shown (the server takes no answer without it); a page whose
+participant the server knows to have agreed skips the consent. After an answer is saved the
+page reloads and the server gives it the next unanswered question, so a reload always
+resumes there; an answer the server refuses as out of turn (409: answered already, no
+consent, another question shown) reloads too; one it could not save (a full disk: 507) says
+"Not saved" with the server's reason, and Next may be pressed again.
 """
 
 SCRIPT = r"""
@@ -161,17 +166,36 @@ async function submit() {
   document.querySelectorAll("#sliders input").forEach((input) => {
     values[input.dataset.target] = Number(input.value) / 100;
   });
-  const response = await fetch(S.answerUrl, {
-    method: "POST",
-    headers: { "Content-Type": "application/json" },
-    body: JSON.stringify({ question: S.question.id, values }),
-  });
-  if (response.ok || response.status === 409) {
-    history.replaceState(null, "", location.pathname + location.search + "#start");
+  const said = await send(S.answerUrl, { question: S.question.id, values });
+  if (said.ok || said.status === 409) {
     location.reload();
   } else {
-    $("status").textContent = "Not saved: " + (await response.text());
+    $("status").textContent = "Not saved: " + said.text;
     $("submit").disabled = false;
+  }
+}
+
+async function send(url, body) {
+  try {
+    const response = await fetch(url, {
+      method: "POST",
+      headers: { "Content-Type": "application/json" },
+      body: JSON.stringify(body),
+    });
+    return { ok: response.ok, status: response.status, text: await response.text() };
+  } catch (err) {
+    return { ok: false, status: 0, text: "the server did not answer (" + err.message + "); try again" };
+  }
+}
+
+async function agree() {
+  $("agree").disabled = true;
+  const said = await send(S.consentUrl, { consent: true });
+  if (said.ok) {
+    start();
+  } else {
+    $("agreeStatus").textContent = "Not recorded: " + said.text;
+    $("agree").disabled = false;
   }
 }
 
@@ -187,9 +211,9 @@ if (!S.question) {
   $("done").hidden = false;
   finishReplay(null);
 } else {
-  $("agree").addEventListener("click", () => { history.replaceState(null, "", "#start"); start(); });
+  $("agree").addEventListener("click", agree);
   $("again").addEventListener("click", replay);
   $("submit").addEventListener("click", submit);
-  if (S.answered > 0 || location.hash === "#start") start(); else $("consent").hidden = false;
+  if (S.consented) start(); else $("consent").hidden = false;
 }
 """

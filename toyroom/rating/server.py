@@ -9,13 +9,19 @@ otherwise, one link per participant (``/rate/ID?token=T``).
   must be a loopback name (no DNS rebinding). Anything else is refused (403).
 - Bounded (:mod:`.serving`): idle connections time out, at most so many at once, a client
   that goes away is one log line; a bad ``Content-Length`` is answered 400.
-- Each answer is appended to the answers CSV and flushed before the reply
-  (:class:`.answers.AnswerBook`); a page (re)load shows the participant's next unanswered
+- The page records the participant's consent (``POST /rate/ID/consent?token=T``) before it
+  shows a question; an answer is taken only after it, and only to the question the
+  participant's page shows (:mod:`.progress`); else 409, saying which.
+- Each answer is appended to the answers CSV whole and flushed before the reply
+  (:class:`.answers.AnswerBook`); one the disk cannot take is answered 507 (500 for another
+  write error), nothing of it kept; a page (re)load shows the participant's next unanswered
   question.
+- A body that is not JSON, or nested too deep to decode, is answered 400.
 """
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import hmac
 import json
@@ -38,6 +44,7 @@ from bridge.recording import Trace
 from .answers import AnswerBook
 from .drawing import captions, frames, plan
 from .page import page_state, render
+from .progress import Progress
 from .questions import Question, Study
 from .serving import DEFAULT_LIMITS, BoundedHTTPServer, ServerLimits
 
@@ -46,6 +53,8 @@ log = logging.getLogger("toyroom.rating")
 LOOPBACK_HOST = re.compile(r"^(localhost|127\.\d+\.\d+\.\d+|\[::1\])(:\d+)?$")
 MAX_BODY = 64 * 1024
 """Largest answer accepted, in bytes."""
+DISK_FULL = (errno.ENOSPC, errno.EFBIG, errno.EDQUOT)
+"""Write errors answered 507 Insufficient Storage (the rest 500)."""
 
 
 def read_or_make_secret(path: Path) -> bytes:
@@ -108,6 +117,7 @@ class RatingServer:
     ) -> None:
         self.settings = settings
         self.book = AnswerBook(settings.answers)
+        self.progress = Progress()
         self.loopback = LOOPBACK_HOST.match(host) is not None
         self._pages: dict[tuple[int, int], tuple[list[dict[str, Any]], list[dict[str, Any]]]] = {}
         self._plans = [plan(t.info.scene) for t in settings.traces]
@@ -143,13 +153,32 @@ class RatingServer:
         left = [q for q in self.order(participant) if q.id not in done]
         return (left[0] if left else None), len(self.settings.study.questions) - len(left)
 
+    def consented(self, participant: str) -> bool:
+        """Whether ``participant`` agreed to take part: since this server started, or before
+        (a saved answer says so)."""
+        return self.progress.agreed(participant) or bool(self.book.done(participant))
+
+    def agree(self, participant: str) -> tuple[int, str]:
+        """Record ``participant``'s consent: ``(HTTP status, message)``."""
+        if not self.progress.agreed(participant):
+            log.info("%s agreed to take part", participant)
+        self.progress.agree(participant)
+        return 200, "consent recorded"
+
     def page(self, participant: str) -> str:
-        """The page of ``participant``'s next question."""
+        """The page of ``participant``'s next question (recorded as the one they are shown)."""
         question, answered = self.next_question(participant)
+        self.progress.show(participant, question.id if question else None)
         token = token_for(self.settings.secret, participant)
-        url = f"/rate/{quote(participant)}/answer?token={token}"
+        base = f"/rate/{quote(participant)}"
+        where: dict[str, Any] = {
+            "answered": answered,
+            "consented": self.consented(participant),
+            "answer_url": f"{base}/answer?token={token}",
+            "consent_url": f"{base}/consent?token={token}",
+        }
         if question is None:
-            state = page_state(None, answered=answered, answer_url=url, plan=None, frames=[])
+            state = page_state(None, plan=None, frames=[], **where)
         else:
             key = (question.recording, question.show_until)
             with self._lock:
@@ -158,19 +187,20 @@ class RatingServer:
                     self._pages[key] = (frames(trace, key[1], rate), captions(trace, key[1]))
             state = page_state(
                 question,
-                answered=answered,
-                answer_url=url,
                 plan=self._plans[question.recording],
                 frames=self._pages[key][0],
                 captions=self._pages[key][1],
                 rate=self.settings.study.replay_rate,
                 tick_seconds=self.settings.traces[key[0]].info.tick_seconds,
+                **where,
             )
         return render(self.settings.study, participant, question, state)
 
     def answer(self, participant: str, body: dict[str, Any]) -> tuple[int, str]:
         """Save ``participant``'s answer ``{"question": ID, "values": {TARGET: 0-1}}``:
-        ``(HTTP status, message)``."""
+        ``(HTTP status, message)``: 400 for a malformed answer, 409 for one answered already,
+        before consent or to a question the participant's page does not show, 507 (500) when
+        it cannot be written."""
         qid, values = body.get("question"), body.get("values")
         question = next((q for q in self.settings.study.questions if q.id == qid), None)
         if question is None:
@@ -180,10 +210,37 @@ class RatingServer:
         numbers = list(values.values())
         if not all(isinstance(v, int | float) and not isinstance(v, bool) and 0 <= v <= 1 for v in numbers):
             return 400, "every value must be a number from 0 to 1"
-        if not self.book.add(participant, question, values):
-            return 409, f"question {qid} was answered already"
+        if (refused := self._out_of_turn(participant, question.id)) is not None:
+            return 409, refused
+        try:
+            if not self.book.add(participant, question, values):
+                return 409, f"question {qid} was answered already"
+        except OSError as err:
+            log.error(
+                "%s's answer to %s was not saved: %s: %s", participant, qid, self.book.path, err.strerror
+            )
+            status = 507 if err.errno in DISK_FULL else 500
+            return status, (
+                f"the server cannot write the answers ({err.strerror}); nothing of this answer was "
+                "kept: tell the experimenter, then press Next again"
+            )
         log.info("%s answered %s", participant, qid)
         return 200, "saved"
+
+    def _out_of_turn(self, participant: str, qid: str) -> str | None:
+        """Why ``participant`` may not answer ``qid`` now (answered already, no consent, not the
+        question their page shows), or ``None``."""
+        if qid in self.book.done(participant):
+            return f"question {qid} was answered already"
+        if not self.consented(participant):
+            return f"refused: {participant} has not agreed to take part yet: open the link and agree first"
+        shown = self.progress.shown(participant)
+        if shown != qid:
+            now = f"question {shown}" if shown else "no question"
+            return (
+                f"refused: question {qid} is not the one {participant}'s page shows ({now}): reload the page"
+            )
+        return None
 
     def close(self) -> None:
         """Stop serving (every answer is on disk already)."""
@@ -243,7 +300,11 @@ class _Handler(BaseHTTPRequestHandler):
             self._reply(200, self.rating.page(participant), "text/html; charset=utf-8")
 
     def do_POST(self) -> None:  # noqa: N802 - http.server's name
-        participant = self._participant("/answer")
+        """An answer (``/rate/ID/answer``) or the participant's consent (``/rate/ID/consent``,
+        whose JSON object, ``{"consent": true}`` from the page, is read and not looked into),
+        from the page's origin."""
+        consent = urlsplit(self.path).path.endswith("/consent")
+        participant = self._participant("/consent" if consent else "/answer")
         if participant is None:
             return
         origin = self.headers.get("Origin")
@@ -251,19 +312,29 @@ class _Handler(BaseHTTPRequestHandler):
         if origin not in allowed:
             self._reply(403, f"refused: origin {origin!r} is not this page's")
             return
+        body = self._body()  # read whole either way: a socket closed unread may reset the reply
+        if body is not None:
+            self._reply(
+                *(self.rating.agree(participant) if consent else self.rating.answer(participant, body))
+            )
+
+    def _body(self) -> dict[str, Any] | None:
+        """The answer's JSON object; else replies 400 and returns ``None``."""
         length = self._length()
         if length is None:
-            return
+            return None
         try:
             body = json.loads(self.rfile.read(length))
         except (ValueError, UnicodeDecodeError):
             self._reply(400, "the body is not JSON")
-            return
+            return None
+        except RecursionError:
+            self._reply(400, "the body is not an answer: JSON nested too deep to decode")
+            return None
         if not isinstance(body, dict):
             self._reply(400, "expected a JSON object")
-            return
-        status, text = self.rating.answer(participant, body)
-        self._reply(status, text)
+            return None
+        return body
 
     def _length(self) -> int | None:
         """The body's length in bytes from ``Content-Length``; else replies 400 (and logs one

@@ -30,13 +30,14 @@ from bridge.flags import add_log_level, command_parser, configure_logging
 from bridge.handshake import handshake
 from bridge.presence import PresenceEvent
 from bridge.processes import stop_on_signals, stop_process_group, wait_for_stop
-from bridge.session import SessionSettings, add_network_args, settings_from_args
+from bridge.session import SessionSettings, add_network_args, settings_from_args, world_problem
 from protocol import EngineInfo, Mind, State
 from protocol import Error as ProtocolError
 
 from .layout import aim
 from .scene import REFRESH_HZ, SceneView
 from .screenshot import screenshot
+from .server import start_server
 
 log = logging.getLogger("toyroom.view")
 
@@ -53,10 +54,6 @@ class Viewer:
     ) -> None:
         self.ortho = ortho
         """Frame the map with an orthographic camera instead of a perspective one."""
-        self.vis = meshcat.Visualizer()
-        self.url = self.vis.url()
-        self.view = SceneView(self.vis)
-        self.bridge = Bridge(world, settings)
         self.stop = stop or threading.Event()
         self.info: EngineInfo | None = None
         self.problem: str | None = None
@@ -65,14 +62,32 @@ class Viewer:
         self._reconnect = threading.Event()
         self._held = threading.Event()
         self._drawing = threading.Lock()
+        self.server, zmq_url = start_server()
+        """The meshcat server (:mod:`.server`: on 127.0.0.1 only), a process group of its own."""
+        try:
+            self.bridge = Bridge(world, settings)
+        except BaseException:  # no server left behind
+            stop_process_group(self.server)
+            raise
+        try:
+            self._draw_into(meshcat.Visualizer(zmq_url=zmq_url))
+        except BaseException:
+            self.close()
+            raise
+
+    def _draw_into(self, vis: meshcat.Visualizer) -> None:
+        """Draw the world into ``vis`` (the page's background set, its grid and axes hidden)."""
+        self.vis = vis
+        self.url: str = vis.url()
+        self.view = SceneView(vis)
         self.bridge.subscribe(self.bridge.keys.state, self.view.on_state, expected=State)
         self.bridge.subscribe(self.bridge.keys.mind, self.view.on_mind, expected=Mind)
         self.bridge.presence("engine", self._on_presence)
         self.bridge.token("viewer", "meshcat")
-        self.vis["/Background"].set_property("top_color", [0.95, 0.95, 0.97])
-        self.vis["/Background"].set_property("bottom_color", [0.85, 0.87, 0.9])
-        self.vis["/Grid"].set_property("visible", False)
-        self.vis["/Axes"].set_property("visible", False)
+        vis["/Background"].set_property("top_color", [0.95, 0.95, 0.97])
+        vis["/Background"].set_property("bottom_color", [0.85, 0.87, 0.9])
+        vis["/Grid"].set_property("visible", False)
+        vis["/Axes"].set_property("visible", False)
 
     def _on_presence(self, event: PresenceEvent) -> None:
         if event.alive:
@@ -157,9 +172,7 @@ class Viewer:
         """Stop drawing, close the bridge and stop the meshcat server (its own process group)."""
         self.stop.set()
         self.bridge.close()
-        server = self.vis.window.server_proc
-        if server is not None:
-            stop_process_group(server)
+        stop_process_group(self.server)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -209,8 +222,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level)
     stop = threading.Event()
+    if (problem := world_problem(args.world)) is not None:  # before anything starts
+        print(f"toyroom view: {problem}", file=sys.stderr, flush=True)
+        return 2
     stop_on_signals(stop)  # before the meshcat server starts, so no signal can orphan it
-    viewer = Viewer(args.world, settings_from_args(args), stop=stop, ortho=args.ortho)
+    try:
+        viewer = Viewer(args.world, settings_from_args(args), stop=stop, ortho=args.ortho)
+    except (BridgeError, ProtocolError) as err:  # a bad Zenoh config file or endpoint
+        print(f"toyroom view: {err}", file=sys.stderr, flush=True)
+        return 2
     try:
         print(f"toyroom view: world '{args.world}' at {viewer.url}", flush=True)
         threading.Thread(target=viewer.run, daemon=True).start()

@@ -138,7 +138,9 @@ def test_graded_factored_is_close_to_the_exact_graded_model(scenario: str) -> No
     """Graded beliefs per item against the exact graded model, online, on the paper map:
     item beliefs, preferences and false-belief probabilities per person and tick."""
     engine = Engine(scenario, robot="observe")
-    exact = MindTracker(engine.scene(), ModelSettings())
+    exact = MindTracker(
+        engine.scene(), ModelSettings(errand_per_s=0.0, carry_per_s=0.0)
+    )  # the factored has no errands
     factored = MindTracker(engine.scene(), ModelSettings(exact_max_worlds=0))
     assert type(factored.person_model).__name__ == "GradedFactoredModel"
     beliefs, preferences, false = [], [], []

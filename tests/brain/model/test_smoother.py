@@ -15,6 +15,7 @@ from scenes import tiny_scene, tiny_state
 from brain.model.exactperson import ExactModel
 from brain.model.gradedperson import GradedModel
 from brain.model.inference import HmmStep, forward, hazard_matrix, smooth
+from brain.model.modes import CARRY, PURSUE, dropped_carry
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 
@@ -96,6 +97,37 @@ def tiny_trace(settings: ModelSettings) -> MindTracker:
     return tracker
 
 
+def carry_trace(settings: ModelSettings) -> MindTracker:
+    """A person at B takes the ball, carries it to A and drops it there (five steps)."""
+    from protocol import Event, EventKind
+
+    tracker = MindTracker(tiny_scene(), settings)
+    route = [((2, 0), "B", False), ((2, 0), None, True), ((1, 0), None, True), ((0, 0), None, True)]
+    route.append(((0, 0), "A", False))
+    kinds = {1: (EventKind.TAKE, "B"), 4: (EventKind.DROP, "A")}
+    for tick, (cell, ball_at, holding) in enumerate(route):
+        events = ()
+        if tick in kinds:
+            kind, location = kinds[tick]
+            events = (
+                Event(
+                    episode=1,
+                    tick=tick,
+                    time=tick * 0.7,
+                    kind=kind,
+                    actor="p",
+                    item="ball",
+                    location=location,
+                ),
+            )
+        tracker.observe(tiny_state(tick, cell, ball_at, holding), events)
+    steps = tracker.tracks["p"].steps
+    assert steps[-1].decision is not None and dropped_carry(steps[-1].decision, 1) == 0, (
+        "the last step drops the ball"
+    )
+    return tracker
+
+
 def test_real_trace_of_the_tiny_scene() -> None:
     tracker = tiny_trace(ModelSettings(belief_model="point"))
     records = tracker.tracks["p"].steps
@@ -117,7 +149,7 @@ def test_graded_smoothing_equals_enumeration() -> None:
     """The graded model's forward-backward over (hypothesis g, preference d) against the
     sum over every preference sequence (D**T of them; each hypothesis's belief, and so each
     step's QMDP likelihood, is fixed by g), with a hazard high enough to matter."""
-    tracker = tiny_trace(ModelSettings(hazard=0.3))
+    tracker = tiny_trace(ModelSettings(hazard=0.3, errand_per_s=0.0, carry_per_s=0.0))
     graded = tracker.person_model
     assert isinstance(graded, GradedModel), "the default is the graded model"
     records = tracker.tracks["p"].steps
@@ -154,7 +186,9 @@ def test_graded_smoothing_equals_enumeration() -> None:
 def test_log_evidence_is_the_unnormalised_forward_pass(belief_model: str) -> None:
     """``log_evidence`` (the sum of the filter's log normalisers) equals the log of the total
     mass of the forward pass run without normalising: log P(all decisions)."""
-    tracker = tiny_trace(ModelSettings(belief_model=belief_model, hazard=0.3))
+    tracker = tiny_trace(
+        ModelSettings(belief_model=belief_model, hazard=0.3, errand_per_s=0.0, carry_per_s=0.0)
+    )
     records = tracker.tracks["p"].steps
     person = tracker.person_model
     alpha = person.prior()
@@ -208,7 +242,7 @@ def test_the_decision_ending_a_long_pause_is_judged_under_the_switched_desire(be
     decision that ends it: the online estimate right after walking in already favours the
     ball (it was 0.52 with the switch after the likelihood), and the smoothed estimate on
     arriving outside (tick 3, before the pause) keeps ``out`` (it gave the ball 0.69)."""
-    settings = ModelSettings(belief_model=belief_model, hazard=0.01)
+    settings = ModelSettings(belief_model=belief_model, hazard=0.01, errand_per_s=0.0, carry_per_s=0.0)
     tracker = MindTracker(tiny_scene(), settings)
     pause = 35.0
     path = [(1, 0), (2, 0), (3, 0), (4, 0), (4, 0), (3, 0), (2, 0), (1, 0), (0, 0)]
@@ -257,3 +291,70 @@ def test_the_decision_ending_a_long_pause_is_judged_under_the_switched_desire(be
     assert smoothed[entering][0] > 0.99, (
         f"expected the ball after walking in, got {smoothed[entering][0]:.3f}"
     )
+
+
+def test_smoothing_with_modes_equals_enumeration() -> None:
+    """With modes (:mod:`brain.model.modes`), forward-backward over (g, u, m) against the sum
+    over every sequence of (desire, mode) ((U M)**T of them), rates high enough to matter; a
+    Drop of the item carried ends its carry (the mode reported after it is ``pursue``)."""
+    settings = ModelSettings(hazard=0.3, errand_per_s=0.5, carry_per_s=0.4, resume_per_s=0.8)
+    tracker = carry_trace(settings)
+    graded = tracker.person_model
+    assert isinstance(graded, GradedModel) and graded.rates is not None, "the tiny scene has an outside"
+    records = tracker.tracks["p"].steps
+    beliefs, steps = graded.initial.copy(), []
+    for record in records:
+        steps.append(graded.mode_step(beliefs, record))
+        beliefs = graded.revise(beliefs, record)
+    G, U = graded.prior().shape
+    T, M = len(records), len(graded.rates.stationary)
+    start = graded.prior()[:, :, None] * graded.rates.stationary[None, None, :]
+    want = np.zeros((T, G, U, M))
+    for u0, m0 in itertools.product(range(U), range(M)):
+        for path in itertools.product(itertools.product(range(U), range(M)), repeat=T):
+            weight, (u, m), reported = start[:, u0, m0].copy(), (u0, m0), []
+            for t, step in enumerate(steps):
+                nu, nm = path[t]
+                weight = weight * hazard_matrix(U, step.switch)[u, nu] * step.transition[m, nm]
+                if step.likelihood is not None:
+                    weight = weight * np.broadcast_to(step.likelihood, (G, U, M))[:, nu, nm]
+                ended = dropped_carry(step.decision, M - CARRY)
+                u, m = nu, (PURSUE if ended is not None and nm == CARRY + ended else nm)
+                reported.append((u, m))
+            for t in range(T):
+                want[t, :, reported[t][0], reported[t][1]] += weight
+    want /= want.sum(axis=(1, 2, 3), keepdims=True)
+    got = graded.smoothed(records, tracker.tracks["p"].estimates)
+    for t, est in enumerate(got):
+        assert est.mode is not None
+        assert np.allclose(est.preference, want[t].sum(axis=(0, 2)), atol=1e-9), (
+            f"step {t}: preference {est.preference}, enumeration {want[t].sum(axis=(0, 2))}"
+        )
+        assert np.allclose(est.mode, want[t].sum(axis=(0, 1)), atol=1e-9), (
+            f"step {t}: mode {est.mode}, enumeration {want[t].sum(axis=(0, 1))}"
+        )
+
+
+def test_log_evidence_with_modes_is_the_unnormalised_forward_pass() -> None:
+    """With modes, ``log_evidence`` is the log of the forward pass over (g, u, m) run
+    without normalising."""
+    settings = ModelSettings(hazard=0.3, errand_per_s=0.5, carry_per_s=0.4, resume_per_s=0.8)
+    tracker = carry_trace(settings)
+    person = tracker.person_model
+    assert isinstance(person, GradedModel) and person.rates is not None
+    joint = person.prior()[:, :, None] * person.rates.stationary[None, None, :]
+    beliefs = person.initial.copy()
+    for record in tracker.tracks["p"].steps:
+        step = person.mode_step(beliefs, record)
+        redraw = hazard_matrix(joint.shape[1], step.switch)
+        joint = np.einsum("gum,ux,mn->gxn", joint, redraw, step.transition)
+        if step.likelihood is not None:
+            joint = joint * step.likelihood
+        ended = dropped_carry(step.decision, joint.shape[2] - CARRY)
+        if ended is not None:
+            joint[:, :, PURSUE] += joint[:, :, CARRY + ended]
+            joint[:, :, CARRY + ended] = 0.0
+        beliefs = person.revise(beliefs, record)
+    want = float(np.log(joint.sum()))
+    got = tracker.log_evidence("p")
+    assert got == pytest.approx(want, abs=1e-9), f"log evidence {got}, unnormalised forward pass {want}"

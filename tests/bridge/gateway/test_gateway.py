@@ -113,6 +113,7 @@ def test_a_frame_nested_too_deeply_is_refused_even_before_hello(
 def test_a_token_file_is_required_of_every_client(world: str, tmp_path: Path) -> None:
     secret = tmp_path / "token"
     secret.write_text("s3cret\n")
+    secret.chmod(0o600)
     with Gateway(GatewaySettings(world=world, listen="ws://127.0.0.1:0", token_file=secret)) as gateway:
         intruder = Client(gateway.url)
         refusal = intruder.hello(token="guess")
@@ -123,6 +124,7 @@ def test_a_token_file_is_required_of_every_client(world: str, tmp_path: Path) ->
         assert Client(gateway.url).hello(token="s3cret")["op"] == "welcome"
     empty = tmp_path / "empty"
     empty.write_text("  \n")
+    empty.chmod(0o600)
     with pytest.raises(ConfigError, match="empty"):
         Gateway(GatewaySettings(world=world, listen="ws://127.0.0.1:0", token_file=empty))
     with pytest.raises(ConfigError, match="cannot read the --token file"):

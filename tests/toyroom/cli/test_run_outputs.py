@@ -65,23 +65,46 @@ def test_bad_settings_are_refused_before_any_process_starts(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml", "out"], "a run's folder was made"
 
 
-def test_a_failed_run_leaves_the_earlier_run_as_it_was(tmp_path: Path) -> None:
+def engine_fails_at_start(folder: Path) -> Path:
+    """A scenario the loader accepts but whose engine fails at its start, before the
+    handshake: paper-auto's people act by the brain's planner, and no planner table is given."""
+    scenarios = Path(__file__).resolve().parents[3] / "sim2d" / "scenarios"
+    (folder / "paper.map.toml").write_text((scenarios / "paper.map.toml").read_text())
+    text = (scenarios / "paper-auto.toml").read_text()
+    assert "[autonomy]\n" in text, "paper-auto lost its [autonomy] table: update this test"
+    (folder / "planned.toml").write_text(text.replace("[autonomy]\n", '[autonomy]\nplanner = "model"\n'))
+    return folder / "planned.toml"
+
+
+def test_a_missing_scenario_is_refused_before_anything_starts(tmp_path: Path) -> None:
     out = tmp_path / "out"
     before = earlier_run(out)
     result = toyroom_run(out, "--scenario", "no-such-scenario")
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 2 and len(lines) == 1 and "no-such-scenario" in lines[0], (
+        f"expected exit 2 and one line naming the scenario, got {result.returncode}:\n{result.stderr}"
+    )
+    assert snapshot(out) == before and sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_a_failed_run_leaves_the_earlier_run_as_it_was(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    before = earlier_run(out)
+    result = toyroom_run(out, "--scenario", str(engine_fails_at_start(tmp_path)))
     assert result.returncode == 1, f"exit status {result.returncode}:\n{result.stderr}"
     assert "results in" not in result.stdout, result.stdout
     assert snapshot(out) == before, "the failed run mixed with the earlier one"
     [failed] = [p for p in tmp_path.iterdir() if p.name.startswith("out.failed-")]
     note = (failed / "FAILED").read_text()
     assert "the engine exited with status 2 before it answered the handshake" in note, note
-    assert "no-such-scenario" in (failed / "engine.log").read_text()
+    assert 'planner = "model"' in (failed / "engine.log").read_text()
     assert f"see {failed / 'FAILED'}" in result.stderr, result.stderr
 
 
 def test_a_failed_run_into_a_new_folder_is_marked_there(tmp_path: Path) -> None:
     out = tmp_path / "new" / "out"
-    result = toyroom_run(out, "--scenario", "no-such-scenario")
+    scenario = engine_fails_at_start(tmp_path)
+    result = toyroom_run(out, "--scenario", str(scenario))
     assert result.returncode == 1, result.stderr
     assert "the engine exited with status 2" in (out / "FAILED").read_text()
     assert sorted(p.name for p in out.parent.iterdir()) == ["out"]

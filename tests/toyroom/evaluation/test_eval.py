@@ -75,6 +75,9 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
             "nested_belief_accuracy",
             "nested_first_order_accuracy",
             "nested_gain",
+            "fb_want_p",
+            "fb_want_confident",
+            "fb_want_top",
         }, observer
         assert set(values["false_belief_f1"]) == set(values["goal_false_belief_f1"]) == {"mean", "lo", "hi"}
         assert set(values["brier"]) == set(values["brier_skill"]) == {"mean", "lo", "hi"}
@@ -89,6 +92,10 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
             "ticks_from_false_belief",
             "wasted_trips",
             "interruptions",
+            "cut",
+            "cut_any_fb",
+            "share_of_oracle",
+            "share_of_oracle_any_fb",
         }, policy
         assert policy["wasted_trips"]["mean"] is not None
     report = (out / "report.md").read_text()

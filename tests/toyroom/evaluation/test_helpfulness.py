@@ -20,8 +20,9 @@ from protocol import (
 from tests.scenes import tiny_scene, tiny_state
 from toyroom.evaluation.aggregate import robot_losses, robot_metrics
 from toyroom.evaluation.helpfulness import helpfulness
-from toyroom.evaluation.intervals import pooled_means
+from toyroom.evaluation.intervals import cuts, pooled_means
 from toyroom.evaluation.records import EpisodeRecord
+from toyroom.evaluation.report import _tables
 
 
 def truth(tick: int, believes_b: float, ball_at: str = "A") -> Truth:
@@ -178,3 +179,53 @@ def test_the_loss_table_splits_the_ticks_to_the_goal() -> None:
         "after_robot_acted": 0,
         "robot_acted": 0.0,
     }, f"a robot that never acted: the whole wait is before it acted, got {losses['none']}"
+
+
+def test_cuts_and_shares_of_the_oracle_by_hand() -> None:
+    """Pooled means: none 300/3 = 100 ticks, tom 240/3 = 80, oracle 180/3 = 60. tom cuts
+    (100 - 80) / 100 = 0.2, the oracle 0.4; tom's share of the oracle's cut is 20 / 40 = 0.5."""
+    per_episode = {
+        "tom": [(90.0, 1), (150.0, 2)],
+        "oracle": [(60.0, 1), (120.0, 2)],
+        "none": [(100.0, 1), (200.0, 2)],
+    }
+    got = cuts(per_episode, seed=1, base="none", oracle="oracle", resamples=200)
+    assert set(got) == {"tom", "oracle"}, "none is the base: no cut of its own"
+    assert got["tom"]["cut"]["mean"] == pytest.approx(0.2) and got["oracle"]["cut"]["mean"] == pytest.approx(
+        0.4
+    )
+    assert got["tom"]["share_of_oracle"]["mean"] == pytest.approx(0.5), got["tom"]
+    assert got["oracle"]["share_of_oracle"]["mean"] == pytest.approx(1.0), got["oracle"]
+    tom = got["tom"]["share_of_oracle"]
+    assert tom["lo"] is not None and tom["lo"] <= 0.5 <= tom["hi"], f"a paired interval around 0.5: {tom}"
+    flat = {**per_episode, "oracle": per_episode["none"]}  # an oracle that cuts nothing
+    got = cuts(flat, seed=1, base="none", oracle="oracle", resamples=50)
+    assert got["tom"]["share_of_oracle"]["mean"] is None and got["tom"]["cut"]["mean"] == pytest.approx(0.2)
+    alone = cuts({"tom": per_episode["tom"], "none": per_episode["none"]}, seed=1, base="none")
+    assert alone["tom"]["share_of_oracle"]["mean"] is None, "no oracle ran: no share"
+
+
+def test_the_robot_table_gives_cuts_and_marks_the_oracle() -> None:
+    """One person with a false belief: none reaches the goal at tick 100 (never: the episode's
+    length), tom at 70, the oracle at 40: tom cuts 0.3, the oracle 0.6, tom's share is 0.5."""
+
+    def run(goal: int | None) -> dict:
+        person = {"false_belief": True, "false_belief_tick": 10, "goal_tick": goal}
+        return {"episode_ticks": 100, "ticks_to_goal": {"A1": goal}, "help": {"A1": person}}
+
+    episode = _episode({"robot-tom": run(70), "robot-oracle": run(40), "btom": run(None)})
+    policies, _ = robot_metrics([episode], seed=1)
+    assert list(policies) == ["tom", "oracle", "none"], list(policies)
+    for key in ("cut", "cut_any_fb"):
+        assert policies["tom"][key]["mean"] == pytest.approx(0.3), (key, policies["tom"])
+        assert policies["oracle"][key]["mean"] == pytest.approx(0.6), (key, policies["oracle"])
+    for key in ("share_of_oracle", "share_of_oracle_any_fb"):
+        assert policies["tom"][key]["mean"] == pytest.approx(0.5), (key, policies["tom"])
+    assert policies["none"]["cut"] is None and policies["none"]["share_of_oracle"] is None
+    metrics = {"observers": {}, "robot": policies}
+    table = "\n".join(_tables(metrics))
+    row = next(line for line in table.splitlines() if line.startswith("| oracle (reads true minds) |"))
+    cells = [cell.split(" [")[0] for cell in row.strip("| ").split(" | ")]
+    assert cells[-4:] == ["0.600", "1.000", "0.600", "1.000"], f"cut, share, on both measures: {row}"
+    assert "| policy | success |" in table and "share_of_oracle_any_fb |" in table, table
+    assert "upper bound, not a robot one could build" in table, "the report says what the oracle is"

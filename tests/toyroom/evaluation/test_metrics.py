@@ -195,4 +195,8 @@ def test_sums_are_the_number_fields_of_counts_as_the_hand_list_had_them() -> Non
         "nested_n",
         "nested_right",
         "nested_first_right",
+        "want_p_sum",
+        "want_confident",
+        "want_top_sum",
+        "want_n",
     )

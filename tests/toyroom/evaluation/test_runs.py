@@ -11,6 +11,7 @@ from protocol import Mind, Truth
 from toyroom.evaluation.metrics import Counts, Outcome, score_tick
 from toyroom.evaluation.nestedscore import score_nested
 from toyroom.evaluation.runs import TruthView, _score, check_complete, missing_ticks
+from toyroom.evaluation.wantread import score_want
 
 
 def _ticks(ticks: range, kind: type[Mind] | type[Truth]) -> dict:
@@ -56,7 +57,9 @@ def test_scores_reused_from_the_tick_before_equal_scoring_every_tick() -> None:
         where = {place.item: place.location for place in truths[tick].items}
         counts = score_tick(minds[tick], truths[tick], where, seen, view.causes[tick], view.known[tick])
         score_nested(minds[tick], truths[tick], counts)
+        counts.add_want(score_want(minds[tick], truths[tick], view.wanting[tick]))
         expected.add(counts)
     got = _score(minds, view, Outcome()).counts
     assert got == expected, f"expected {expected}, got {got}"
     assert got.tv_n > 0, "expected some beliefs scored"
+    assert got.want_n > 0, "expected some wants scored (the golden truth holds a false belief)"

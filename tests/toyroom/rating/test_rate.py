@@ -2,14 +2,17 @@
 ``paper-robot``, a scripted rater in headless Chromium (DevTools protocol) who gives consent,
 watches each replay, moves the sliders and answers; the CSV it leaves is fitted by
 ``toyroom fit --judgments`` (a process: bridge never imports brain); a reload resumes at the
-next question; a wrong token and a foreign origin are refused; OCR reads the page's room
-names and person labels from ``toyroom rate --screenshot``."""
+next question; a wrong token and a foreign origin are refused; an answer the disk cannot take
+(a file-size limit set on the server's process, as a full disk) is refused 507, said on the
+page, and leaves no partial row (issue 64); OCR reads the page's room names and person labels
+from ``toyroom rate --screenshot``."""
 
 from __future__ import annotations
 
 import csv
 import json
 import re
+import resource
 import shutil
 import subprocess
 import sys
@@ -67,7 +70,7 @@ show_until = 260
 class Served:
     """``toyroom rate`` as a process; its participants' links read from what it prints."""
 
-    def __init__(self, recordings: list[Path], folder: Path) -> None:
+    def __init__(self, recordings: list[Path], folder: Path, participants: str = "p1,p2,p3") -> None:
         (folder / "q.toml").write_text(QUESTIONS, encoding="utf-8")
         self.answers = folder / "answers.csv"
         command = [sys.executable, "-m", "toyroom", "rate", *map(str, recordings)]
@@ -76,7 +79,7 @@ class Served:
             "--out",
             str(self.answers),
             "--participants",
-            "p1,p2,p3",
+            participants,
             "--listen",
             "http://127.0.0.1:0",
         ]
@@ -88,8 +91,8 @@ class Served:
                 self.links[match.group(1)] = match.group(2)
             if line.startswith("toyroom rate: ready"):
                 break
-        assert set(self.links) == {"p1", "p2", "p3"}, (
-            f"expected links for p1, p2 and p3, got {self.links}: {self.stop()}"
+        assert set(self.links) == set(participants.split(",")), (
+            f"expected links for {participants}, got {self.links}: {self.stop()}"
         )
 
     def stop(self) -> str:
@@ -237,6 +240,54 @@ def test_a_wrong_token_or_origin_is_refused(served: Served) -> None:
     assert served.answers.read_bytes() == before, "a refused answer must write nothing"
     bad = json.dumps({"question": "a1-wants", "values": {"skate": 2}}).encode()
     assert _status(post, bad, {"Origin": f"http://{host}"}) == 400
+
+
+def test_an_answer_the_disk_cannot_take_is_refused_whole(recordings: list[Path], tmp_path: Path) -> None:
+    """The server's process may write only a few bytes more (RLIMIT_FSIZE, set from outside:
+    writes past it fail with EFBIG, as on a full disk): the answer is refused 507, the page
+    says it was not saved, no partial row is left, and once there is room it is saved whole."""
+    served = Served(recordings, tmp_path, "p1")
+    try:
+        with chromium(tmp_path / "profile") as page:
+            page.goto(served.links["p1"])
+            page.evaluate("document.getElementById('agree').click(); 0")
+            answer(page, [10, 80, 5, 5])
+            saved = served.answers.read_bytes()
+            page.evaluate("window.replayDone")
+            room = len(saved) + 20  # less than the next answer's two rows
+            resource.prlimit(served.process.pid, resource.RLIMIT_FSIZE, (room, resource.RLIM_INFINITY))
+            page.evaluate(
+                "document.querySelectorAll('#sliders input').forEach((s) => {"
+                " s.value = 30; s.dispatchEvent(new Event('input')); });"
+                "document.getElementById('submit').click(); 0"
+            )
+            said = page.wait_for(
+                "document.getElementById('status').innerText", 30, "the page saying the answer was not saved"
+            )
+            assert said.startswith("Not saved: the server cannot write the answers (File too large)"), (
+                f"expected the page to say the answer was not saved, and why; it says {said!r}"
+            )
+            assert served.answers.read_bytes() == saved, "a refused answer must leave the file as it was"
+            post = served.links["p1"].replace("/p1?", "/p1/answer?")
+            body = json.dumps({"question": "a1-wants", "values": {"skate": 0.3, "ball": 0.3}}).encode()
+            origin = {"Origin": "http://" + post.split("/")[2]}
+            assert _status(post, body, origin) == 507, "an answer the disk cannot take should be answered 507"
+            resource.prlimit(served.process.pid, resource.RLIMIT_FSIZE, (resource.RLIM_INFINITY,) * 2)
+            page.events.clear()
+            page.evaluate("document.getElementById('submit').click(); 0")  # Next again, once there is room
+            page.wait_event("Page.loadEventFired")
+            progress = page.evaluate("document.querySelector('header').innerText")
+            assert "question 3 of 3" in progress, f"the answer saved on a second Next moves on: {progress!r}"
+    finally:
+        err = served.stop()
+    got = rows(served.answers)
+    assert [(r["question"], r["value"]) for r in got][4:] == [("a1-wants", "0.3000")] * 2, (
+        f"expected p1's second answer saved whole after their first, got {got}"
+    )
+    whole = all(len(r) == len(COLUMNS) and None not in r.values() for r in got)
+    assert whole and "Traceback" not in err, (
+        f"expected whole rows and no traceback, got {got} and stderr {err[-2000:]!r}"
+    )
 
 
 @pytest.mark.skipif(shutil.which("tesseract") is None, reason="tesseract is not installed")

@@ -1,6 +1,8 @@
 """The rating server without a browser: answers survive a restart (the CSV is read back and
 the links stay valid), a file of another kind is refused, and ``--listen`` on every interface
-prints the lab address and a warning."""
+prints the lab address and a warning; an answer is taken only after consent and only to the
+question the page shows, a body nested too deep is answered 400, and ``toyroom rate`` refuses
+participant ids a link cannot carry and an ``--out`` that is no file (issue 64)."""
 
 from __future__ import annotations
 
@@ -18,7 +20,7 @@ import pytest
 
 from bridge.recording import read_trace
 from tests.toyroom.devtools import wait_until
-from toyroom.rating import QuestionsError, RatingServer, RatingSettings, load_study
+from toyroom.rating import AnswerBook, QuestionsError, RatingServer, RatingSettings, load_study
 from toyroom.rating.server import read_or_make_secret
 from toyroom.rating.serving import ServerLimits
 
@@ -45,19 +47,41 @@ def settings(recordings: list[Path], folder: Path) -> RatingSettings:
     return RatingSettings(study, traces, ("p1",), folder / "a.csv", secret)
 
 
-def post(server: RatingServer, body: dict[str, object]) -> int:
-    url = server.link("p1").replace("/p1?", "/p1/answer?")
+def send(server: RatingServer, body: dict[str, object], what: str = "answer") -> tuple[int, str]:
+    """POST ``body`` to p1's ``what`` (``answer`` or ``consent``) from the page's origin: the
+    reply's status and text."""
+    url = server.link("p1").replace("/p1?", f"/p1/{what}?")
     request = urllib.request.Request(
         url,
         data=json.dumps(body).encode(),
         headers={"Origin": server.url, "Content-Type": "application/json"},
     )
-    with urllib.request.urlopen(request, timeout=10) as reply:
-        return int(reply.status)
+    try:
+        with urllib.request.urlopen(request, timeout=10) as reply:
+            return int(reply.status), reply.read().decode()
+    except urllib.error.HTTPError as err:
+        return err.code, err.read().decode()
+
+
+def post(server: RatingServer, body: dict[str, object]) -> int:
+    return send(server, body)[0]
+
+
+def load_page(server: RatingServer) -> str:
+    """p1's page, as their browser loads it (the server records the question it shows)."""
+    with urllib.request.urlopen(server.link("p1"), timeout=10) as reply:
+        return str(reply.read().decode())
+
+
+def agree(server: RatingServer) -> None:
+    """p1 agrees on their page, which then loads their question."""
+    assert send(server, {"consent": True}, "consent") == (200, "consent recorded")
+    load_page(server)
 
 
 def test_answers_survive_a_restart(recordings: list[Path], tmp_path: Path) -> None:
     with RatingServer(settings(recordings, tmp_path)) as first:
+        agree(first)
         assert post(first, {"question": "q1", "values": {"skate": 0.25, "ball": 0.75}}) == 200
         link = first.link("p1")
     again = settings(recordings, tmp_path)
@@ -109,6 +133,83 @@ def test_listening_on_every_interface_warns(recordings: list[Path], tmp_path: Pa
     assert "0.0.0.0" not in link and "token=" in link, (
         f"the link should name this machine's address: {link!r}"
     )
+
+
+Q1 = {"question": "q1", "values": {"skate": 0.25, "ball": 0.75}}
+Q2 = {"question": "q2", "values": {"skate": 0.5, "ball": 0.5}}
+
+
+def test_an_answer_before_consent_is_refused(recordings: list[Path], tmp_path: Path) -> None:
+    with RatingServer(settings(recordings, tmp_path)) as server:
+        before = (tmp_path / "a.csv").read_bytes()
+        load_page(server)  # the page shows q1, but p1 has not agreed
+        status, text = send(server, Q1)
+        assert (status, "has not agreed" in text) == (409, True), (
+            f"expected 409 saying p1 has not agreed, got {status} {text!r}"
+        )
+        assert (tmp_path / "a.csv").read_bytes() == before, "a refused answer must write nothing"
+        agree(server)
+        assert send(server, Q1) == (200, "saved"), "after consent the shown question's answer is saved"
+
+
+def test_an_answer_to_a_question_not_shown_is_refused(recordings: list[Path], tmp_path: Path) -> None:
+    with RatingServer(settings(recordings, tmp_path)) as server:
+        before = (tmp_path / "a.csv").read_bytes()
+        assert send(server, {"consent": True}, "consent")[0] == 200
+        never_loaded = send(server, Q1)  # no page loaded: no question shown
+        assert never_loaded[0] == 409 and "no question" in never_loaded[1], (
+            f"expected 409 (the page shows no question), got {never_loaded}"
+        )
+        load_page(server)  # shows q1
+        last_first = send(server, Q2)
+        assert last_first[0] == 409 and "(question q1)" in last_first[1], (
+            f"expected 409 naming q1 as the question shown, got {last_first}"
+        )
+        assert (tmp_path / "a.csv").read_bytes() == before, "refused answers must write nothing"
+        assert send(server, Q1) == (200, "saved")
+        assert send(server, Q2)[0] == 409, "q2 is not shown until the page is loaded again"
+        assert "question 2 of 2" in load_page(server)
+        assert send(server, Q2) == (200, "saved")
+    rows = (tmp_path / "a.csv").read_text().splitlines()[1:]
+    assert [r.rsplit(",", 1)[1] for r in rows] == ["q1", "q1", "q2", "q2"], f"rows written: {rows}"
+
+
+def rate_command(recordings: list[Path], folder: Path, *extra: str) -> list[str]:
+    (folder / "q.toml").write_text(QUESTIONS, encoding="utf-8")
+    command = [sys.executable, "-m", "toyroom", "rate", *map(str, recordings)]
+    return command + ["--questions", str(folder / "q.toml"), *extra]
+
+
+@pytest.mark.parametrize("ids", ["ann,..", ".", "p.1"])
+def test_rate_refuses_ids_a_link_cannot_carry(recordings: list[Path], tmp_path: Path, ids: str) -> None:
+    out = tmp_path / "a.csv"
+    done = subprocess.run(
+        rate_command(recordings, tmp_path, "--out", str(out), "--participants", ids),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2 and len(lines) == 1 and "--participants" in lines[0], (
+        f"expected exit 2 and one line naming --participants, got {done.returncode}: {done.stderr!r}"
+    )
+    assert not out.exists() and not out.with_name("a.csv.secret").exists(), "a refused start wrote files"
+
+
+def test_rate_refuses_an_out_that_is_no_file(recordings: list[Path], tmp_path: Path) -> None:
+    secret = tmp_path / "secret"  # so that the old code made no /dev/full.secret
+    for out in ("/dev/full", str(tmp_path)):
+        done = subprocess.run(
+            rate_command(recordings, tmp_path, "--out", out, "--secret", str(secret)),
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        lines = done.stderr.strip().splitlines()
+        assert done.returncode == 2 and len(lines) == 1 and f"{out}: cannot keep the answers" in lines[0], (
+            f"--out {out}: expected exit 2 and one line, got {done.returncode}: {done.stderr[-2000:]!r}"
+        )
+    assert not secret.exists(), "a refused --out should make no secret"
 
 
 # ----- the server's limits: bad headers, idle and vanished clients, too many connections -----
@@ -209,3 +310,41 @@ def test_a_client_that_goes_away_is_one_line_without_a_traceback(
         )
     err = capfd.readouterr().err
     assert len(gone) == 1 and "Traceback" not in err, f"expected one line and no traceback: {gone}\n{err}"
+
+
+def test_a_body_nested_too_deep_is_answered_400(
+    recordings: list[Path], tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    caplog.set_level(logging.INFO, logger="toyroom.rating")
+    body = b"[" * 30_000 + b"]" * 30_000  # 60 KB, under the 64 KB a body may have
+    with RatingServer(settings(recordings, tmp_path)) as server:
+        with raw_request(server, f"Content-Length: {len(body)}\r\n", body) as sock:
+            reply = read_all(sock).decode(errors="replace")
+    assert reply.startswith("HTTP/1.0 400") and "nested too deep" in reply, (
+        f"expected a 400 saying the JSON is nested too deep, got {reply[:300]!r}"
+    )
+    failures = [r.getMessage() for r in caplog.records if r.levelno >= logging.ERROR]
+    assert failures == [], f"a deep body should fail no request; logged {failures}"
+
+
+def test_a_partial_last_row_is_dropped_on_start(
+    recordings: list[Path], tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A row cut off by a full disk (as an older version left one) is dropped when the file is
+    read back, so the next answer is a line of its own instead of glued onto it."""
+    caplog.set_level(logging.WARNING, logger="toyroom.rating")
+    header = "episode,tick,person,quantity,target,value,estimate,participant,question\r\n"
+    whole = (
+        "robot,100,A1,utility,skate,0.2500,online,p9,q1\r\nrobot,100,A1,utility,ball,0.7500,online,p9,q1\r\n"
+    )
+    (tmp_path / "a.csv").write_text(header + whole + "robot,150,A2,util", encoding="utf-8", newline="")
+    study = settings(recordings, tmp_path).study
+    book = AnswerBook(tmp_path / "a.csv")
+    assert book.add("p1", study.questions[0], {"skate": 0.25, "ball": 0.75}), "p1's answer should be saved"
+    text = (tmp_path / "a.csv").read_bytes().decode("utf-8")
+    expected = header + whole + whole.replace("p9", "p1")
+    assert text == expected, (
+        f"expected the partial row dropped and the new rows whole:\n{expected!r}\ngot\n{text!r}"
+    )
+    dropped = [r.getMessage() for r in caplog.records if "partial last row" in r.getMessage()]
+    assert len(dropped) == 1 and "robot,150,A2,util" in dropped[0], f"expected one warning, got {dropped}"

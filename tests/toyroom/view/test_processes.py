@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from toyroom.view.server import SERVER_MODULE
+
 VIEW = [sys.executable, "-m", "toyroom", "view"]
 
 
@@ -76,7 +78,7 @@ def wait_for(what: str, found: Callable[[], set[int]], limit: float = 60.0) -> s
 
 
 def meshcat_server(root: int) -> set[int]:
-    return {p for p in descendants(root) if "meshcat.servers.zmqserver" in cmdline(p)}
+    return {p for p in descendants(root) if SERVER_MODULE in cmdline(p)}
 
 
 def assert_all_gone(pids: set[int], how: str) -> None:

@@ -11,7 +11,7 @@ extends Node
 #   stop_robot(reason: String) -> Array     (the statuses of the commands it stopped)
 #   state() -> Dictionary; episode() -> int
 
-const PROTOCOL := "1.6"
+const PROTOCOL := "1.7"
 
 var link  # the gateway link (the autoload Toyroom)
 var game

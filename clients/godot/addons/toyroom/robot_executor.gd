@@ -19,7 +19,7 @@ extends Reference
 #   person_told(person, item, location); person_given(person); person_answers(person) -> bool
 #   person_handed_over(person); person_wants(person) -> item id or null
 
-const PROTOCOL := "1.6"
+const PROTOCOL := "1.7"
 const KINDS := ["navigate", "pick", "place", "give", "say", "request", "ask", "cancel"]
 const EARSHOT_CELLS := 2
 

@@ -5,7 +5,7 @@ extends Reference
 # for the JSON writer. A GDScript port of the Python grid engine's world
 # (examples/grid_engine/grid_world.py), tick for tick.
 
-const PROTOCOL := "1.6"
+const PROTOCOL := "1.7"
 const Person = preload("res://samples/house/person.gd")
 const RobotExecutor = preload("res://addons/toyroom/robot_executor.gd")
 const NEIGHBOURS := [Vector2(1, 0), Vector2(-1, 0), Vector2(0, 1), Vector2(0, -1)]
