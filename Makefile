@@ -36,12 +36,13 @@ bytecode: | $(VENV)/bin/python
 run: $(VENV)/.run-installed bytecode
 	$(VENV)/bin/toyroom run --out out
 
-# Three workers (pytest-xdist) on this 2-core machine: most of the suite waits on engines,
-# brains and browsers (subprocesses that have cores of their own to use), so three at a time
-# keep it busy; every test has its own world and port. The 30 slowest are listed at the end:
+# Four workers (pytest-xdist) on this 2-core machine: most of the suite waits on engines,
+# brains and browsers (subprocesses that have cores of their own to use): with three, the
+# cores were busy 53% of the time (17.0 CPU-min in 16.0 min, at 3b46f2f); every test has its
+# own world and port. The 30 slowest are listed at the end:
 # the suite must stay under 12 minutes here.
 test: $(VENV)/.test-installed bytecode chromium mono tesseract godot
-	$(PY) -m pytest -n 3 --durations=30
+	$(PY) -m pytest -n 4 --durations=30
 
 # The sweeps: tests that run a benchmark or a study end to end (`toyroom bench --quick`, a
 # parameter's recovery over a dozen episodes), minutes of CPU each; CI runs them after `make

@@ -121,7 +121,8 @@ def test_local_eval_progress_advances_per_episode(local: tuple[dict, list[int], 
     assert calls == [1] * EPISODES, f"expected one progress(1) per episode, got {calls}"
 
 
-@pytest.mark.timeout(600)  # Ray starts its own cluster: minutes on a loaded two-core machine
+@pytest.mark.sweep  # Ray starts its own cluster: a minute or more, beyond make test's budget
+@pytest.mark.timeout(600)  # minutes on a loaded two-core machine
 def test_ray_backend_agrees_with_local(local: tuple[dict, list[int], Path], tmp_path: Path) -> None:
     pytest.importorskip("ray")
     result = subprocess.run(

@@ -85,6 +85,7 @@ def _kill_on_day_three(stop: threading.Event, killed: list[int]) -> None:
         time.sleep(0.05)
 
 
+@pytest.mark.sweep  # four days with a kill: a minute and a half, beyond make test's budget
 @pytest.mark.timeout(900)
 def test_a_brain_killed_on_day_three_leaves_day_four_as_it_was(tmp_path: Path) -> None:
     whole = _eval(tmp_path / "whole", "--days", "4", "--policies", "none")

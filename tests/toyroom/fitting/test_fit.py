@@ -7,6 +7,7 @@ import json
 import tomllib
 from pathlib import Path
 
+import pytest
 from support import toyroom_fit as fit
 
 
@@ -53,6 +54,7 @@ def test_fit_names_bad_input(recordings: list[Path], tmp_path: Path) -> None:
     assert model.returncode == 2 and "oracle" in model.stderr, model.stderr
 
 
+@pytest.mark.sweep  # Ray starts its own cluster: a minute, beyond make test's budget
 def test_fit_on_ray_finds_what_worker_processes_find(recordings: list[Path], tmp_path: Path) -> None:
     args = ("--params", "beta", "--grid", "beta=0.5,2", "--models", "graded,motion", "--folds", "3")
     local = fit(*recordings, *args, "--out", tmp_path / "local")
