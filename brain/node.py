@@ -45,7 +45,7 @@ from .outputs.results import mind_message
 from .outputs.runlog import RunLog
 from .outputs.shadows import ShadowMinds
 from .realtime import EventFeed, Heartbeats
-from .reconnect import ask_again, await_receipt, drain, rejoins
+from .reconnect import ask_again, await_receipt, drain, rejoins, waited_for
 from .robot.controller import RobotBrain
 from .settings import ModelSettings, RobotSettings
 from .tracking.tracker import MindTracker, Observer
@@ -295,9 +295,11 @@ class BrainNode:
         while True:
             try:
                 return link, ask_again(clock, link.info.engine, state) if again else clock.step(1)
-            except (StepTimeout, NoReply):
+            except (StepTimeout, NoReply) as err:
                 if not lost.wait(2.0):  # the engine is there but does not answer: a real failure
-                    raise
+                    raise StepTimeout(
+                        f"{waited_for(clock, state)}, the engine still there (paused?): {err}"
+                    ) from None
             robot = link.robot
             link = self._engine_lost(link, lost, realtime=False)
             again = rejoins(clock, link.info.engine, state)

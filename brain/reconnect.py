@@ -33,7 +33,7 @@ POLL_S = 0.1
 """Seconds between two looks at the engine's liveliness while a command awaits its answer."""
 
 
-def _waited(clock: LockstepClient, state: State) -> str:
+def waited_for(clock: LockstepClient, state: State) -> str:
     """What the brain was waiting for while the engine was away, and how long it has waited,
     e.g. ``the brain waited 61.3 s for its answer to step 1 from tick 200 of episode 1``."""
     asked = clock.unanswered
@@ -68,13 +68,13 @@ def rejoins(clock: LockstepClient, engine: str, state: State) -> bool:
             now.tick,
             now.episode,
             carried,
-            _waited(clock, state),
+            waited_for(clock, state),
         )
         return True
     if now.episode == state.episode and ahead > 0:
         raise BrainError(
             f"engine '{engine}' came back at tick {now.tick} of episode {state.episode} after a pause "
-            f"({_waited(clock, state)}): it stepped on while its link to the brain was down, and what "
+            f"({waited_for(clock, state)}): it stepped on while its link to the brain was down, and what "
             f"happened on ticks {state.tick + 1}-{now.tick} is lost, so the episode cannot carry on"
         )
     log.warning(
@@ -101,7 +101,7 @@ def ask_again(clock: LockstepClient, engine: str, state: State) -> State:
     asked = clock.unanswered
     if asked is None:
         return clock.step(1)
-    expected, waited = state.tick + asked.ticks, _waited(clock, state)
+    expected, waited = state.tick + asked.ticks, waited_for(clock, state)
     got = clock.again()
     if (got.episode, got.tick) != (state.episode, expected):
         raise BrainError(
