@@ -124,14 +124,7 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
     stretches = metrics.get("revealed_stretches")
     count = f" ({stretches} revealed stretches)" if stretches is not None else ""
     lines += ["", BEHAVIOUR_NOTE + count, "", *_rows(metrics["observers"], BEHAVIOUR, "observer")]
-    if differences:
-        names = [m for m in next(iter(differences.values())) if m in BEHAVIOUR]
-        lines += [
-            "",
-            "btom minus each other observer, paired by episode:",
-            "",
-            *_rows(differences, names, "observer"),
-        ]
+    lines += _paired(differences, BEHAVIOUR)
     lines += _want(metrics, differences)
     nested = metrics.get("nested_pairs")
     if nested:
@@ -164,15 +157,20 @@ def _want(metrics: Mapping[str, Any], differences: Mapping[str, Any] | None) -> 
     if not ticks:
         return []
     lines = ["", f"{WANT_NOTE} ({ticks} person-ticks)", "", *_rows(metrics["observers"], WANT, "observer")]
-    if differences:
-        names = [m for m in next(iter(differences.values())) if m in WANT]
-        lines += [
-            "",
-            "btom minus each other observer, paired by episode:",
-            "",
-            *_rows(differences, names, "observer"),
-        ]
-    return lines
+    return lines + _paired(differences, WANT)
+
+
+def _paired(differences: Mapping[str, Any] | None, group: tuple[str, ...]) -> list[str]:
+    """btom minus each other observer on the metrics of ``group`` (none without differences)."""
+    if not differences:
+        return []
+    names = [m for m in next(iter(differences.values())) if m in group]
+    return [
+        "",
+        "btom minus each other observer, paired by episode:",
+        "",
+        *_rows(differences, names, "observer"),
+    ]
 
 
 LOSS_NOTE = (
