@@ -10,7 +10,7 @@
   allowed (``toyroom run`` asks this before it starts any process).
 - ``python -m brain plan --scene SCENE.json --out FILE.npz``: the planner's Q-values of a
   scene, for simulated people who act by the brain's planner (:mod:`brain.outputs.policytable`).
-- ``python -m brain memory show|forget|export FILE ...`` (``toyroom memory``): the memory of
+- ``python -m brain memory show|forget|export|import FILE ...`` (``toyroom memory``): the memory of
   households across days that ``--memory FILE`` keeps (:mod:`brain.memory.command`).
 """
 
@@ -39,10 +39,10 @@ from bridge.recording.mcap import McapRecorder
 from bridge.recording.trace import read_trace
 from bridge.session import add_network_args, settings_from_args, world_problem
 from protocol import Error as ProtocolError
-from protocol import Observer, Scene
+from protocol import Observer, RobotMode, Scene
 
 from .errors import BrainError
-from .memory import CHECKPOINT_TICKS, MemoryKeeper, open_memory
+from .memory import CHECKPOINT_TICKS, KEEP_DAYS, MemoryKeeper, open_memory
 from .memory.command import memory_main, memory_parser
 from .model.planner import use_store
 from .model.revisions import SharedRevisions
@@ -96,7 +96,7 @@ def run_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--robot",
-        choices=("act", "observe"),
+        choices=RobotMode.names(),
         help="override whether the robot acts (default: as the scene says)",
     )
     parser.add_argument(
@@ -175,7 +175,8 @@ def _memory_args(parser: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="the memory of households across days (SQLite; created if missing): a scene that names "
         "its household starts each person from what was learned of them before, and what is "
-        "learned is saved (toyroom memory show|forget|export reads it)",
+        "learned is saved (toyroom memory show|forget|export|import); a running brain forgets on "
+        "request (toyroom memory forget)",
     )
     parser.add_argument(
         "--checkpoint-ticks",
@@ -184,6 +185,25 @@ def _memory_args(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help=f"save a checkpoint of the memory every N engine ticks of a day (default {CHECKPOINT_TICKS})",
     )
+    parser.add_argument(
+        "--keep-days",
+        type=non_negative_float,
+        default=KEEP_DAYS,
+        metavar="D",
+        help=f"keep D days (of the clock) of the memory's history; older days go at the next save, "
+        f"but each household's latest (default {KEEP_DAYS:g})",
+    )
+
+
+def non_negative_float(text: str) -> float:
+    """``--keep-days``'s type: a number >= 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of days >= 0, not {text!r}") from None
+    if not value >= 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a number of days >= 0, not {text!r}")
+    return value
 
 
 def check_settings_parser() -> argparse.ArgumentParser:
@@ -239,7 +259,9 @@ def run_node(
             if args.record
             else nullcontext()
         ) as recorder,
-        (open_memory(args.memory) if args.memory is not None else nullcontext()) as store,
+        (
+            open_memory(args.memory, keep_days=args.keep_days) if args.memory is not None else nullcontext()
+        ) as store,
     ):
         node = BrainNode(
             bridge,
@@ -248,7 +270,7 @@ def run_node(
             observer=Observer(args.observer),
             timeout=args.timeout or None,
             handshake_timeout=args.handshake_timeout or None,
-            robot=args.robot,
+            robot=RobotMode(args.robot) if args.robot else None,
             shadows=[Observer(o) for o in args.shadow],
             shadow_dir=args.shadow_out,
             run_log=args.run_log,
@@ -322,9 +344,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "world", None) is not None and (problem := world_problem(args.world)) is not None:
         print(f"brain: {problem}", file=sys.stderr)
         return 2
-    try:
-        if sub == "memory":
+    if sub == "memory":  # its errors named as the user called it (toyroom memory)
+        try:
             return memory_main(args)
+        except BrainError as err:
+            print(f"{parser.prog}: {err}", file=sys.stderr)
+            return 2
+    try:
         settings = load_settings(args.settings, args.overrides)
         if sub == "check-settings":
             return 0

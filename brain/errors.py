@@ -41,3 +41,14 @@ class MemoryFileError(BrainError, OSError):
     """A memory file (:mod:`brain.memory`) the brain cannot use: not a toyroom memory (another
     file, or damaged), written by a newer toyroom, or in use by another process. Raised at
     start, never read as an empty memory."""
+
+
+class MemoryRequestError(BrainError, ValueError):
+    """A request to a memory file (``toyroom memory forget``) that names what the file does not
+    hold: a person or household it has no rows of, or a person in more than one household
+    with none named."""
+
+
+class MemoryInUseError(MemoryFileError):
+    """A memory file another process holds (a running brain holds its file for as long as it
+    runs): ``toyroom memory forget`` then asks that brain to forget (:mod:`brain.memory.requests`)."""

@@ -6,7 +6,7 @@ every person's online estimate from each tick's state and events, ticks the robo
 behaviour tree and sends its commands (waiting for the engine to accept or refuse each
 before the next tick, so runs are reproducible), follows their statuses, publishes
 ``brain/mind`` every tick, and holds the liveliness token ``@alive/brain/<name>``.
-The robot acts only when the scene says it does (or ``robot="act"`` overrides it).
+The robot acts only when the scene says it does (or ``robot=RobotMode.ACT`` overrides it).
 
 Against an engine whose clock runs in real time (its handshake says ``clock: realtime``),
 the brain free-runs instead: it subscribes to ``engine/state`` and ``engine/events``, takes
@@ -22,7 +22,6 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Literal
 
 from bridge import Bridge, LockstepClient, NoReply, StepTimeout, handshake
 from protocol import (
@@ -33,6 +32,7 @@ from protocol import (
     EngineInfo,
     Event,
     Reset,
+    RobotMode,
     State,
 )
 
@@ -85,7 +85,7 @@ class BrainNode:
         observer: Observer = Observer.BTOM,
         timeout: float | None = 10.0,
         handshake_timeout: float | None = 30.0,
-        robot: Literal["act", "observe"] | None = None,
+        robot: RobotMode | None = None,
         robot_settings: RobotSettings | None = None,
         shadows: Sequence[Observer] = (),
         shadow_dir: Path | None = None,
@@ -126,7 +126,7 @@ class BrainNode:
         if not robots:
             return None
         spec = robots[0]
-        acts = spec.acts if self.robot_mode is None else self.robot_mode == "act"
+        acts = spec.acts if self.robot_mode is None else self.robot_mode == RobotMode.ACT
         log.info("robot '%s' %s", spec.id, "acts" if acts else "only observes")
         minds = oracle_minds(self._truths, info, tracker) if acts else None  # None: the inferred minds
         return RobotBrain(tracker, spec.id, self.robot_settings, minds) if acts else None

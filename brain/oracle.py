@@ -17,7 +17,7 @@ import threading
 from collections.abc import Callable, Mapping
 
 from bridge import Bridge, Received
-from protocol import Capability, EngineInfo, Policy, State, Truth
+from protocol import Capability, EngineInfo, Policy, RobotMode, State, Truth
 
 from .errors import BrainError
 from .model.estimates import Estimate
@@ -75,11 +75,11 @@ class TruthFeed:
 
 
 def truth_feed(
-    bridge: Bridge, settings: RobotSettings, robot: str | None, wait: float | None
+    bridge: Bridge, settings: RobotSettings, robot: RobotMode | None, wait: float | None
 ) -> TruthFeed | None:
     """A :class:`TruthFeed` when the robot acts by the ``oracle`` policy (``robot``: the node's
     ``act``/``observe`` override, ``None``: as the scene says), else ``None``."""
-    if settings.policy != Policy.ORACLE.value or robot == "observe":
+    if settings.policy != Policy.ORACLE or robot == RobotMode.OBSERVE:
         return None
     return TruthFeed(bridge, wait)
 

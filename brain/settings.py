@@ -4,6 +4,7 @@ settings files (``--settings FILE.toml``, ``--set NAME=VALUE``)."""
 from __future__ import annotations
 
 import dataclasses
+import enum
 import json
 import logging
 import tomllib
@@ -20,6 +21,17 @@ from .robotsettings import (
     RobotSettings,
     check_values,
 )
+
+
+class UnseenWorld(enum.StrEnum):
+    """How an embodied robot keeps the world it cannot see (``ModelSettings.unseen_world``):
+    ``joint``, every combination of the unseen items' places (:mod:`brain.tracking.jointworld`);
+    ``factored``, one belief per item (:mod:`brain.tracking.itemworld`); ``auto``, joint where
+    it fits (:mod:`brain.tracking.unseen`)."""
+
+    AUTO = "auto"
+    JOINT = "joint"
+    FACTORED = "factored"
 
 
 @dataclass(frozen=True)
@@ -93,6 +105,8 @@ class ModelSettings:
             paper's setting) or ``embodied`` (the item spots its own cell sees; every person is
             tracked; the rest is inferred jointly with the people's minds,
             :mod:`brain.tracking.worldview`).
+        unseen_world: embodied: how the unseen world is kept (:class:`UnseenWorld`; ``auto``:
+            the joint branches where they fit, :mod:`brain.tracking.unseen`).
         miss: the chance that a person overlooks an item coming into view (kept while it stays
             there): each person's filter keeps rows of who overlooked what, weighed by their
             decisions (:mod:`brain.model.lapses`); 0 (the default) turns lapses off.
@@ -157,6 +171,7 @@ class ModelSettings:
     person_planner: str = "qmdp"
     desire_levels: int = 3
     perception: str = Perception.OMNISCIENT.value
+    unseen_world: UnseenWorld = UnseenWorld.AUTO
     miss: float = 0.0
     hearsay_per_s: float = 0.0
     answer_reliability: float = 0.9
@@ -190,6 +205,7 @@ class ModelSettings:
             "person_planner": self.person_planner in ("qmdp", "belief"),
             "top_worlds": self.top_worlds >= 0,
             "perception": self.perception in Perception.names(),
+            "unseen_world": isinstance(self.unseen_world, UnseenWorld),
             "miss": 0.0 <= self.miss < 1.0,
             "hearsay_per_s": self.hearsay_per_s >= 0.0,
             "answer_reliability": 0.5 < self.answer_reliability <= 1.0,
@@ -228,6 +244,7 @@ ALLOWED = {
     "person_planner": "one of qmdp, belief",
     "top_worlds": "an int >= 0",
     "perception": f"one of {', '.join(Perception.names())}",
+    "unseen_world": f"one of {', '.join(w.value for w in UnseenWorld)}",
     "miss": "0 <= miss < 1",
     "hearsay_per_s": "hearsay_per_s >= 0",
     "answer_reliability": "0.5 < answer_reliability <= 1",
@@ -281,6 +298,10 @@ def _field_types(cls: type) -> dict[str, type]:
 def _value(section: str, name: str, value: object) -> object:
     """``value`` checked against the type of ``section.name`` (an int is a fine float)."""
     expected = _field_types(SECTIONS[section])[name]
+    if issubclass(expected, enum.Enum):  # a choice: read from its value (ALLOWED names them)
+        if value not in {v.value for v in expected}:
+            raise SettingsError(f"{section}.{name}: {ALLOWED[name]}, got {value!r}")
+        return expected(value)
     if expected is float and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
     if not isinstance(value, expected) or (expected is not bool and isinstance(value, bool)):

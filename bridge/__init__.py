@@ -1,8 +1,9 @@
 """toyroom's bridge, the wire: Zenoh sessions, typed messaging, liveliness, lock-step, node
 processes (the core, here), and the tools of the wire built on it: ``recording`` (trace.jsonl,
-MCAP, replay), ``gateway`` (the protocol over a WebSocket) and ``conformance`` (the engine
-checks). The application (the ``toyroom`` command line, evaluation, fitting, the study pages,
-the live view) is the ``toyroom`` package, which bridge never imports.
+MCAP, replay) and ``conformance`` (the engine checks). The application (the ``toyroom``
+command line, evaluation, fitting, the study pages, the live view, the WebSocket gateway for
+engines without Zenoh: ``toyroom.gateway``) is the ``toyroom`` package, which bridge never
+imports. ``tests/test_architecture.py`` holds bridge to its budget of lines.
 
 ``bridge`` depends on ``protocol`` only; it starts engines and brains as processes and
 never imports them.

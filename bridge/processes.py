@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import logging
 import os
-import re
 import signal
 import subprocess
 import sys
@@ -116,7 +115,9 @@ def stop_process_group(process: subprocess.Popen[bytes], grace: float = 5.0) -> 
 log = logging.getLogger("toyroom.run")
 
 
-def _network_args(settings: SessionSettings) -> list[str]:
+def network_args(settings: SessionSettings) -> list[str]:
+    """The network flags of a node's command line that give it ``settings`` (its Zenoh config file,
+    mode, listen and connect endpoints)."""
     args: list[str] = []
     if settings.config_file is not None:
         args += ["--zenoh-config", str(settings.config_file)]
@@ -161,7 +162,7 @@ def node_command(package: str, world: str, settings: SessionSettings, *args: str
         package,
         "--world",
         world,
-        *_network_args(settings),
+        *network_args(settings),
         *([] if settings.lease_ms == DEFAULT_LEASE_MS else ["--lease-ms", str(settings.lease_ms)]),
         *args,
     ]
@@ -187,59 +188,6 @@ def engine_command(
     if gateway is not None:
         raise BridgeError("the sim2d engine speaks Zenoh only (no --gateway)")
     return node_command("sim2d", world, settings, *args)
-
-
-def gateway_command(world: str, settings: SessionSettings, listen: str) -> list[str]:
-    """The command line of ``python -m bridge.gateway`` serving ``world`` on ``listen``."""
-    zenoh = _network_args(settings)
-    zenoh = ["--zenoh-listen" if arg == "--listen" else arg for arg in zenoh]
-    return [
-        sys.executable,
-        "-X",
-        "faulthandler",
-        "-m",
-        "bridge.gateway",
-        "--world",
-        world,
-        "--listen",
-        listen,
-        *zenoh,
-    ]
-
-
-GATEWAY_READY = re.compile(r"toyroom gateway: world '[^']*' on (?P<url>ws://[^\s()]+) \(ready\)")
-
-
-def start_gateway(
-    world: str,
-    settings: SessionSettings,
-    log_path: Path,
-    timeout: float = 30.0,
-    *,
-    group: bool = False,
-    stop: threading.Event | None = None,
-) -> tuple[subprocess.Popen[bytes], str]:
-    """A gateway process on a free loopback port, and its URL once it listens (``group``: see
-    :func:`start_node`).
-
-    Raises:
-        BridgeError: it exited, or did not say it listens within ``timeout`` s (its log says
-            why), or ``stop`` was set first.
-    """
-    process = start_node(gateway_command(world, settings, "ws://127.0.0.1:0"), log_path, group=group)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and not (stop is not None and stop.is_set()):
-        match = GATEWAY_READY.search(log_path.read_text(encoding="utf-8", errors="replace"))
-        if match:
-            return process, match.group("url")
-        if process.poll() is not None:
-            break
-        time.sleep(0.05)
-    if group:
-        stop_nodes([process])
-    else:
-        stop_node(process)
-    raise BridgeError(f"the gateway did not start (exit status {process.returncode}); see {log_path}")
 
 
 BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")

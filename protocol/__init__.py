@@ -6,17 +6,21 @@ defined here. See ``protocol/README.md`` for the wire-level description.
 
 from .choices import (
     MAP_CYCLE,
+    MAPS,
     OBSERVING,
     Choice,
     EpisodeKind,
+    EpisodeMap,
     Minds,
     Perception,
     Policy,
+    RobotMode,
     TaskKind,
     task_of,
 )
 from .codec import Encoding, decode, encode, read_header, to_builtins
 from .control import Pause, Reset, Resume, Step
+from .episodespec import DEFAULT_EPISODE, MAX_TICKS, EpisodeSpec
 from .errors import Error, ProtocolError, VersionMismatch
 from .events import Event, EventKind
 from .falsebelief import FALSE_BELIEF_MASS, believes_falsely, is_false_belief
@@ -103,12 +107,18 @@ __all__ = [
     "believes_falsely",
     "is_false_belief",
     "MAP_CYCLE",
+    "MAX_TICKS",
+    "DEFAULT_EPISODE",
+    "EpisodeSpec",
+    "MAPS",
+    "EpisodeMap",
     "OBSERVING",
     "Choice",
     "EpisodeKind",
     "Minds",
     "Perception",
     "Policy",
+    "RobotMode",
     "TaskKind",
     "task_of",
     "COMMAND_KINDS",

@@ -13,8 +13,12 @@ import enum
 from collections.abc import Sequence
 
 
-class Choice(enum.Enum):
-    """A set of named choices (the values are the names every command line takes)."""
+class Choice(enum.StrEnum):
+    """A set of named choices (the values are the names every command line takes).
+
+    A choice is its name as text (``str(Policy.TOM) == "tom"``, and it compares equal to
+    it), so a TOML file, a ``--set`` option and the wire carry the same words as before.
+    """
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
@@ -43,6 +47,17 @@ class Policy(Choice):
     TIDY = "tidy"
     ANNOUNCE = "announce"
     ORACLE = "oracle"
+
+
+class RobotMode(Choice):
+    """Whether the scene's robot acts (a scenario's ``robot``, every ``--robot`` option).
+
+    - ``act``: the brain sends it commands;
+    - ``observe``: it only watches (the brain's inference runs, nothing is sent).
+    """
+
+    ACT = "act"
+    OBSERVE = "observe"
 
 
 OBSERVING = "none"
@@ -111,10 +126,27 @@ class TaskKind(Choice):
     STALE = "stale"
 
 
-MAP_CYCLE = 3
-"""How many maps an evaluation's episodes cycle through, in turn by seed
-(``toyroom.evaluation.generation.MAPS``: the paper map and two houses); :func:`task_of`
-steps past that cycle."""
+class EpisodeMap(Choice):
+    """The maps generated episodes are drawn on (``python -m sim2d generate --map``), in the
+    order an evaluation's episodes cycle through them, one per episode index.
+
+    - ``paper``: the paper's bundled map;
+    - ``house-a``, ``house-b``: two houses the generator builds (its rooms, spots and seed:
+      ``sim2d.generation.episodes.HOUSES``).
+    """
+
+    PAPER = "paper"
+    HOUSE_A = "house-a"
+    HOUSE_B = "house-b"
+
+
+MAPS: tuple[str, ...] = EpisodeMap.names()
+"""The names of :class:`EpisodeMap`, in its order: the one list of maps the generator
+(``sim2d.generation.episodes``) and the evaluation (``toyroom.evaluation.generation``) use."""
+
+MAP_CYCLE = len(MAPS)
+"""How many maps an evaluation's episodes cycle through, in turn by seed (:data:`MAPS`);
+:func:`task_of` steps past that cycle."""
 
 
 def task_of(seed: int, kinds: Sequence[str] = TaskKind.names()) -> str:

@@ -29,11 +29,16 @@ class Morning(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
         beliefs: person id -> item id -> the location they are sure of (items they are not
             sure of are left out).
         favourites: person id -> the goal they want most (an item id, or ``out``).
+        household: the household's id (``Scene.household.id``), and ``map`` its map's name:
+            a generator refuses a morning of another household or map (and one that names
+            neither: a morning written before they were required).
     """
 
     items: dict[str, str]
     beliefs: dict[str, dict[str, str]] = {}
     favourites: dict[str, str] = {}
+    household: str | None = None
+    map: str | None = None
 
 
 def morning_of(truth: Truth) -> Morning:

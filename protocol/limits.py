@@ -40,7 +40,7 @@ MAX_CELL_SIZE = 1_000.0
 """The largest cell side (m); with the grid limit, coordinates stay far inside float64."""
 
 MAX_FRAME_BYTES = 16 * 1024 * 1024
-"""The WebSocket gateway's largest frame (:mod:`bridge.gateway`; 16 MiB): an engine behind it
+"""The WebSocket gateway's largest frame (:mod:`toyroom.gateway`; 16 MiB): an engine behind it
 answers the handshake with its whole ``engine_info`` in one frame."""
 MAX_SCENE_BYTES = MAX_FRAME_BYTES - 1024 * 1024
 """The largest scene, encoded as JSON (15 MiB): the frame less 1 MiB for the rest of

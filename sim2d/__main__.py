@@ -23,7 +23,7 @@ from bridge.flags import (
 )
 from bridge.recording.mcap import McapRecorder
 from bridge.session import add_network_args, settings_from_args, world_problem
-from protocol import ClockMode, Morning
+from protocol import MAX_TICKS, ClockMode, EpisodeKind, EpisodeSpec, Minds, Morning, RobotMode
 
 from .engine import Engine
 from .errors import Sim2dError
@@ -41,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     clock = parser.add_mutually_exclusive_group()
     clock.add_argument("--lockstep", action="store_true", help="advance only on step requests (the default)")
     clock.add_argument("--realtime", type=float, metavar="RATE", help="free-run at RATE x wall-clock speed")
-    parser.add_argument("--robot", choices=("act", "observe"), help="override the scenario's robot mode")
+    parser.add_argument("--robot", choices=RobotMode.names(), help="override the scenario's robot mode")
     parser.add_argument("--list", action="store_true", help="list the bundled scenarios and exit")
     parser.add_argument(
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
@@ -136,7 +136,9 @@ def generate_parser() -> argparse.ArgumentParser:
         metavar="MAP:SEED",
         help="write each of these episodes (instead of --map and --seed) and print their paths, one a line",
     )
-    parser.add_argument("--max-ticks", type=int, default=1500, help="the episode ends after this many ticks")
+    parser.add_argument(
+        "--max-ticks", type=int, default=MAX_TICKS, help="the episode ends after this many ticks"
+    )
     parser.add_argument(
         "--minds",
         choices=MINDS,
@@ -180,7 +182,8 @@ def generate_parser() -> argparse.ArgumentParser:
         type=Path,
         metavar="FILE.json",
         help="with --day D > 1: where the day before ended (protocol.Morning as JSON: items, the "
-        "people's sure beliefs and favourites); the night's changes are drawn on top",
+        "people's sure beliefs and favourites, and the household and map it is of, checked "
+        "strictly against this household's); the night's changes are drawn on top",
     )
     parser.add_argument("--out", type=Path, required=True, help="directory for the scenario (and map) files")
     add_log_level(parser, "WARNING")
@@ -202,24 +205,29 @@ def generate_main(argv: Sequence[str]) -> int:
     (``--rooms R --items K``: on a new house of that size instead)."""
     from .errors import ScenarioError
     from .generation.episodes import write_episode, write_house_episode
+    from .generation.mornings import MorningError
 
     parser = generate_parser()
     args = parser.parse_args(argv)
     if (problem := out_folder_problem(args.out)) is not None:
         print(f"{parser.prog}: {problem}", file=sys.stderr)
         return 2
-    common = {"minds": args.minds, "kind": args.kind, "tasks": args.tasks, "autonomy": dict(args.autonomy)}
+    autonomy = tuple(f"{name}={value}" for name, value in args.autonomy)
+    spec = EpisodeSpec(Minds(args.minds), EpisodeKind(args.kind), args.max_ticks, args.tasks or (), autonomy)
     days = {"day": args.day, "morning": _morning(parser, args.morning)}
     if args.rooms is not None and args.day is not None:
         parser.error("--day: households are drawn on --map or --episodes maps, not --rooms houses")
     try:
         if args.rooms is not None:
-            print(write_house_episode(args.out, args.rooms, args.items, args.seed, args.max_ticks, **common))
+            print(write_house_episode(args.out, args.rooms, args.items, args.seed, spec))
         elif args.episodes:
             for map_name, seed in _episode_list(parser, args.episodes):
-                print(write_episode(args.out, map_name, seed, args.max_ticks, **common, **days))
+                print(write_episode(args.out, map_name, seed, spec, **days))
         else:
-            print(write_episode(args.out, args.map, args.seed, args.max_ticks, **common, **days))
+            print(write_episode(args.out, args.map, args.seed, spec, **days))
+    except MorningError as err:  # one line, naming the file and what does not fit
+        print(f"{parser.prog}: --morning {args.morning}: {err}", file=sys.stderr)
+        return 2
     except (ValueError, ScenarioError) as err:
         parser.error(str(err))
     return 0
@@ -279,7 +287,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     try:
         policy = load_policy_table(args.policy) if args.policy else None
-        engine = Engine(args.scenario, seed=args.seed, robot=args.robot, policy=policy)
+        robot = RobotMode(args.robot) if args.robot else None
+        engine = Engine(args.scenario, seed=args.seed, robot=robot, policy=policy)
         clock = ClockMode.REALTIME if args.realtime is not None else ClockMode.LOCKSTEP
         node = EngineNode(
             engine,

@@ -22,6 +22,7 @@ from protocol import (
     ItemPlace,
     ItemSpec,
     RobotCommand,
+    RobotMode,
     Scene,
     State,
     Truth,
@@ -36,7 +37,7 @@ from .people.policytable import PolicyTable
 from .people.scripted import ScriptedPerson
 from .robot import RobotBody
 from .scenario.maps import agent_spec
-from .scenario.scenario import AgentSetup, RobotMode, Scenario, load_scenario
+from .scenario.scenario import AgentSetup, Scenario, load_scenario
 from .world.world import World
 
 ENGINE_NAME = "sim2d 0.1.0"
@@ -96,7 +97,7 @@ class Engine:
                 self.people[setup.id] = person
             else:
                 self.people[setup.id] = ScriptedPerson(setup)
-        acts = (self.robot_override or scenario.robot) == "act"
+        acts = (self.robot_override or scenario.robot) == RobotMode.ACT
         self.robots = {r.id: RobotBody(r.id, acts, scenario.name) for r in scenario.robots}
         self.gossip = np.random.default_rng([seed, len(scenario.people)])
         """Draws of hearsay (:mod:`sim2d.people.hearsay`), apart from every person's own."""
@@ -149,7 +150,7 @@ class Engine:
 
     @property
     def acts(self) -> bool:
-        return (self.robot_override or self.scenario.robot) == "act"
+        return (self.robot_override or self.scenario.robot) == RobotMode.ACT
 
     def scene(self) -> Scene:
         """The protocol scene of the loaded scenario."""

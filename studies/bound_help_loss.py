@@ -36,7 +36,17 @@ import numpy as np
 from brain.model.world import build_world_model
 from brain.robot.benefit import cell_distances
 from bridge.recording.trace import trace_records
-from protocol import EARSHOT_CELLS, EngineInfo, State, Truth, believes_falsely
+from protocol import (
+    EARSHOT_CELLS,
+    EngineInfo,
+    EpisodeKind,
+    EpisodeSpec,
+    Minds,
+    RobotMode,
+    State,
+    Truth,
+    believes_falsely,
+)
 from toyroom.evaluation.generation import generate_all
 
 
@@ -133,16 +143,18 @@ def main() -> int:
     print(" ".join(f"{p:>6} {'begin':>5}" for p in policies))
     totals: dict[str, list[float]] = {k: [] for k in ["fb", "told", "robot", "none", *policies]}
     for scenario in generate_all(
-        folder / "scenarios", args.episodes, args.seed, "rich", "tasks", 1000, args.tasks.split(",")
+        folder / "scenarios",
+        args.episodes,
+        args.seed,
+        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, tuple(args.tasks.split(","))),
     ):
-        base = {
-            o["person"]: o for o in owners(run(scenario, folder / "none" / scenario.stem, "observe", see))
-        }
+        observed = run(scenario, folder / "none" / scenario.stem, RobotMode.OBSERVE, see)
+        base = {o["person"]: o for o in owners(observed)}
         acting = {
             p: {
                 o["person"]: o
                 for o in owners(
-                    run(scenario, folder / p / scenario.stem, "act", [*see, "--set", f"policy={p}"])
+                    run(scenario, folder / p / scenario.stem, RobotMode.ACT, [*see, "--set", f"policy={p}"])
                 )
             }
             for p in policies

@@ -23,6 +23,7 @@ from rich.table import Table
 from brain.model.estimates import Estimate, false_belief_probability
 from brain.settings import ModelSettings, load_settings
 from brain.tracking.tracker import MindTracker
+from protocol import RobotMode
 from sim2d.engine import Engine
 
 MODELS = ("graded", "point")
@@ -87,7 +88,7 @@ class Run:
 
 
 def follow(scenario: str, settings: ModelSettings) -> Run:
-    engine = Engine(scenario, robot="observe")
+    engine = Engine(scenario, robot=RobotMode.OBSERVE)
     tracker = MindTracker(engine.scene(), settings)
     tracker.observe(engine.state(), ())
     while not engine.done:

@@ -26,6 +26,7 @@ import numpy as np
 from brain.model.desires import on_scale
 from brain.settings import ModelSettings, load_settings
 from brain.tracking.tracker import MindTracker
+from protocol import RobotMode
 from sim2d.engine import Engine
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "food-trucks"
@@ -59,7 +60,7 @@ GAP = (4, 1)
 def read(path: str, settings: ModelSettings, on_arrival: bool = False) -> Reading:
     """Run the scene at ``path`` and read the student after the last step (``on_arrival``:
     after the tick the student first stands in the gap)."""
-    engine = Engine(str(SCENES / f"{path}.toml"), robot="observe")
+    engine = Engine(str(SCENES / f"{path}.toml"), robot=RobotMode.OBSERVE)
     tracker = MindTracker(engine.scene(), settings)
     tracker.observe(engine.state(), ())
     while not engine.done:

@@ -12,6 +12,7 @@ record in ``episodes.json`` (``help``: who had a false belief, from which tick).
 from __future__ import annotations
 
 import argparse
+import gzip
 import json
 import statistics
 import tomllib
@@ -19,8 +20,11 @@ from pathlib import Path
 
 
 def wanted(minds: Path, tick: int, person: str, item: str) -> float | None:
-    """P(``person`` wants ``item`` most) in the first mind at or after ``tick`` of a minds file."""
-    for line in minds.read_text().splitlines():
+    """P(``person`` wants ``item`` most) in the first mind at or after ``tick`` of a minds file
+    (or its ``.gz``, as a finished evaluation keeps it)."""
+    packed = minds.with_name(f"{minds.name}.gz")
+    text = minds.read_text() if minds.exists() else gzip.decompress(packed.read_bytes()).decode()
+    for line in text.splitlines():
         mind = json.loads(line)
         if mind["tick"] < tick:
             continue

@@ -29,7 +29,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from bridge.recording.trace import trace_records
-from protocol import EngineInfo, State, Truth
+from protocol import EngineInfo, EpisodeKind, EpisodeSpec, Minds, RobotMode, State, Truth
 from toyroom.evaluation.generation import generate_all
 from toyroom.evaluation.revealed import stretches
 
@@ -48,7 +48,7 @@ def run(scenario: Path, folder: Path, sets: list[str]) -> Path:
         "--scenario",
         str(scenario),
         "--robot",
-        "observe",
+        RobotMode.OBSERVE,
         "--no-live",
     ]
     command += ["--out", str(target), *[a for s in sets for a in ("--set", s)]]
@@ -113,7 +113,10 @@ def main() -> int:
     args = parser.parse_args()
     folder = args.out or Path(tempfile.mkdtemp(prefix="revealed-"))
     scenarios = generate_all(
-        folder / "scenarios", args.episodes, args.seed, "rich", "tasks", 1000, args.tasks.split(",")
+        folder / "scenarios",
+        args.episodes,
+        args.seed,
+        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, tuple(args.tasks.split(","))),
     )
     rows = [row for scenario in scenarios for row in readings(run(scenario, folder / "runs", args.set))]
     print("episode              person item   steps sure_knew P(fb)max P(wants)start P(wants)max")

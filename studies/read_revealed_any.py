@@ -30,7 +30,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from bridge.recording.trace import trace_records
-from protocol import EngineInfo, Mind, State, Truth
+from protocol import EngineInfo, EpisodeKind, EpisodeSpec, Mind, Minds, RobotMode, State, Truth
 from toyroom.evaluation.generation import generate_all
 from toyroom.evaluation.revealed import Stretch, heading_wrong, stretches
 
@@ -40,7 +40,8 @@ Cell = tuple[int, int]
 def run(scenario: Path, folder: Path, sets: list[str]) -> Path:
     """``toyroom run`` of one episode, robot observing, embodied; its results folder."""
     target = folder / scenario.stem
-    command = [sys.executable, "-m", "toyroom", "run", "--scenario", str(scenario), "--robot", "observe"]
+    command = [sys.executable, "-m", "toyroom", "run", "--scenario", str(scenario)]
+    command += ["--robot", RobotMode.OBSERVE]
     command += ["--no-live", "--set", "perception=embodied", "--out", str(target)]
     command += [a for s in sets for a in ("--set", s)]
     subprocess.run(command, check=True, capture_output=True)
@@ -136,7 +137,10 @@ def main() -> int:
     args = parser.parse_args()
     folder = args.out or Path(tempfile.mkdtemp(prefix="revealed-any-"))
     scenarios = generate_all(
-        folder / "scenarios", args.episodes, args.seed, "rich", "tasks", 1000, args.tasks.split(",")
+        folder / "scenarios",
+        args.episodes,
+        args.seed,
+        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, tuple(args.tasks.split(","))),
     )
     with ThreadPoolExecutor(2) as pool:
         runs = list(pool.map(lambda s: run(s, folder / "runs", args.set), scenarios))

@@ -25,7 +25,7 @@ import numpy as np
 
 from brain.settings import ModelSettings, load_settings
 from brain.tracking.tracker import MindTracker
-from protocol import Truth
+from protocol import EpisodeKind, EpisodeSpec, Minds, RobotMode, Truth
 from sim2d.engine import Engine
 from toyroom.evaluation.generation import generate_all
 from toyroom.evaluation.wantread import want_stretches
@@ -34,7 +34,7 @@ from toyroom.evaluation.wantread import want_stretches
 def run_episode(scenario: Path, settings: ModelSettings) -> list[dict[str, object]]:
     """One row per person-tick of a want stretch: the person, the tick, outside or not,
     P(true want) and P(errand)."""
-    engine = Engine(str(scenario), robot="observe")
+    engine = Engine(str(scenario), robot=RobotMode.OBSERVE)
     tracker = MindTracker(engine.scene(), settings)
     outside = {c for r in engine.scene().regions if r.kind.value == "outside" for c in r.cells}
     truths: dict[int, Truth] = {}
@@ -79,7 +79,8 @@ def main() -> None:
     args = parser.parse_args()
     settings = load_settings(None, ["perception=embodied", *args.set]).model
     with tempfile.TemporaryDirectory() as folder:
-        scenarios = generate_all(Path(folder), args.episodes, args.seed, args.minds, args.kind)
+        spec = EpisodeSpec(Minds(args.minds), EpisodeKind(args.kind))
+        scenarios = generate_all(Path(folder), args.episodes, args.seed, spec)
         everything: list[dict[str, object]] = []
         for scenario in scenarios:
             rows = run_episode(scenario, settings)

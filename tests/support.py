@@ -249,17 +249,17 @@ class GridEngineProcess(EngineProcess):
 
 
 class GatewayProcess(EngineProcess):
-    """``python -m bridge.gateway`` on a world, on a free loopback port (:attr:`url`)."""
+    """``python -m toyroom.gateway`` on a world, on a free loopback port (:attr:`url`)."""
 
     def __init__(self, world: str, *args: str) -> None:
         import sys
         import time
 
-        from bridge.processes import GATEWAY_READY
+        from toyroom.gateway import GATEWAY_READY
 
         self.world = world
         self._start(
-            [sys.executable, "-m", "bridge.gateway", "--world", world, "--listen", "ws://127.0.0.1:0", *args]
+            [sys.executable, "-m", "toyroom.gateway", "--world", world, "--listen", "ws://127.0.0.1:0", *args]
         )
         deadline = time.monotonic() + 30
         while (match := GATEWAY_READY.search(self.output())) is None:
@@ -275,7 +275,7 @@ class CSharpEngineProcess(EngineProcess):
     with scenario ``scenario`` exported into ``folder``."""
 
     def __init__(self, url: str, folder: Path, scenario: str, *args: str) -> None:
-        from bridge.gateway import csharp
+        from toyroom.gateway import csharp
 
         csharp.export_scenario(scenario, folder)
         self._start(csharp.engine_command(url, folder, "--scenario", scenario, *args))
@@ -286,7 +286,7 @@ class GodotEngineProcess(EngineProcess):
     ``url``, with scenario ``scenario`` exported into ``folder``."""
 
     def __init__(self, url: str, folder: Path, scenario: str, *args: str) -> None:
-        from bridge.gateway import godot
+        from toyroom.gateway import godot
 
         godot.export_scenario(scenario, folder)
         self._start(godot.engine_command(url, folder, "--scenario", scenario, *args))

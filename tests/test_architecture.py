@@ -10,6 +10,7 @@ in-process); ``bridge`` imports neither; no library imports the application;
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -91,7 +92,6 @@ ROOMS = {
         "<core>": set(),
         "recording": {"<core>"},
         "conformance": {"<core>"},
-        "gateway": {"<core>"},
     },
     "toyroom": {
         "<core>": set(),
@@ -100,8 +100,9 @@ ROOMS = {
         "fitting": {"evaluation", "play"},
         "rating": {"view", "play"},  # play: which recordings are incomplete (their metadata)
         "play": {"view"},  # view: the people's colours, one per person on every page
-        "cli": {"evaluation", "fitting"},
-        "bench": {"evaluation"},
+        "cli": {"evaluation", "fitting", "gateway"},
+        "bench": {"evaluation", "gateway"},
+        "gateway": set(),
     },
     "brain": {
         "<base>": set(),
@@ -212,6 +213,27 @@ def test_top_level_has_few_modules(package: str) -> None:
     assert len(modules) <= MAX_TOP_MODULES, f"{package}/ has {len(modules)} modules at its top: {modules}"
 
 
+BRIDGE_BUDGET = 5_000
+"""The most lines ``bridge/`` may hold, every line of its modules counted (``wc -l``): the wire
+is a library an engine's author reads whole. It was 5,248 at d227688 (issue 68), the WebSocket
+gateway inside it; the gateway, a node built on the wire as the engine and the brain are, is
+``toyroom.gateway`` now."""
+
+
+def test_the_bridge_stays_within_its_budget() -> None:
+    lines = {
+        str(path.relative_to(ROOT)): len(path.read_text(encoding="utf-8").splitlines())
+        for path in sorted((ROOT / "bridge").rglob("*.py"))
+    }
+    total = sum(lines.values())
+    largest = ", ".join(f"{name} {n}" for name, n in sorted(lines.items(), key=lambda kv: -kv[1])[:5])
+    assert total <= BRIDGE_BUDGET, (
+        f"bridge/ holds {total:,} lines, over its budget of {BRIDGE_BUDGET:,}: move what is not the "
+        f"wire to the application (toyroom/), or re-state the budget here with the reason; "
+        f"largest: {largest}"
+    )
+
+
 def _exported(init: Path) -> list[str]:
     """The names in an ``__init__``'s ``__all__`` (empty when it has none)."""
     for node in ast.parse(init.read_text(encoding="utf-8")).body:
@@ -249,3 +271,76 @@ def test_only_the_fitting_and_bench_rooms_of_the_application_import_the_librarie
         and module.split(".")[0] not in LIBRARY_ROOMS.get(path.relative_to(ROOT / "toyroom").parts[0], set())
     )
     assert offenders == [], f"toyroom importing brain or sim2d outside {LIBRARY_ROOMS}: {offenders}"
+
+
+def test_the_robot_mode_is_written_only_in_its_enum() -> None:
+    """``act`` and ``observe`` are :class:`protocol.RobotMode`'s: no other module of the
+    packages writes either as a string (a scenario's ``robot``, every ``--robot``)."""
+    from protocol import RobotMode
+
+    home = ROOT / "protocol" / "choices.py"
+    written = []
+    for package in ALLOWED:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            if path == home:
+                continue
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if isinstance(node, ast.Constant) and node.value in RobotMode.names():
+                    written.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.value!r}")
+    assert written == [], "use protocol.RobotMode:\n" + "\n".join(written)
+
+
+def test_sim2d_writes_no_item_value_arithmetic() -> None:
+    """The item-value encoding (``v = 2 l + held``) is :mod:`protocol.itemvalue`'s: sim2d reads
+    the brain's policy table with its functions, never with ``2 *`` or ``::2`` by hand."""
+    arithmetic = re.compile(r"\b2 \* |::\s*2\s*\]")
+    written = [
+        f"{path.relative_to(ROOT)}:{number}: {line.strip()}"
+        for path in sorted((ROOT / "sim2d").rglob("*.py"))
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        if arithmetic.search(line)
+    ]
+    assert written == [], "use protocol.itemvalue:\n" + "\n".join(written)
+
+
+NAMED_TWICE: set[str] = set()
+"""Class names still defined in two modules of the packages, to be renamed (issue 68); the
+list only shrinks (empty: every class name means one thing)."""
+
+
+def test_a_class_name_means_one_thing() -> None:
+    """No two classes of the packages share a name (``brain.model.planner.PlanPolicy`` is
+    not :class:`protocol.Policy`), but the ones :data:`NAMED_TWICE` still lists."""
+    homes: dict[str, list[str]] = {}
+    for package in ALLOWED:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            for node in ast.parse(path.read_text(encoding="utf-8")).body:
+                if isinstance(node, ast.ClassDef):
+                    homes.setdefault(node.name, []).append(str(path.relative_to(ROOT)))
+    twice = {name: where for name, where in homes.items() if len(where) > 1}
+    new = {name: where for name, where in twice.items() if name not in NAMED_TWICE}
+    assert new == {}, f"class names defined more than once: {new}"
+    gone = sorted(NAMED_TWICE - set(twice))
+    assert gone == [], f"renamed already: take {gone} off NAMED_TWICE"
+
+
+def test_metric_names_are_listed_only_in_the_metrics_record() -> None:
+    """The metrics are :class:`toyroom.evaluation.scores.Scores`'s fields: no other module of
+    the packages writes a list (a tuple, list or set of two or more) of metric names by hand;
+    the report's tables, the intervals and the tests take them from the record
+    (:func:`~toyroom.evaluation.scores.metric_names`)."""
+    from toyroom.evaluation.scores import metric_names
+
+    names = set(metric_names())
+    home = ROOT / "toyroom" / "evaluation" / "scores.py"
+    written = []
+    for package in ALLOWED:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            if path == home:
+                continue
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if isinstance(node, (ast.Tuple, ast.List, ast.Set)):
+                    listed = [e.value for e in node.elts if isinstance(e, ast.Constant) and e.value in names]
+                    if len(listed) >= 2:
+                        written.append(f"{path.relative_to(ROOT)}:{node.lineno} {listed}")
+    assert written == [], "use toyroom.evaluation.scores.metric_names:\n" + "\n".join(written)

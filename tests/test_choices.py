@@ -9,16 +9,33 @@ import argparse
 
 import pytest
 
+import protocol
+from brain.__main__ import run_parser as brain_parser
 from brain.robot.branches import POLICIES as TREE_POLICIES
 from brain.robot.branches import build_tree
 from brain.robotsettings import ROBOT_POLICIES, RobotSettings
 from brain.settings import ALLOWED, ModelSettings
-from protocol import MAP_CYCLE, OBSERVING, EpisodeKind, Minds, Perception, Policy, TaskKind, task_of
+from protocol import (
+    MAP_CYCLE,
+    OBSERVING,
+    EpisodeKind,
+    EpisodeMap,
+    Minds,
+    Perception,
+    Policy,
+    RobotMode,
+    TaskKind,
+    task_of,
+)
+from sim2d.__main__ import build_parser as engine_parser
 from sim2d.__main__ import generate_parser
 from sim2d.generation import episodes as generator
 from sim2d.generation import tasks as generated_tasks
+from sim2d.scenario.scenario import load_scenario
+from toyroom.bench import memory as memory_bench
 from toyroom.cli.cli import build_parser
 from toyroom.evaluation import conditions
+from toyroom.evaluation import generation as evaluation_generation
 from toyroom.evaluation.generation import MAPS
 
 
@@ -116,3 +133,29 @@ def test_the_generator_and_the_evaluation_draw_the_same_task_kinds() -> None:
     assert conditions.Condition(kind="everyday").task_of(1000) is None
     drawn = [task_of(seed) for seed in range(6)]
     assert drawn == ["moved", "hidden", "contested", "told", "overlooked", "stale"], drawn
+
+
+def test_the_robot_mode_is_one_enum_every_command_line_takes() -> None:
+    names = RobotMode.names()
+    assert names == ("act", "observe"), names
+    assert (str(RobotMode.ACT), f"{RobotMode.OBSERVE}") == names, "a mode is written as its word"
+    for command, parser, sub in (
+        ("python -m sim2d", engine_parser(), None),
+        ("python -m brain", brain_parser(), None),
+        ("toyroom run", build_parser(), "run"),
+    ):
+        choices = tuple(_option(parser, "--robot", sub).choices or ())
+        assert choices == names, f"{command} --robot takes {choices}, expected {names}"
+    assert load_scenario("paper-robot").robot is RobotMode.ACT
+    assert load_scenario("paper-1").robot is RobotMode.OBSERVE
+
+
+def test_the_map_list_has_one_home_in_protocol() -> None:
+    assert generator.MAPS is protocol.MAPS, "the generator keeps a map list of its own"
+    assert evaluation_generation.MAPS is protocol.MAPS, "the evaluation keeps a map list of its own"
+    assert protocol.MAPS == EpisodeMap.names() == ("paper", "house-a", "house-b"), protocol.MAPS
+    assert MAP_CYCLE == len(protocol.MAPS)
+    assert set(generator.ITEMS) == set(EpisodeMap), f"items per map: {generator.ITEMS}"
+    assert set(generator.HOUSES) < set(EpisodeMap), f"generated houses: {generator.HOUSES}"
+    assert [evaluation_generation.map_of(i) for i in range(4)] == ["paper", "house-a", "house-b", "paper"]
+    assert set(memory_bench.HOUSES) <= set(EpisodeMap) and memory_bench.TASKS == TaskKind.names()

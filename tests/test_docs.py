@@ -126,3 +126,28 @@ def test_every_quoted_command_exists() -> None:
             if rest and re.fullmatch(r"[a-z][a-z0-9-]*", rest[0]) and rest[0] not in known:
                 unknown.append(f"{page.relative_to(ROOT)}:{line}: {command!r}: no command {rest[0]!r}")
     assert not unknown, "\n".join(unknown)
+
+
+PYTHON = re.compile(r"^```python\n(.*?)^```", re.M | re.S)
+EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
+
+
+def _stripped(text: str) -> list[str]:
+    return [line.strip() for line in text.splitlines() if line.strip()]
+
+
+def test_every_python_block_is_part_of_an_example_the_tests_run() -> None:
+    """A ``python`` block of the docs is a run of lines of one of ``examples/*.py`` (indents
+    aside), which ``tests/examples`` runs: no snippet the tests never run."""
+    examples = {path.name: _stripped(path.read_text(encoding="utf-8")) for path in EXAMPLES}
+    unrun = []
+    for page in PAGES:
+        text = page.read_text(encoding="utf-8")
+        for block in PYTHON.finditer(text):
+            lines = _stripped(block.group(1))
+            n = len(lines)
+            if not any(
+                lines == source[i : i + n] for source in examples.values() for i in range(len(source))
+            ):
+                unrun.append(f"{page.relative_to(ROOT)}:{_line(text, block.start())}")
+    assert unrun == [], f"python blocks that are no part of examples/ ({sorted(examples)}): {unrun}"

@@ -2,7 +2,8 @@
 session, browser or Ray (``pytest --tier check``); ``make test`` runs every test but the
 sweeps; ``make sweeps`` runs the sweeps (``pytest --tier sweeps``): the tests marked
 ``sweep``, each a benchmark or a study run end to end over minutes of CPU (``toyroom bench
---quick``, a parameter's recovery over a dozen episodes). CI runs both.
+--quick``, a parameter's recovery over a dozen episodes). CI runs both. The fast tier also
+runs the tests marked ``example``: each runs one of ``examples/`` as real processes, in seconds.
 
 A test is marked ``process`` when its own code, a fixture it uses or a helper it calls (in
 its module, its class or ``support``) names one of :data:`STARTERS`; a test may also carry
@@ -28,6 +29,9 @@ import pytest
 
 MARK = "process"
 SWEEP = "sweep"
+EXAMPLE = "example"
+"""A test that runs one of ``examples/`` as real processes, in seconds: the fast tier keeps it
+(the examples run in ``make check``, as zenoh-python's CI runs its examples)."""
 STARTERS = frozenset(
     {
         # processes
@@ -87,6 +91,9 @@ def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "markers", f"{SWEEP}: a benchmark or study run end to end (only in `make sweeps`, which CI runs)"
     )
+    config.addinivalue_line(
+        "markers", f"{EXAMPLE}: runs an example of examples/ as processes, in seconds (in `make check` too)"
+    )
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
@@ -100,7 +107,12 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     elif tier == "test":
         kept = [item for item in items if item.get_closest_marker(SWEEP) is None]
     else:
-        kept = [item for item in items if not any(item.get_closest_marker(m) for m in (MARK, SWEEP))]
+        kept = [
+            item
+            for item in items
+            if item.get_closest_marker(SWEEP) is None
+            and (item.get_closest_marker(MARK) is None or item.get_closest_marker(EXAMPLE) is not None)
+        ]
     config.hook.pytest_deselected(items=[item for item in items if item not in kept])
     items[:] = kept
 
@@ -108,7 +120,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 @pytest.fixture(autouse=True)
 def _tier_guard(request: pytest.FixtureRequest) -> Iterator[None]:
     """In the fast tier, fail a test that starts a process or a Zenoh session unmarked."""
-    if request.config.getoption("--tier") != "check":
+    if request.config.getoption("--tier") != "check" or request.node.get_closest_marker(EXAMPLE):
         yield
         return
     with pytest.MonkeyPatch.context() as patch:

@@ -5,10 +5,11 @@
 from .keeper import CHECKPOINT_TICKS, MemoryKeeper
 from .priors import desire_prior, remembered, remembered_beliefs, view_log_prior
 from .snapshot import PersonMemory, Snapshot, snapshot_of
-from .store import SCHEMA_VERSION, MemoryStore, open_memory
+from .store import KEEP_DAYS, SCHEMA_VERSION, MemoryStore, open_memory
 
 __all__ = [
     "CHECKPOINT_TICKS",
+    "KEEP_DAYS",
     "MemoryKeeper",
     "SCHEMA_VERSION",
     "MemoryStore",

@@ -12,7 +12,7 @@ from .factoredperson import FactoredModel
 from .inference import HmmStep, forward, forward_step, smooth, switch_probability
 from .personinterface import PersonFilter, PersonModel, StepRecord
 from .personmodel import person_model
-from .planner import TAKE, Move, Policy, cached_policy, plan
+from .planner import TAKE, Move, PlanPolicy, cached_policy, plan
 from .revisions import SharedRevisions
 from .world import MOVE_STEPS, WorldModel, build_world_model
 
@@ -50,7 +50,7 @@ __all__ = [
     "Percept",
     "PersonFilter",
     "PersonModel",
-    "Policy",
+    "PlanPolicy",
     "SharedRevisions",
     "StepRecord",
     "WorldModel",

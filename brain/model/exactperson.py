@@ -20,7 +20,7 @@ from .desires import Desires
 from .estimates import Estimate, estimate
 from .inference import HmmStep, filter_step, log_of, smooth
 from .personinterface import StepRecord
-from .planner import Policy, cached_policy
+from .planner import PlanPolicy, cached_policy
 
 
 class ExactModel:
@@ -29,7 +29,7 @@ class ExactModel:
     exact = True
 
     def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
-        self.policy: Policy = cached_policy(scene, settings)
+        self.policy: PlanPolicy = cached_policy(scene, settings)
         self.model = self.policy.model
         self.desires = Desires(self.policy.utilities)
         self.beliefs = BeliefModel(self.model, settings.r, settings.delta)

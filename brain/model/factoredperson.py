@@ -104,6 +104,11 @@ class FactoredFilter:
     posterior: FactoredPosterior
     log_evidence: float = 0.0
 
+    def __deepcopy__(self, memo: dict[int, object]) -> FactoredFilter:
+        """A copy for another row (the posterior's arrays are never written in place: shared),
+        the model shared (a deep copy would copy its Q-values)."""
+        return dataclasses.replace(self)
+
     def step(self, record: StepRecord) -> None:
         self.posterior, evidence = factored_filter_step(
             self.posterior, self.owner.transition(record), self.owner.likelihood_of(record), record.switch

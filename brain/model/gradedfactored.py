@@ -155,6 +155,14 @@ class GradedFactoredFilter:
     started: bool = False
     """Whether a step was taken: the first sets the prior by the world then."""
 
+    def __deepcopy__(self, memo: dict[int, object]) -> GradedFactoredFilter:
+        """A copy for another row (lapses, :mod:`brain.model.lapses`; the factored unseen
+        world's, :mod:`brain.tracking.personrows`): arrays of its own, the model shared (a deep
+        copy would copy its Q-values: 6.6 s of 10 on a 20-room house's first 100 ticks)."""
+        return dataclasses.replace(
+            self, alpha=self.alpha.copy(), weights=self.weights.copy(), beliefs=self.beliefs.copy()
+        )
+
     def step(self, record: StepRecord) -> None:
         self.advance(record)
 

@@ -32,7 +32,7 @@ from .lookahead import cached_lookahead
 from .mixture import Beliefs, Mixture, certain, mixture_of, revised
 from .modes import ModeColumns, ModeRates, ModeStep, joint_likelihood, joint_prior, mode_back, mode_step
 from .personinterface import StepRecord
-from .planner import Policy, cached_policy
+from .planner import PlanPolicy, cached_policy
 from .remembered import Remembered
 from .revisions import SharedRevisions
 from .world import value_of
@@ -46,7 +46,7 @@ class GradedModel:
     exact = True
 
     def __init__(self, scene: Scene, settings: ModelSettings, true_world: bool) -> None:
-        self.policy: Policy = cached_policy(scene, settings)
+        self.policy: PlanPolicy = cached_policy(scene, settings)
         self.model = self.policy.model
         self.desires = Desires(self.policy.utilities)
         self.settings = settings

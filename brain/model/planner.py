@@ -219,7 +219,7 @@ def boltzmann(q: FloatArray, beta: float, epsilon: float) -> FloatArray:
 
 
 @dataclass(frozen=True)
-class Policy:
+class PlanPolicy:
     """The planner's output for one map.
 
     Attributes:
@@ -290,14 +290,14 @@ def solve(model: WorldModel, settings: ModelSettings) -> tuple[FloatArray, Float
     return u, qs
 
 
-def plan(model: WorldModel, settings: ModelSettings) -> Policy:
+def plan(model: WorldModel, settings: ModelSettings) -> PlanPolicy:
     """Solve the MDP of every candidate desire (no cache; see :func:`cached_policy`)."""
     u, qs = solve(model, settings)
     return _policy(model, u, qs, settings)
 
 
-def _policy(model: WorldModel, u: FloatArray, qs: FloatArray, settings: ModelSettings) -> Policy:
-    return Policy(model=model, utilities=u, q=qs, beta=settings.beta, epsilon=settings.epsilon)
+def _policy(model: WorldModel, u: FloatArray, qs: FloatArray, settings: ModelSettings) -> PlanPolicy:
+    return PlanPolicy(model=model, utilities=u, q=qs, beta=settings.beta, epsilon=settings.epsilon)
 
 
 PLANNING = (
@@ -353,7 +353,7 @@ def _cached_values(scene: Scene, key: tuple[object, ...]) -> tuple[WorldModel, F
 
 
 @lru_cache(maxsize=8)
-def cached_policy(scene: Scene, settings: ModelSettings) -> Policy:
+def cached_policy(scene: Scene, settings: ModelSettings) -> PlanPolicy:
     """The policy of a scene, computed once per (scene, settings) in this process; value
     iteration once per (scene without its agents, :data:`PLANNING` settings), so a fit over
     ``beta`` or over belief models solves each map once (and each day of a household alike)."""

@@ -135,3 +135,47 @@ def check_tracking_size(scene: Scene, settings: ModelSettings, branches: int, mo
             "(MEMORY_BUDGET_GB): turn lapses off (miss = 0, hearsay_per_s = 0) or let the robot see "
             "more (perception = omniscient)"
         )
+
+
+EXACT_MAX_BRANCHES = 512
+"""The most branches of an embodied robot's unseen world left after its first look for which
+``unseen_world = auto`` keeps the joint branches (:mod:`brain.tracking.jointworld`): above
+it the factored world (:mod:`brain.tracking.itemworld`). A 12-room house with 3 items (1000
+branches at the first look) ran with the joint branches, its first look taking about 70 s;
+the bundled houses have at most 64."""
+
+JOINT_MAX_WORLDS = 2**20
+"""The most worlds ``W = V**K`` whose joint branches ``unseen_world = auto`` builds to look
+with (the rows are every resting world of them): above it, the factored world from the start."""
+
+
+def joint_branches(scene: Scene) -> int:
+    """``H``: the branches of an embodied robot's unseen world before its first look, every
+    item at every location (an absent one at ``absent`` alone; capacities not counted)."""
+    L = len(scene.locations) + any(item.absent for item in scene.items)
+    out = 1
+    for item in scene.items:
+        out *= 1 if item.absent else L
+    return out
+
+
+def factored_rows(scene: Scene, settings: ModelSettings, model: object, most: int) -> int:
+    """The rows per person the factored unseen world keeps (:mod:`brain.tracking.personrows`):
+    ``most``, or fewer so that the rows times the people times the lapse rows times
+    :func:`row_floor` fit :data:`MEMORY_BUDGET_GB`.
+
+    Raises:
+        ModelTooLarge: not even one row per person fits (the omniscient robot's floor).
+    """
+    people, rows = sum(1 for a in scene.agents if a.kind is AgentKind.PERSON), lapse_rows(model)
+    floor = row_floor(scene, settings)
+    per_row = max(people * rows * floor, 1)
+    fit = int(MEMORY_BUDGET_GB * 2**30 // per_row)
+    if fit < 1:
+        raise ModelTooLarge(
+            f"scene '{scene.name}': {people} people x {rows} lapse rows x at least "
+            f"{floor / 2**20:.2f} MiB per row would take {per_row / 2**30:.3g} GiB even with one row "
+            f"of the unseen world each, above the brain's budget of {MEMORY_BUDGET_GB:.0f} GiB "
+            "(MEMORY_BUDGET_GB): turn lapses off (miss = 0, hearsay_per_s = 0)"
+        )
+    return min(most, fit)

@@ -2,8 +2,8 @@
 what each cell sees.
 
 Shapes: ``C`` walkable cells, ``L`` item locations, ``K`` items, ``V = 2L`` values per item
-(``v = 2*l + held``: resting at location ``l``, or held by someone else near ``l``; named by
-:func:`value_of`, :func:`location_of`, :func:`is_held` and their kin), and ``W = V**K``
+(``v = 2*l + held``: resting at location ``l``, or held by someone else near ``l``; the
+encoding of :mod:`protocol.itemvalue`, re-exported here), and ``W = V**K``
 possible worlds. Everything is numpy arrays indexed by these integers.
 """
 
@@ -11,12 +11,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from typing import overload
 
 import numpy as np
 
 from protocol import RegionKind, Scene
 from protocol.carry import CarrierSight, carry_locations, location_distances
+from protocol.itemvalue import HELD as HELD
+from protocol.itemvalue import RESTING as RESTING
+from protocol.itemvalue import VALUES_PER_LOCATION as VALUES_PER_LOCATION
+from protocol.itemvalue import held_value as held_value
+from protocol.itemvalue import is_held as is_held
+from protocol.itemvalue import is_resting as is_resting
+from protocol.itemvalue import location_of as location_of
+from protocol.itemvalue import value_of as value_of
 
 from .arrays import BoolArray, IntArray
 
@@ -27,68 +34,6 @@ MOVE_STEPS = ((0, 1), (0, -1), (-1, 0), (1, 0))
 """The cell step of each move action, in action-index order (``Move.UP``, ``DOWN``, ``LEFT``,
 ``RIGHT``) as (d col, d row); rows grow upwards. The planner's alphabet, not the
 4-neighbourhood (:data:`protocol.NEIGHBOURS`)."""
-
-
-VALUES_PER_LOCATION = 2
-"""Item values per location: resting there, or held by someone near it (``V = 2L``)."""
-
-RESTING = slice(0, None, VALUES_PER_LOCATION)
-"""On an axis of ``V`` item values, the ``L`` resting ones in location order: a slice, so
-``beliefs[..., RESTING]`` is ``(..., L)`` (a view)."""
-
-HELD = slice(1, None, VALUES_PER_LOCATION)
-"""On an axis of ``V`` item values, the ``L`` held ones in location order (``(..., L)``)."""
-
-
-@overload
-def value_of(location: int, held: bool = False) -> int: ...
-@overload
-def value_of(location: IntArray, held: bool | BoolArray = False) -> IntArray: ...
-def value_of(location: int | IntArray, held: bool | BoolArray = False) -> int | IntArray:
-    """The value of an item resting at location index ``location`` (``held`` false) or held
-    by someone near it (true): ``2 l + held``. Elementwise on int64 arrays (``held`` a bool
-    or a bool array broadcasting with ``location``)."""
-    return VALUES_PER_LOCATION * location + held
-
-
-@overload
-def location_of(value: int) -> int: ...
-@overload
-def location_of(value: IntArray) -> IntArray: ...
-def location_of(value: int | IntArray) -> int | IntArray:
-    """The location index of item value(s) ``value`` (``v // 2``), held or not; elementwise
-    on int64 arrays (same shape)."""
-    return value // VALUES_PER_LOCATION
-
-
-@overload
-def is_held(value: int) -> bool: ...
-@overload
-def is_held(value: IntArray) -> BoolArray: ...
-def is_held(value: int | IntArray) -> bool | BoolArray:
-    """Whether item value(s) ``value`` are held by someone (``v`` odd); elementwise on int64
-    arrays (a bool array of the same shape)."""
-    return value % VALUES_PER_LOCATION == 1
-
-
-@overload
-def is_resting(value: int) -> bool: ...
-@overload
-def is_resting(value: IntArray) -> BoolArray: ...
-def is_resting(value: int | IntArray) -> bool | BoolArray:
-    """Whether item value(s) ``value`` rest at their location (``v`` even); elementwise on
-    int64 arrays (a bool array of the same shape)."""
-    return value % VALUES_PER_LOCATION == 0
-
-
-@overload
-def held_value(value: int) -> int: ...
-@overload
-def held_value(value: IntArray) -> IntArray: ...
-def held_value(value: int | IntArray) -> int | IntArray:
-    """The value of the same location as ``value``, held (``v | 1``); elementwise on int64
-    arrays (same shape)."""
-    return value | 1
 
 
 @dataclass(frozen=True)

@@ -38,7 +38,7 @@ def labelled(rows: list[MindRow], agent: str, column: str = "p_smoothed") -> tup
 
 
 @dataclass(frozen=True)
-class Step:
+class LabelledStep:
     """One labelled step of a person: its label, the tick it was completed at, and whether the
     person had made a decision by then (else the estimates are the prior and what they saw)."""
 
@@ -47,13 +47,13 @@ class Step:
     decided: bool
 
 
-def steps_of(rows: list[MindRow], agent: str) -> list[Step]:
+def steps_of(rows: list[MindRow], agent: str) -> list[LabelledStep]:
     """The person's labelled steps in order. A step counts as decided when the person's
     log-evidence (the log-likelihood of their decisions so far) is no longer 0."""
-    steps: dict[str, Step] = {}
+    steps: dict[str, LabelledStep] = {}
     for row in rows:
         if row.agent == agent and row.label and row.quantity == "log_evidence" and row.label not in steps:
-            steps[row.label] = Step(row.label, row.tick, row.p_online != 0.0)
+            steps[row.label] = LabelledStep(row.label, row.tick, row.p_online != 0.0)
     return list(steps.values())
 
 
@@ -70,7 +70,7 @@ def truth_labels(truth: GroundTruth | None, labels: list[str], *, item: str | No
     return covered
 
 
-def steps_caption(steps: list[Step], agent: str, width: int = 110) -> str:
+def steps_caption(steps: list[LabelledStep], agent: str, width: int = 110) -> str:
     """The figures' line on what the steps are, wrapped to ``width`` characters."""
     if not steps:
         return ""
@@ -141,7 +141,7 @@ def _disagreement(smooth: Table, online: Table, label: str) -> tuple[str, str] |
     return best_on, best_sm
 
 
-def _shift_text(agent: str, shifts: list[Step], smooth: Table, online: Table) -> str:
+def _shift_text(agent: str, shifts: list[LabelledStep], smooth: Table, online: Table) -> str:
     """The paragraph on the steps whose smoothed preference disagrees with the online one."""
     first = shifts[0]
     best_on, best_sm = _disagreement(smooth, online, first.label) or ("", "")

@@ -5,7 +5,7 @@ sent (:mod:`.commands`), and the controller the brain node ticks (:mod:`.control
 from .commands import CommandBook
 from .context import RobotContext, Skip, Step
 from .controller import RobotBrain
-from .situation import Inform, Occupied, PutBack, Snapshot, Task
+from .situation import Inform, Occupied, PutBack, Situation, Task
 from .tree import RobotTree
 
 __all__ = [
@@ -17,7 +17,7 @@ __all__ = [
     "RobotContext",
     "RobotTree",
     "Skip",
-    "Snapshot",
+    "Situation",
     "Step",
     "Task",
 ]

@@ -12,7 +12,7 @@ from protocol import Cell, Navigate, Request, TaskEnd, TaskOutcome
 
 from ..settings import RobotSettings
 from .context import RobotContext, Skip, Step
-from .situation import Finder, Inform, Look, Occupied, Question, Task, why_unneeded
+from .situation import AskWhat, Finder, Inform, Look, Occupied, Task, why_unneeded
 
 
 def _client(behaviour: py_trees.behaviour.Behaviour, namespace: str) -> py_trees.blackboard.Client:
@@ -187,7 +187,7 @@ def describe(task: Task) -> str:
     if isinstance(task, Inform):
         rest = "".join(f", the {item} at {location}" for item, location in task.also)
         return f"tell {task.person} the {task.item} is at {task.location}{rest}"
-    if isinstance(task, Question):
+    if isinstance(task, AskWhat):
         return f"ask {task.person} what they are looking for"
     if isinstance(task, Look):
         return f"look whether the {task.item} is at {task.location}, to tell {task.person}"

@@ -14,8 +14,10 @@ item ``k`` resting at ``t``:
 - a **tell** names several items at once (:func:`tell_worth`): what each inform would save,
   summed, for one interruption and ``tell_item_cost`` per item named;
 - a **put-back** to ``b`` lands after the robot's walk to the item and on to ``b``: it saves the
-  search from ``b`` when it lands before they reach ``b``; it misleads everyone else who wants
-  the item and believes it at ``t`` (their search from ``t``);
+  owner's way to the item and on to where they use it, with it at ``t`` against at ``b``, when
+  it lands before they reach ``b``; a person sees an item on their way (:func:`sighted_steps`),
+  so one moved off their way, or away from where they use it, costs them (harm); it misleads
+  everyone else who wants the item and believes it at ``t`` (their search from ``t``);
 - an **ask** ("what are you looking for?", :func:`ask_worth`): the value of what the answer
   would teach, the robot's best help for the person after each answer weighted by its odds,
   against its best help now, less one interruption;
@@ -111,6 +113,47 @@ def _via(model: WorldModel, person_cell: int, t: int, search: float) -> FloatArr
     return here + search * between
 
 
+def _found(model: WorldModel, person_cell: int, t: int, search: float) -> FloatArray:
+    """``(L,)`` :func:`_via`, sooner where they see ``t`` on the way to ``l`` (a cell of a
+    shortest way there, ``l``'s own included, from which ``t`` is in view): then straight to it
+    (:func:`sighted_steps`). Informs are weighed by :func:`_via` (a person may overlook an item
+    on their way, and a word is cheap); moving an item is weighed by this (moving it off their
+    way is sure to cost them)."""
+    return np.minimum(_via(model, person_cell, t, search), sighted_steps(model, person_cell, t))
+
+
+def sighted_steps(model: WorldModel, person_cell: int, t: int) -> FloatArray:
+    """``(L,)`` steps for a person at ``person_cell`` walking to location ``l`` to reach an item
+    resting at ``t`` that they see on the way: the fewest, over the cells of a shortest way
+    from their cell to ``l`` from which ``t`` is in view (``WorldModel.sees``), of the steps to
+    that cell and from it to ``t``; ``inf`` where ``t`` is in view from none of them. People
+    take in what they see as they walk (sim2d's, and the model's percepts), so an item moved
+    onto a person's way is found there, and moving it off their way costs them the search."""
+    walk = cell_distances(model)[person_cell]  # (C,)
+    to_l = model.distance.astype(float)  # (L, C)
+    on_way = np.isclose(walk[None, :] + to_l, to_l[:, person_cell][:, None])  # (L, C)
+    seen = on_way & model.sees[:, t][None, :]
+    onward = walk + model.distance[t].astype(float)  # (C,): to the cell, then to t
+    return np.where(seen, onward[None, :], np.inf).min(axis=1)
+
+
+def play_steps(model: WorldModel) -> FloatArray:
+    """``(L,)`` steps from each location to the nearest play spot (where people use what they
+    fetched: the goal is reached there), zeros when the scene has none."""
+    if not model.play_at.any():
+        return np.zeros(model.n_locations)
+    return model.distance[:, model.play_at].min(axis=1).astype(float)
+
+
+def owner_steps(model: WorldModel, est: Estimate, k: int, person_cell: int, t: int, search: float) -> float:
+    """Expected steps for the person to have item ``k`` resting at ``t`` where they use it:
+    over the robot's estimate of where they believe it, to the item (:func:`_found`) and on to
+    the nearest play spot (:func:`play_steps`)."""
+    belief = est.beliefs[k, : model.n_locations]
+    found = float(belief @ np.nan_to_num(_found(model, person_cell, t, search), posinf=1e6))
+    return found / max(float(belief.sum()), 1e-12) + float(play_steps(model)[t])
+
+
 def steps_unhelped(
     model: WorldModel, est: Estimate, k: int, person_cell: int, t: int, search: float
 ) -> float:
@@ -182,23 +225,56 @@ def put_back_worth(
     settings: RobotSettings,
 ) -> Worth:
     """Carrying item ``k`` from ``t`` to ``b`` for ``owner`` (``robot_steps``: the robot's walk
-    to the item, then on to ``b``): it saves the owner's search when it lands before they reach
-    ``b``; everyone else who wants it and believes it at ``t`` would search from there."""
+    to the item, then on to ``b``): what it saves the owner, when it lands before they reach
+    ``b``, is their expected steps to have the item where they use it (:func:`owner_steps`) with
+    it at ``t`` less with it at ``b``; where that is negative (the item lies on their way, or
+    nearer where they use it) it is harm. Everyone else who wants it and believes it at ``t``
+    would search from there."""
     search = settings.search_factor
     between = float(model.distance[b, location_cells(model)[t]])
     est, cell = estimates.get(owner), cells.get(owner)
-    saved = 0.0
+    saved = owner_harm = 0.0
     if est is not None and cell is not None:
-        belief = est.beliefs[k, : model.n_locations] / max(est.beliefs[k, : model.n_locations].sum(), 1e-12)
-        landed = robot_steps + 2 * MANIPULATION_STEPS
-        if landed <= float(model.distance[b, cell]) + settings.put_back_slack:
-            saved = wants(est, k, settings.lasting_want) * float(belief[b]) * search * between
-    harm = 0.0
+        gain = owner_steps(model, est, k, cell, t, search) - owner_steps(model, est, k, cell, b, search)
+        gain *= wants(est, k, settings.lasting_want)
+        if not put_back_late(model, robot_steps, cell, b, settings.put_back_slack):
+            saved = max(gain, 0.0)
+        owner_harm = max(-gain, 0.0)
+    harm = owner_harm
     for person, other in estimates.items():
         if person != owner:
             there = other.beliefs[k, t] / max(other.beliefs[k, : model.n_locations].sum(), 1e-12)
             harm += wants(other, k, settings.lasting_want) * float(there) * search * between
     return Worth(saved, harm, settings.robot_step_cost * robot_steps)
+
+
+def put_back_walk(model: WorldModel, robot_cell: int, t: int, b: int) -> float:
+    """Steps of the robot's walk to put an item back from location ``t`` to ``b``: to the item,
+    then on to ``b`` (each stop taken from next to the spot)."""
+    steps = cell_distances(model)
+    at, to = location_cells(model)[t], location_cells(model)[b]
+    return float(steps[robot_cell, at]) + float(steps[at, to]) - 1.0
+
+
+def put_back_late(model: WorldModel, robot_steps: float, person_cell: int, b: int, slack: float) -> bool:
+    """Whether a put-back to ``b`` that takes the robot ``robot_steps`` (and its two handlings)
+    lands after the person on ``person_cell`` could reach ``b`` (by more than ``slack`` steps):
+    they would find ``b`` empty and search on, and the item would no longer be where they
+    searched."""
+    return robot_steps + 2 * MANIPULATION_STEPS > float(model.distance[b, person_cell]) + slack
+
+
+def put_back_lengthens(model: WorldModel, cell: int, t: int, b: int, search: float) -> bool:
+    """Whether moving an item from ``t`` to ``b`` lengthens the way to it of a person on
+    ``cell`` who believes it at ``b``. Left at ``t``, they walk towards ``b`` and on to ``t``
+    (sooner where they see ``t`` on the way, :func:`sighted_steps`), then to where they use it
+    (:func:`play_steps`); moved to ``b``, they walk to ``b`` and from there to where they use
+    it. An item on their way, or nearer where they use it, is best left where it is; a tie is
+    put back (the person's belief is then true again)."""
+    play = play_steps(model)
+    left = float(_found(model, cell, t, search)[b]) + play[t]
+    moved = float(model.distance[b, cell]) + play[b]
+    return moved > left
 
 
 def look_or_guess(

@@ -17,12 +17,12 @@ from .choice import look_chosen, question_chosen
 from .context import RobotContext, Skip, Step
 from .deception import benefit_inform, benefit_put_back, inform_or_deceived, put_back_unless_deceived
 from .situation import (
+    AskWhat,
     Finder,
     Inform,
     Look,
     Occupied,
     PutBack,
-    Question,
     announce_tasks,
     occupied_tasks,
     tidy_tasks,
@@ -271,8 +271,8 @@ def look_branch(ns: str) -> TaskBranch:
     )
 
 
-def _question(ctx: RobotContext) -> Question:
-    assert isinstance(ctx.task, Question)
+def _question(ctx: RobotContext) -> AskWhat:
+    assert isinstance(ctx.task, AskWhat)
     return ctx.task
 
 

@@ -10,7 +10,7 @@ can guess) it is:
   robot is sure where it rests;
 - **look** first at the likeliest place (:class:`~brain.robot.situation.Look`), when the robot
   cannot rule out other places and looking is worth more than guessing;
-- **ask** them what they are looking for (:class:`~brain.robot.situation.Question`), when what
+- **ask** them what they are looking for (:class:`~brain.robot.situation.AskWhat`), when what
   the answer would teach is worth more than the interruption
   (:func:`~brain.robot.benefit.ask_worth`), and not within ``ask_again_after`` of asking them.
 
@@ -41,7 +41,7 @@ from .benefit import (
     put_back_worth,
     tell_worth,
 )
-from .situation import Inform, Look, PutBack, Question, Snapshot, Task, _believed_why
+from .situation import AskWhat, Inform, Look, PutBack, Situation, Task, _believed_why
 
 SURE = 0.999
 """The robot treats an item's place as known when it gives it at least this."""
@@ -55,10 +55,10 @@ class Scored:
     worth: Worth
 
 
-_LAST: tuple[Snapshot, RobotSettings, list[Scored]] | None = None
+_LAST: tuple[Situation, RobotSettings, list[Scored]] | None = None
 
 
-def chosen(snap: Snapshot, settings: RobotSettings) -> list[Scored]:
+def chosen(snap: Situation, settings: RobotSettings) -> list[Scored]:
     """The tasks worth doing now (net worth above 0), the best per person and item, best
     first (computed once per snapshot and settings)."""
     global _LAST
@@ -67,14 +67,14 @@ def chosen(snap: Snapshot, settings: RobotSettings) -> list[Scored]:
     key, snap = snap, _lasting(snap) if settings.lasting_want else snap
     best = _best(candidates(snap, settings))
     for asked in questions(snap, settings, best):
-        assert isinstance(asked.task, Question)
+        assert isinstance(asked.task, AskWhat)
         best[(asked.task.person, "?")] = asked
     kept = sorted((s for s in best.values() if s.worth.net > 0), key=lambda s: -s.worth.net)
     _LAST = (key, settings, kept)
     return kept
 
 
-def _lasting(snap: Snapshot) -> Snapshot:
+def _lasting(snap: Situation) -> Situation:
     """``snap`` with every person's preference as help weighs it under ``lasting_want``
     (:func:`~brain.robot.benefit.lasting_preference`: an errand out ends in the want they set
     out with)."""
@@ -92,7 +92,7 @@ def _best(scored: Iterator[Scored]) -> dict[tuple[str, str], Scored]:
     best: dict[tuple[str, str], Scored] = {}
     for one in scored:
         task = one.task
-        assert not isinstance(task, Question)
+        assert not isinstance(task, AskWhat)
         key = (task.owner if isinstance(task, PutBack) else task.person, task.item)
         if key not in best or one.worth.net > best[key].worth.net:
             best[key] = one
@@ -100,7 +100,7 @@ def _best(scored: Iterator[Scored]) -> dict[tuple[str, str], Scored]:
 
 
 def questions(
-    snap: Snapshot, settings: RobotSettings, best: dict[tuple[str, str], Scored] | None = None
+    snap: Situation, settings: RobotSettings, best: dict[tuple[str, str], Scored] | None = None
 ) -> Iterator[Scored]:
     """Asking each person with empty hands what they are looking for, scored as the value of
     its answer (:func:`~brain.robot.benefit.ask_worth`): the best help for them after each
@@ -118,10 +118,10 @@ def questions(
         odds, after = open_answers(est.preference, snap.answer_reliability)
         helped = [_help(snap, settings, person, dataclasses.replace(est, preference=p)) for p in after]
         now = _net(s for (whom, _), s in best.items() if whom == person)
-        yield Scored(Question(person, times), ask_worth(odds, np.array(helped), now, settings))
+        yield Scored(AskWhat(person, times), ask_worth(odds, np.array(helped), now, settings))
 
 
-def _help(snap: Snapshot, settings: RobotSettings, person: str, est: Estimate) -> float:
+def _help(snap: Situation, settings: RobotSettings, person: str, est: Estimate) -> float:
     """The net worth of the robot's best help for ``person`` were their mind ``est`` (0 when
     nothing is worth doing)."""
     mind = dataclasses.replace(snap, estimates={**snap.estimates, person: est})
@@ -133,7 +133,7 @@ def _net(scored: Iterable[Scored]) -> float:
     return max((s.worth.net for s in scored), default=0.0)
 
 
-def candidates(snap: Snapshot, settings: RobotSettings, only: str | None = None) -> Iterator[Scored]:
+def candidates(snap: Situation, settings: RobotSettings, only: str | None = None) -> Iterator[Scored]:
     """Every inform, put-back and look the robot could do now, scored (``only``: for that
     person alone)."""
     model = snap.model
@@ -172,7 +172,7 @@ def candidates(snap: Snapshot, settings: RobotSettings, only: str | None = None)
 
 
 def _tell(
-    snap: Snapshot, person: str, informs: list[tuple[int, int, Worth]], settings: RobotSettings
+    snap: Situation, person: str, informs: list[tuple[int, int, Worth]], settings: RobotSettings
 ) -> Scored:
     """One tell to ``person`` of every item whose word is worth its ``tell_item_cost``
     (``informs``: item, the location it rests at, and the single inform's worth), likeliest
@@ -185,7 +185,7 @@ def _tell(
 
 
 def _put_back(
-    snap: Snapshot, settings: RobotSettings, cells: dict[str, int], robot: int, person: str, k: int, t: int
+    snap: Situation, settings: RobotSettings, cells: dict[str, int], robot: int, person: str, k: int, t: int
 ) -> Iterator[Scored]:
     """Putting item ``k`` (resting at ``t``) back where ``person`` most probably believes it,
     unless they moved it there themselves."""
@@ -207,7 +207,7 @@ def _put_back(
     yield Scored(PutBack(item, model.locations[believed], person, why=why), worth)
 
 
-def _where(snap: Snapshot, k: int) -> np.ndarray | None:
+def _where(snap: Situation, k: int) -> np.ndarray | None:
     """``(L,)`` where the robot believes item ``k`` rests (``None``: carried, or absent)."""
     model = snap.model
     location, holder = snap.item(model.items[k])
@@ -223,32 +223,32 @@ def _where(snap: Snapshot, k: int) -> np.ndarray | None:
     return row
 
 
-def _cells(snap: Snapshot) -> dict[str, int]:
+def _cells(snap: Situation) -> dict[str, int]:
     """Every agent's cell index."""
     index = snap.model.cell_index
     return {a.id: c for a in snap.state.agents if (c := index.get((a.cell.col, a.cell.row))) is not None}
 
 
-def _spot_cell(snap: Snapshot, location: int) -> int:
+def _spot_cell(snap: Situation, location: int) -> int:
     """The cell index of location index ``location``."""
     return int(np.argmin(snap.model.distance[location]))
 
 
-def inform_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+def inform_chosen(snap: Situation, settings: RobotSettings) -> Iterator[Inform]:
     """The ``inform`` branch's tasks under ``tom``: the informs worth doing, best first."""
     yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, Inform))
 
 
-def put_back_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+def put_back_chosen(snap: Situation, settings: RobotSettings) -> Iterator[PutBack]:
     """The ``put back`` branch's tasks under ``tom``: the put-backs worth doing, best first."""
     yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, PutBack))
 
 
-def question_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Question]:
+def question_chosen(snap: Situation, settings: RobotSettings) -> Iterator[AskWhat]:
     """The ``ask`` branch's tasks: the questions worth asking, best first."""
-    yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, Question))
+    yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, AskWhat))
 
 
-def look_chosen(snap: Snapshot, settings: RobotSettings) -> Iterator[Look]:
+def look_chosen(snap: Situation, settings: RobotSettings) -> Iterator[Look]:
     """The ``look`` branch's tasks: the looks worth doing, best first."""
     yield from (s.task for s in chosen(snap, settings) if isinstance(s.task, Look))

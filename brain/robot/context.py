@@ -12,7 +12,7 @@ from protocol import NEIGHBOURS, Action, Cell, GridCell, Navigate, TaskEnd
 
 from ..settings import RobotSettings
 from .commands import CommandBook
-from .situation import Finder, Snapshot, Task, still_needed
+from .situation import Finder, Situation, Task, still_needed
 
 
 class Skip(enum.Enum):
@@ -34,7 +34,7 @@ class RobotContext:
     home: GridCell
     settings: RobotSettings
     book: CommandBook
-    snapshot: Snapshot | None = None
+    snapshot: Situation | None = None
     task: Task | None = None
     branch: str | None = None
     finder: Finder | None = None

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
 
-import numpy as np
-
 from protocol import (
     AgentKind,
     CommandStatus,
@@ -29,7 +27,7 @@ from ..model.estimates import Estimate
 from ..settings import RobotSettings
 from ..tracking.tracker import MindTracker
 from .deception import deceptions
-from .situation import Snapshot
+from .situation import Situation
 from .tree import RobotTree
 
 
@@ -97,7 +95,7 @@ class RobotBrain:
             items = est.preference[:-1]
             if est.preference[-1] < 0.5 and items.sum() > 0:
                 self.before_out[person] = items / items.sum()
-        snapshot = Snapshot(
+        snapshot = Situation(
             scene=self.tracker.scene,
             model=self.tracker.model,
             state=state,
@@ -116,20 +114,9 @@ class RobotBrain:
         return self.tree.context.book.drain()
 
     def where(self) -> FloatArray | None:
-        """``(K, L)`` the robot's P(each item rests at each location), over the branches of the
-        world it cannot see, weighted by their posterior (``None``: it sees everything). An item
-        carried in a branch adds nothing there; rows are normalised where they have mass."""
-        view = self.tracker.view
-        if view is None:
-            return None
-        model = self.tracker.model
-        weights = self.tracker.branch_weights()
-        where = np.zeros((model.n_items, model.n_locations))
-        for k in range(model.n_items):
-            resting = view.rows[:, k] >= 0
-            np.add.at(where[k], view.rows[resting, k], weights[resting])
-        total = where.sum(axis=1, keepdims=True)
-        return np.divide(where, total, out=np.zeros_like(where), where=total > 0)
+        """``(K, L)`` the robot's P(each item rests at each location), over the world it
+        cannot see (``None``: it sees everything): :meth:`MindTracker.where`."""
+        return self.tracker.where()
 
     def record(self, status: CommandStatus) -> None:
         """A status from the engine."""

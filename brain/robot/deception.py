@@ -15,7 +15,7 @@ import numpy as np
 
 from ..settings import RobotSettings
 from .choice import inform_chosen, put_back_chosen
-from .situation import Inform, PutBack, Snapshot, inform_tasks, put_back_tasks
+from .situation import Inform, PutBack, Situation, inform_tasks, put_back_tasks
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,7 @@ class Deception:
     p: float
 
 
-def deceptions(snap: Snapshot, settings: RobotSettings) -> Iterator[Deception]:
+def deceptions(snap: Situation, settings: RobotSettings) -> Iterator[Deception]:
     """The moves that still stand (the item rests where its mover put it) and read as
     deceptions: the mover believes, at least ``settings.deception_threshold`` probably, that
     the person still believes the item where it was, and it is what the person most
@@ -52,7 +52,7 @@ def deceptions(snap: Snapshot, settings: RobotSettings) -> Iterator[Deception]:
                 yield Deception(mover=mover, person=person, item=item, p=unseen * float(est.preference[k]))
 
 
-def deceived_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+def deceived_tasks(snap: Situation, settings: RobotSettings) -> Iterator[Inform]:
     """With ``on_deception = "tell"``: tell each deceived person who probably holds a false
     belief about the item where it is now, wherever they are heading."""
     if settings.on_deception != "tell":
@@ -63,33 +63,33 @@ def deceived_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
             yield Inform(person=d.person, item=d.item, location=snap.item(d.item)[0] or "")
 
 
-def inform_or_deceived(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+def inform_or_deceived(snap: Situation, settings: RobotSettings) -> Iterator[Inform]:
     """The ``tom`` inform branch's tasks (the paper's thresholds):
     :func:`~brain.robot.situation.inform_tasks`, then :func:`deceived_tasks`."""
     yield from inform_tasks(snap, settings)
     yield from deceived_tasks(snap, settings)
 
 
-def put_back_unless_deceived(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+def put_back_unless_deceived(snap: Situation, settings: RobotSettings) -> Iterator[PutBack]:
     """The ``tom`` put-back branch's tasks: :func:`~brain.robot.situation.put_back_tasks`, less
     the items of likely deceptions when the robot tells the deceived instead."""
     yield from _unless_deceived(put_back_tasks(snap, settings), snap, settings)
 
 
-def benefit_inform(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+def benefit_inform(snap: Situation, settings: RobotSettings) -> Iterator[Inform]:
     """The ``benefit`` policy's informs: those worth doing
     (:func:`~brain.robot.choice.inform_chosen`), then :func:`deceived_tasks`."""
     yield from inform_chosen(snap, settings)
     yield from deceived_tasks(snap, settings)
 
 
-def benefit_put_back(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+def benefit_put_back(snap: Situation, settings: RobotSettings) -> Iterator[PutBack]:
     """The ``benefit`` policy's put-backs: those worth doing
     (:func:`~brain.robot.choice.put_back_chosen`), less the items of likely deceptions when
     the robot tells the deceived instead."""
     yield from _unless_deceived(put_back_chosen(snap, settings), snap, settings)
 
 
-def _unless_deceived(tasks: Iterator[PutBack], snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+def _unless_deceived(tasks: Iterator[PutBack], snap: Situation, settings: RobotSettings) -> Iterator[PutBack]:
     deceived = {d.item for d in deceptions(snap, settings)} if settings.on_deception == "tell" else set()
     yield from (task for task in tasks if task.item not in deceived)

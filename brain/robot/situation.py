@@ -25,6 +25,7 @@ from ..model.estimates import Estimate
 from ..model.nested import NestedBeliefs
 from ..model.world import WorldModel
 from ..settings import RobotSettings
+from .benefit import put_back_late, put_back_lengthens, put_back_walk
 
 
 @dataclass(frozen=True)
@@ -72,7 +73,7 @@ class Look:
 
 
 @dataclass(frozen=True)
-class Question:
+class AskWhat:
     """Ask ``person`` what they are looking for (an open question: protocol 1.6's ``ask``),
     so as to help them with what they answer (:func:`brain.robot.benefit.ask_worth`);
     ``round``: how often the robot has asked them before (a later question is a new task)."""
@@ -81,11 +82,11 @@ class Question:
     round: int = 0
 
 
-Task = Inform | Occupied | PutBack | Look | Question
+Task = Inform | Occupied | PutBack | Look | AskWhat
 
 
 @dataclass(frozen=True)
-class Snapshot:
+class Situation:
     """Everything the robot's decisions read, at one tick."""
 
     scene: Scene
@@ -148,7 +149,7 @@ class Snapshot:
         return None, None
 
 
-def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+def inform_tasks(snap: Situation, settings: RobotSettings) -> Iterator[Inform]:
     """People with empty hands who do not know where the free item they want is, told where
     it is: heading for where they probably falsely believe it (a false belief at least
     ``belief_threshold``, their intention at least ``intention_threshold``), or searching (they
@@ -174,7 +175,7 @@ def inform_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
             yield searching
 
 
-def _searching(snap: Snapshot, settings: RobotSettings, person: str, est: Estimate) -> Inform | None:
+def _searching(snap: Situation, settings: RobotSettings, person: str, est: Estimate) -> Inform | None:
     """The inform for ``person`` when they search for the free item they most likely want
     without knowing where it is (see :func:`inform_tasks`), else ``None``."""
     model = snap.model
@@ -193,7 +194,7 @@ def _searching(snap: Snapshot, settings: RobotSettings, person: str, est: Estima
     return Inform(person=person, item=item, location=location)
 
 
-def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied]:
+def occupied_tasks(snap: Situation, settings: RobotSettings) -> Iterator[Occupied]:
     """People with empty hands who most likely want an item another person holds, and are
     heading for where they believe it is; the swap offers the holder the free item they most
     probably want (their inferred desire, not the order of the items). Not when the person
@@ -227,13 +228,16 @@ def occupied_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Occupied
         yield Occupied(person=person, item=item, holder=holder, offer=offer)
 
 
-def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+def put_back_tasks(snap: Situation, settings: RobotSettings) -> Iterator[PutBack]:
     """Items resting where someone who will look for them probably does not believe (a false
     belief at least ``belief_threshold`` probable), to be put back at their most probable
     believed location: the person who left the item there, or, for an item nobody left
     (the scene placed it), anyone but the person who moved it who may want it (preference at
     least ``put_back_preference``). Not when it would mislead someone else who may want it and
-    believes it where it is now (belief times preference at least ``put_back_harm``)."""
+    believes it where it is now (belief times preference at least ``put_back_harm``), nor when
+    it would serve the person worse than leaving it (:func:`_worse_than_leaving`): it lies on
+    their way to where they believe it, or where they use it, or the robot would put it there
+    only after they could have looked."""
     model = snap.model
     for k, item in enumerate(model.items):
         location, holder = snap.item(item)
@@ -256,10 +260,35 @@ def put_back_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]
             break
         if found is None or misled(snap, k, location, found[0]) >= settings.put_back_harm:
             continue
+        if _worse_than_leaving(snap, found[0], location, found[1], settings):
+            continue
         yield PutBack(item=item, location=found[1], owner=found[0], why=_believed_why(snap, item, *found))
 
 
-def _believed_why(snap: Snapshot, item: str, person: str, location: str) -> str:
+def _worse_than_leaving(
+    snap: Situation, person: str, location: str, believed: str, settings: RobotSettings
+) -> bool:
+    """Whether putting an item back from ``location`` at ``believed`` would serve ``person``
+    worse than leaving it: it lengthens their way to it
+    (:func:`~brain.robot.benefit.put_back_lengthens`: it lies on their way, or nearer where
+    they use it), or it would land after they could reach ``believed``
+    (:func:`~brain.robot.benefit.put_back_late`: they would look there first and search on;
+    not while they are outside, away on an errand, when the paper's robot tidies). ``False``
+    when the robot does not see them."""
+    model = snap.model
+    cells = {a.id: model.cell_index.get((a.cell.col, a.cell.row)) for a in snap.state.agents}
+    cell, robot = cells.get(person), cells.get(snap.robot) if snap.robot is not None else None
+    if cell is None:
+        return False
+    t, b = model.locations.index(location), model.locations.index(believed)
+    if put_back_lengthens(model, cell, t, b, settings.search_factor):
+        return True
+    if robot is None or model.outside[cell]:
+        return False  # away (an errand): not on their way to it now
+    return put_back_late(model, put_back_walk(model, robot, t, b), cell, b, settings.put_back_slack)
+
+
+def _believed_why(snap: Situation, item: str, person: str, location: str) -> str:
     """Where ``person``'s belief that ``item`` is at ``location`` comes from, as a task's text
     says it: they put it down there (and it was moved from there since), or only believe it."""
     moved_from = snap.moves[item][0] if item in snap.moves else None
@@ -268,7 +297,7 @@ def _believed_why(snap: Snapshot, item: str, person: str, location: str) -> str:
     return f"where {person} believes it is"
 
 
-def misled(snap: Snapshot, k: int, location: str, helped: str) -> float:
+def misled(snap: Situation, k: int, location: str, helped: str) -> float:
     """How much moving item ``k`` away from ``location`` would mislead the others: the most,
     over people other than ``helped``, of P(they believe it there) x P(they want it)."""
     where = snap.model.locations.index(location)
@@ -280,7 +309,7 @@ def misled(snap: Snapshot, k: int, location: str, helped: str) -> float:
     return max(harms, default=0.0)
 
 
-def tidy_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
+def tidy_tasks(snap: Situation, settings: RobotSettings) -> Iterator[PutBack]:
     """The ``tidy`` policy (no theory of mind): every item a person moved from one spot to
     another, still resting where they put it, goes back where it was."""
     for item, (source, target, mover) in snap.moves.items():
@@ -291,7 +320,7 @@ def tidy_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[PutBack]:
             )
 
 
-def announce_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
+def announce_tasks(snap: Situation, settings: RobotSettings) -> Iterator[Inform]:
     """The ``announce`` policy (no theory of mind): after every move, tell every other person
     where the item is now."""
     for item, (_, target, mover) in snap.moves.items():
@@ -303,18 +332,18 @@ def announce_tasks(snap: Snapshot, settings: RobotSettings) -> Iterator[Inform]:
                 yield Inform(person=person, item=item, location=target)
 
 
-Finder = Callable[[Snapshot, RobotSettings], Iterator[Task]]
+Finder = Callable[[Situation, RobotSettings], Iterator[Task]]
 
 
-def still_needed(finder: Finder, task: Task, snap: Snapshot, settings: RobotSettings) -> bool:
+def still_needed(finder: Finder, task: Task, snap: Situation, settings: RobotSettings) -> bool:
     """Whether ``finder`` still sees ``task`` in the world as it is now."""
     return any(candidate == task for candidate in finder(snap, settings))
 
 
-def why_unneeded(task: Task, snap: Snapshot, settings: RobotSettings) -> str:
+def why_unneeded(task: Task, snap: Situation, settings: RobotSettings) -> str:
     """Why a begun ``task`` is no longer called for, in words for ``events.csv``: the first of
     the checks its finder makes that the world as it is now fails."""
-    if isinstance(task, Question):
+    if isinstance(task, AskWhat):
         if snap.holding(task.person) is not None:
             return f"{task.person} is carrying the {snap.holding(task.person)}"
         return f"asking {task.person} is no longer worth more than helping them as they are"

@@ -30,7 +30,7 @@ from ..settings import RobotSettings
 from .branches import build_tree
 from .commands import CommandBook
 from .context import RobotContext
-from .situation import Snapshot
+from .situation import Situation
 
 
 class RobotTree:
@@ -47,7 +47,7 @@ class RobotTree:
         self.root = build_tree(self.namespace, self.context.settings.policy)
         self.root.setup_with_descendants()
 
-    def tick(self, snapshot: Snapshot) -> None:
+    def tick(self, snapshot: Situation) -> None:
         """Tick once with the world as it is now."""
         self.context.snapshot = snapshot
         self.root.tick_once()

@@ -6,6 +6,8 @@ from __future__ import annotations
 import logging
 from collections.abc import Sequence
 
+import numpy as np
+
 from ..memory.priors import remembered, view_log_prior
 from ..memory.snapshot import Distribution, Snapshot
 from ..model.arrays import FloatArray
@@ -15,6 +17,7 @@ from ..model.personinterface import PersonModel
 from ..model.remembered import Remembered
 from ..model.world import WorldModel, location_of
 from ..settings import ModelSettings
+from .itemview import ItemView
 from .worldview import WorldView
 
 log = logging.getLogger("toyroom.brain")
@@ -41,12 +44,25 @@ def remembered_people(
     }
 
 
-def start_view(view: WorldView, model: WorldModel, memory: Snapshot, settings: ModelSettings) -> None:
-    """Weigh an embodied robot's hypotheses of where items rest by where it remembers them."""
-    if memory.items:
+def start_view(
+    view: WorldView | ItemView, model: WorldModel, memory: Snapshot, settings: ModelSettings
+) -> None:
+    """Weigh an embodied robot's hypotheses of where items rest by where it remembers them
+    (the factored view: each item's prior over its origins, :class:`.itemview.ItemView`)."""
+    if not memory.items:
+        return
+    if isinstance(view, WorldView):
         view.log_prior = view_log_prior(
             view.rows, model.items, model.locations, memory.items, settings.memory_forget
         )
+        return
+    spots = np.arange(model.n_locations)[:, None]  # (L, 1): one row per origin of one item
+    for k, item in enumerate(model.items):
+        log_p = view_log_prior(spots, [item], model.locations, memory.items, settings.memory_forget)
+        weighed = view.prior[k] * np.exp(log_p)
+        if weighed.sum() > 0:
+            view.prior[k] = weighed / weighed.sum()
+    view.origin = view.prior.copy()
 
 
 def robot_items(

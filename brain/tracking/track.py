@@ -1,14 +1,17 @@
 """One person as the tracker follows them: what was last seen of them (:class:`PersonTrack`)
-and their chain of steps and estimates in each branch of the unseen world (:class:`Chain`)."""
+and their chain of steps and estimates in each branch of the unseen world (:class:`Chain`):
+forked when the factored world's rows split (:func:`forked`), read now (:func:`read_now`)
+and smoothed (:func:`smoothed_chains`)."""
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
-from ..model.arrays import FloatArray
+from ..model.arrays import FloatArray, IntArray
 from ..model.belief import Percept
-from ..model.estimates import Estimate, slim
-from ..model.personinterface import PersonFilter, StepRecord
+from ..model.estimates import Estimate, mix, reread, slim
+from ..model.personinterface import PersonFilter, PersonModel, StepRecord
 
 
 @dataclass
@@ -59,3 +62,58 @@ def add(estimates: list[Estimate], est: Estimate, mass: float) -> None:
     if estimates:
         estimates[-1] = slim(estimates[-1], mass)
     estimates.append(est)
+
+
+def forked(chains: list[Chain], source: IntArray, keep: object) -> list[Chain]:
+    """The chains after a split of the factored world's rows: ``source`` ``(R,)`` names the
+    chain each row comes from; a chain named again is copied (its filter deeply, but for
+    ``keep``, the person model the filters share, and what it holds; its steps and estimates
+    are shared, as they never change)."""
+    memo: dict[int, object] = {}
+    for held in (keep, getattr(keep, "inner", None)):
+        if held is not None:
+            memo[id(held)] = held
+            memo.update({id(v): v for v in vars(held).values()})
+    out, used = [], set()
+    for s in (int(i) for i in source):
+        chain = chains[s]
+        if s in used:
+            chain = Chain(
+                chain.percept,
+                list(chain.steps),
+                copy.deepcopy(chain.filter, dict(memo)),
+                list(chain.estimates),
+            )
+        used.add(s)
+        out.append(chain)
+    return out
+
+
+def mixed(estimates: list[Estimate], weights: FloatArray, mass: float, pool: bool) -> Estimate:
+    """The chains' mixture (:func:`~brain.model.estimates.mix`); unless ``pool``, each slimmed
+    first (:func:`~brain.model.estimates.slim`: the factored world's rows keep their false
+    beliefs readable, not their pooled hypotheses, a ``(K, R P, L)`` array each read)."""
+    return mix(estimates if pool else [slim(e, mass) for e in estimates], weights)
+
+
+def read_now(
+    chains: list[Chain], truths: list[tuple[int, ...]], weights: FloatArray, mass: float, pool: bool = True
+) -> Estimate:
+    """Each chain's latest estimate, its false beliefs read against its world now
+    (``truths``), mixed by ``weights`` (``(R,)``; :func:`mixed`): chains ruled out since the
+    person's last step are gone, even when one is left."""
+    read = [
+        reread(c.estimates[-1] if pool else slim(c.estimates[-1], mass), t, mass)
+        for c, t in zip(chains, truths, strict=True)
+    ]
+    return mix(read, weights)
+
+
+def smoothed_chains(
+    model: PersonModel, chains: list[Chain], weights: FloatArray, mass: float
+) -> list[Estimate]:
+    """Each chain smoothed (``model``'s smoother) and the chains mixed by ``weights``."""
+    if len(chains) == 1:
+        return model.smoothed(chains[0].steps, chains[0].estimates)
+    per_chain = [model.smoothed(c.steps, c.estimates) for c in chains]
+    return [mix([slim(e, mass) for e in step], weights) for step in zip(*per_chain, strict=True)]

@@ -14,15 +14,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import msgspec
 import numpy as np
 
 from protocol import Activity, AgentKind, Event, EventKind, Observer, Perception, Scene, State
 
 from ..memory.snapshot import Snapshot
 from ..model.arrays import FloatArray
-from ..model.belief import Percept, carried_off, percept, told, true_values
-from ..model.estimates import Estimate, mix, reread, slim
+from ..model.belief import Percept, carried_off, true_values
+from ..model.estimates import Estimate, reread
 from ..model.gradedperson import GradedFilter, GradedModel
 from ..model.inference import switch_probability
 from ..model.nested import NestedBeliefs
@@ -31,15 +30,16 @@ from ..model.personmodel import person_model
 from ..model.planner import Move, play_action
 from ..model.remembered import Remembered
 from ..model.revisions import SharedRevisions
-from ..model.size import check_tracking_size
-from ..model.world import held_value, value_of
 from ..settings import ModelSettings
 from .answered import answered
 from .decisions import decided_action
 from .hearsay import rumours
+from .jointworld import JointWorld
+from .percepts import person_percept
 from .remembering import remembered_people, robot_items, start_view
 from .statecheck import check_items
-from .track import Chain, PersonTrack, add
+from .track import Chain, PersonTrack, add, forked, mixed, read_now, smoothed_chains
+from .unseen import Unseen, believed_state, checked, unseen_world
 from .waits import stays_due
 from .worldview import WorldView
 
@@ -76,18 +76,18 @@ class MindTracker:
         self.exact = self.person_model.exact
         """Whether the exact joint model is used (else the factored one: see ``exact_max_worlds``)."""
         self.people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
-        self.view: WorldView | None = None
-        """The robot's own knowledge of where items rest (``None``: it sees everything)."""
+        self.world: Unseen | None = None
+        """The robot's own knowledge of where items rest (``None``: it sees everything): the
+        joint branches or the factored world (:mod:`brain.tracking.unseen`)."""
         self.robot = next((a.id for a in scene.agents if a.kind is AgentKind.ROBOT), None)
         if self.settings.perception == Perception.EMBODIED.value:
             if self.robot is None:
                 raise ValueError(
                     f"perception = embodied needs a robot in scene '{scene.name}', which has none"
                 )
-            absent = [k for k, item in enumerate(scene.items) if item.absent]
-            self.view = WorldView(self.model, absent)
-        branches = 1 if self.view is None else len(self.view.rows)
-        self.tracks = {p: PersonTrack(p, chains=[Chain() for _ in range(branches)]) for p in self.people}
+            self.world = unseen_world(scene, self.settings, self.person_model, self.people, self._evidence)
+        count = (lambda _: 1) if self.world is None else self.world.count
+        self.tracks = {p: PersonTrack(p, chains=[Chain() for _ in range(count(p))]) for p in self.people}
         self.ticks: list[int] = []
         self.truth: tuple[int, ...] = ()
         self.carriers: tuple[int, ...] = ()
@@ -96,8 +96,6 @@ class MindTracker:
         """The items whose carrier moved (or put them down) at the last tick."""
         self.truths: dict[int, tuple[int, ...]] = {}
         """The true item values at every tick observed (for reading false beliefs then)."""
-        self.branch_truths: list[tuple[int, ...]] = []
-        """Every branch's item values at the last tick observed."""
         self.labels: dict[tuple[int, str], str] = {}
         self._online: dict[str, tuple[tuple[object, ...], Estimate]] = {}
         """Person -> the last online estimate and what it was read from (chains are only ever
@@ -107,17 +105,40 @@ class MindTracker:
         """Where each person believes each other believes each item is (:mod:`brain.model.nested`)."""
         self.nested_ticks: dict[int, FloatArray] = {}
         """Tick -> ``(P, K, L)`` the nested beliefs then, per pair of ``self.nested.pairs``."""
-        if memory is not None and self.view is not None:
-            start_view(self.view, self.model, memory, self.settings)
+        if memory is not None and self.world is not None:
+            start_view(self.world.view, self.model, memory, self.settings)
         self.remembered: dict[str, Remembered] = (
             {} if memory is None else remembered_people(memory, self.person_model, self.people, self.settings)
         )
         """Person -> what their model starts from (those the memory holds; graded models)."""
 
+    @property
+    def view(self) -> WorldView | None:
+        """The joint branches' hypotheses (``None``: the robot sees everything, or keeps the
+        factored world)."""
+        return self.world.view if isinstance(self.world, JointWorld) else None
+
+    def _evidence(self, person: str) -> FloatArray:
+        """``(R,)`` the log-likelihood of ``person``'s decisions in each of their chains."""
+        chains = self.tracks[person].chains
+        return np.array([c.estimates[-1].log_evidence if c.estimates else 0.0 for c in chains])
+
+    def _truths(self, person: str) -> list[tuple[int, ...]]:
+        """The item values of each of ``person``'s chains (the truth, seeing everything)."""
+        return [self.truth] if self.world is None else self.world.truths(person)
+
+    def _weights(self, person: str) -> FloatArray:
+        """``(R,)`` the weights ``person``'s chains are mixed with."""
+        return np.ones(1) if self.world is None else self.world.weights(person)
+
     def robot_items(self) -> dict[str, dict[str, float]]:
         """Where the robot itself believes each item rests (:func:`.remembering.robot_items`)."""
-        weights = None if self.view is None else self.branch_weights()
-        return robot_items(self.model, self.truth, self.branch_truths, weights)
+        return robot_items(self.model, self.truth, [], None) if self.world is None else self.world.items()
+
+    def where(self) -> FloatArray | None:
+        """``(K, L)`` the robot's P(each item rests at each location) (``None``: it sees
+        everything); a carried item's row is 0, the others are normalised."""
+        return None if self.world is None else self.world.where()
 
     def observe(self, state: State, events: Sequence[Event]) -> None:
         """Take in one tick: the state at its end and the events that happened during it.
@@ -132,20 +153,11 @@ class MindTracker:
         before = self.carriers
         self.carriers = tuple(-1 if (c := holders.get(k)) is None else c for k in model.items)
         self.carriers_moved = frozenset(k for k, c in enumerate(before) if c >= 0 and c != self.carriers[k])
-        if self.view is None:
-            truths = [true_values(model, {i.id: i.location for i in state.items}, holders)]
+        if self.world is None:
+            self.truth = true_values(model, {i.id: i.location for i in state.items}, holders)
         else:
-            robot_cell = cell_of.get(self.robot or "")
-            if robot_cell is not None:
-                kept = self.view.observe(state, robot_cell, events)
-                if not self.ticks:  # the first look: before any filter of a branch is made
-                    check_tracking_size(self.scene, self.settings, len(kept), self.person_model)
-                for track in self.tracks.values():
-                    track.chains = [track.chains[int(h)] for h in kept]
-            truths = [self.view.truth(h, holders) for h in range(len(self.view.rows))]
-        self.branch_truths = truths
-        likeliest = int(np.argmax(self.branch_weights()))
-        self.truth = truths[likeliest]
+            self._look(state, events, cell_of.get(self.robot or ""), holders)
+            self.truth = self.world.truth()
         self.truths[state.tick] = self.truth
         holding = {a.id: a.holding for a in state.agents}
         self.ticks.append(state.tick)
@@ -153,66 +165,55 @@ class MindTracker:
             if event.kind is EventKind.WAYPOINT and event.label is not None:
                 self.labels[(state.tick, event.actor)] = event.label
         cells: dict[str, int] = {}
-        percepts: dict[str, Percept] = {}  # each person's, in the likeliest branch
+        percepts: dict[str, Percept] = {}  # each person's, in their likeliest chain
+        joint = 0 if self.world is None else self.world.likeliest() if self.world.exact else None
         for person in self.people:
             cell = cell_of.get(person)
             if cell is None:
                 continue
-            seen = self._observe_person(self.tracks[person], state, cell, holding.get(person), truths, events)
+            seen = self._observe_person(self.tracks[person], state, cell, holding.get(person), events)
+            likeliest = joint if joint is not None else self.world.likeliest(person)  # type: ignore[union-attr]
             cells[person], percepts[person] = cell, seen[likeliest]
-        self._observe_nested(state.tick, state.time, cells, percepts)
+        # the nested beliefs: where each person is and what they perceive (likeliest chain)
+        self.nested.observe(
+            state.time, cells, percepts, lambda p: e.beliefs if (e := self.online(p)) else None
+        )
+        self.nested_ticks[state.tick] = self.nested.all_locations()
 
-    def _observe_nested(
-        self, tick: int, time: float, cells: dict[str, int], percepts: dict[str, Percept]
+    def _look(
+        self, state: State, events: Sequence[Event], robot_cell: int | None, holders: dict[str, int | None]
     ) -> None:
-        """Feed the nested beliefs one tick: where each person is and what they perceive (in
-        the likeliest branch of the unseen world)."""
-        self.nested.observe(time, cells, percepts, lambda p: e.beliefs if (e := self.online(p)) else None)
-        self.nested_ticks[tick] = self.nested.all_locations()
+        """The embodied robot's look: its unseen world takes the tick in, and each person
+        keeps the chains it keeps. At the first look, before any filter is made, the world is
+        checked against the memory budget (:func:`.unseen.checked`)."""
+        assert self.world is not None
+        if robot_cell is None:
+            self.world.settle(holders)
+            return
+        kept = self.world.observe(state, robot_cell, events, holders)
+        if not self.ticks:
+            world = checked(
+                self.world, self.scene, self.settings, self.person_model, self.people, self._evidence
+            )
+            if world is not self.world:
+                self.world = world
+                kept = world.observe(state, robot_cell, events, holders)
+            for person, track in self.tracks.items():
+                track.chains = [Chain() for _ in range(world.count(person))]
+            return
+        for person, track in self.tracks.items():
+            track.chains = [track.chains[int(h)] for h in kept[person]]
 
     def branch_weights(self) -> FloatArray:
-        """``(H,)`` the posterior of each branch of the unseen world: its prior share times how
-        well it explains every person's decisions so far (one branch when the robot sees all)."""
-        if self.view is None:
-            return np.ones(1)
-        log_w = self.view.log_prior.copy()
-        for track in self.tracks.values():
-            log_w += np.array([c.estimates[-1].log_evidence if c.estimates else 0.0 for c in track.chains])
-        log_w -= log_w.max()
-        w = np.exp(log_w)
-        return w / w.sum()
+        """``(H,)`` the posterior of each joint branch of the unseen world: its prior share
+        times how well it explains every person's decisions so far (one branch when the robot
+        sees all or keeps the factored world, whose weights are each person's: :meth:`_weights`)."""
+        return self.world.branch_weights() if isinstance(self.world, JointWorld) else np.ones(1)
 
     def believed_state(self, state: State) -> State:
         """``state`` with every item resting out of the robot's sight where the likeliest
         branch puts it (``state`` itself when the robot sees everything): what it acts on."""
-        if self.view is None:
-            return state
-        row = self.view.rows[int(np.argmax(self.branch_weights()))]
-        model = self.model
-        items = tuple(
-            item
-            if item.held_by is not None or item.id not in model.items
-            else msgspec.structs.replace(
-                item, location=model.locations[max(int(row[model.items.index(item.id)]), 0)]
-            )
-            for item in state.items
-        )
-        return msgspec.structs.replace(state, items=items)
-
-    def _percept(
-        self, agent: str, cell: int, held: int, truth: tuple[int, ...], events: Sequence[Event]
-    ) -> Percept:
-        """What ``agent`` perceives in a world of ``truth``: sight, then the robot's speech."""
-        model = self.model
-        seen = percept(model, cell, truth, held - 1 if held else None, self.carriers)
-        for event in events:  # speech: the robot told this person where an item is or who holds it
-            if event.kind is EventKind.SAY and event.target == agent and event.item in model.items:
-                k = model.items.index(event.item)
-                if event.location in model.locations:
-                    seen = told(seen, k, value_of(model.locations.index(event.location)))
-                elif event.detail.startswith("occupied by "):
-                    seen = told(seen, k, held_value(truth[k]))
-        return seen
+        return state if self.world is None else believed_state(state, self.model, self.world.believed())
 
     def _observe_person(
         self,
@@ -220,14 +221,18 @@ class MindTracker:
         state: State,
         cell: int,
         holding: str | None,
-        truths: list[tuple[int, ...]],
         events: Sequence[Event],
     ) -> list[Percept]:
-        """Take in one tick of one person; returns their percept in each branch."""
+        """Take in one tick of one person; returns their percept in each of their chains
+        (split first on what the factored world's items their cell shows)."""
         model = self.model
         tick = state.tick
+        source = None if self.world is None else self.world.split(track.agent, cell)
+        if source is not None:
+            track.chains = forked(track.chains, source, self.person_model)
+        truths = self._truths(track.agent)
         held = 0 if holding is None else model.items.index(holding) + 1
-        seen = [self._percept(track.agent, cell, held, truth, events) for truth in truths]
+        seen = [person_percept(model, track.agent, cell, held, t, events, self.carriers) for t in truths]
         track.said = answered(model.items, track.agent, self.robot, events, self.settings, track.said)
         if self.carriers_moved:  # an item they saw carried off: the carrier may take it anywhere
             own, moved = held - 1 if held else None, self.carriers_moved
@@ -350,9 +355,10 @@ class MindTracker:
             chain.steps.append(record)
             add(chain.estimates, chain.filter.estimate(truth), mass)
             chain.percept = percept_
-        track.said, weights = None, self.branch_weights()
+        track.said, weights = None, self._weights(track.agent)
         track.steps.append(track.chains[int(np.argmax(weights))].steps[-1])
-        add(track.estimates, mix([c.estimates[-1] for c in track.chains], weights), mass)
+        pool = self.world is None or self.world.exact
+        add(track.estimates, mixed([c.estimates[-1] for c in track.chains], weights, mass, pool), mass)
 
     # ----- reading ----------------------------------------------------------------------
 
@@ -362,22 +368,18 @@ class MindTracker:
         track = self.tracks[person]
         if not track.estimates:
             return None
-        weights = None if self.view is None else self.branch_weights()
+        weights = None if self.world is None else self._weights(person)
+        truths = self._truths(person)
         key: tuple[object, ...] = (len(track.estimates), len(track.chains), self.truth)  # what it reads
-        key += (tuple(self.branch_truths), b"" if weights is None else weights.tobytes())
+        key += (tuple(truths), b"" if weights is None else weights.tobytes())
         kept = self._online.get(person)
         if kept is not None and kept[0] == key:  # most ticks: nobody stepped, nothing moved
             return kept[1]
         mass = self.settings.false_belief_mass
         if weights is None:
             est = reread(track.estimates[-1], self.truth, mass)
-        else:  # embodied: each branch's latest, mixed by the weights now (branches ruled out
-            # since the person's last step are gone, even when one is left)
-            read = [
-                reread(c.estimates[-1], t, mass)
-                for c, t in zip(track.chains, self.branch_truths, strict=True)
-            ]
-            est = mix(read, weights)
+        else:  # embodied: each chain's latest, mixed by the weights now
+            est = read_now(track.chains, truths, weights, mass, self.world.exact)  # type: ignore[union-attr]
         self._online[person] = (key, est)
         return est
 
@@ -391,10 +393,5 @@ class MindTracker:
         """Smoothed estimates after each of ``person``'s steps (the factored models'
         approximately, :mod:`brain.model.factoredsmoother`); embodied, each branch smoothed and the
         branches mixed by their weights given everything."""
-        track = self.tracks[person]
-        if len(track.chains) == 1:
-            return self.person_model.smoothed(track.chains[0].steps, track.chains[0].estimates)
-        per_branch = [self.person_model.smoothed(c.steps, c.estimates) for c in track.chains]
-        weights = self.branch_weights()
-        mass = self.settings.false_belief_mass
-        return [mix([slim(e, mass) for e in step], weights) for step in zip(*per_branch, strict=True)]
+        chains, mass = self.tracks[person].chains, self.settings.false_belief_mass
+        return smoothed_chains(self.person_model, chains, self._weights(person), mass)

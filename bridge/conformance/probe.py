@@ -1,6 +1,6 @@
 """What the conformance checks stand on: a :class:`Probe` that talks to an engine (control
 requests, streams of what it publishes, robot commands followed to their end), and how a
-check reports (:class:`CheckResult` with its :class:`Outcome`; a check raises
+check reports (:class:`CheckResult` with its :class:`CheckOutcome`; a check raises
 :class:`CheckFailed`, :class:`CheckSkipped` or :class:`NotApplicable`)."""
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def kind_of(action: Action | UnknownAction) -> str:
     return action.kind if isinstance(action, UnknownAction) else str(type(action).__struct_config__.tag)
 
 
-class Outcome(enum.Enum):
+class CheckOutcome(enum.Enum):
     """How a check ended."""
 
     PASSED = "pass"
@@ -70,17 +70,17 @@ class CheckResult:
     skipped)."""
 
     name: str
-    outcome: Outcome
+    outcome: CheckOutcome
     detail: str = ""
 
     @property
     def passed(self) -> bool:
         """Whether the check ran and passed."""
-        return self.outcome is Outcome.PASSED
+        return self.outcome is CheckOutcome.PASSED
 
     @property
     def failed(self) -> bool:
-        return self.outcome is Outcome.FAILED
+        return self.outcome is CheckOutcome.FAILED
 
     def line(self) -> str:
         return f"{self.outcome.value:<4}  {self.name}" + (f": {self.detail}" if self.detail else "")
@@ -124,7 +124,8 @@ class _Stream:
 
 
 class Probe:
-    """Runs the checks against the engine of ``bridge``'s world."""
+    """What every check is given (``check_<name>(probe)``): the engine of ``bridge``'s world,
+    what it has published, and what the checks before learnt of it (its info, the tick)."""
 
     def __init__(self, bridge: Bridge, timeout: float = 5.0) -> None:
         self.bridge = bridge
@@ -319,5 +320,3 @@ class Probe:
         if me is None:
             raise CheckFailed(f"expected agent '{agent}' in the state, it is missing")
         return (me.cell.col, me.cell.row)
-
-    # ----- the checks -----------------------------------------------------------------

@@ -23,7 +23,7 @@ import pytest
 
 from ..bridge import Bridge
 from .checks import CHECK_NAMES, CheckResult, check_engine
-from .probe import Outcome
+from .probe import CheckOutcome
 
 
 class EngineConformance:
@@ -42,8 +42,8 @@ class EngineConformance:
     def _passed(self, results: dict[str, CheckResult], name: str) -> None:
         assert name in results, f"check '{name}' did not run (an earlier check failed): {list(results)}"
         result = results[name]
-        skip = result.outcome is Outcome.SKIPPED and not self.strict
-        if skip or result.outcome is Outcome.NOT_APPLICABLE:
+        skip = result.outcome is CheckOutcome.SKIPPED and not self.strict
+        if skip or result.outcome is CheckOutcome.NOT_APPLICABLE:
             pytest.skip(result.line())
         assert result.passed, result.line()
 

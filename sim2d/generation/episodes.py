@@ -11,18 +11,28 @@ those (sim2d, the grid engine) plays them.
 from __future__ import annotations
 
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from protocol import EpisodeKind, GridCell, Minds, Morning
+from protocol import (
+    DEFAULT_EPISODE,
+    EpisodeKind,
+    EpisodeMap,
+    EpisodeSpec,
+    GridCell,
+    Minds,
+    Morning,
+    RobotMode,
+)
+from protocol import MAPS as MAPS
 
 from ..scenario.maps import SCENARIO_DIR, GameMap, load_map
 from .households import day_seed, household_lines, night
 from .houses import house_map as house_map
-from .mornings import by_favourites, with_beliefs
-from .overrides import with_autonomy
+from .mornings import by_favourites, check_morning, with_beliefs
+from .overrides import parse_overrides, with_autonomy
 from .tasks import TASKS, check_kinds, person_lines, task_agents
 
 ITEM_SHAPES = (
@@ -82,25 +92,24 @@ def episode(
     map_path: Path,
     items: int,
     seed: int,
+    spec: EpisodeSpec = DEFAULT_EPISODE,
     *,
-    max_ticks: int = 1500,
-    minds: str = "simple",
-    kind: str = "everyday",
     people: int = 2,
-    tasks: Sequence[str] | None = None,
     morning: Morning | None = None,
 ) -> str:
     """The TOML text of a random episode on the map at ``map_path``, which the file names as
     ``map_ref`` (a bundled map's name, or a file name beside the episode: no absolute paths,
-    so a folder of episodes can be moved or shared); ``minds``: one of :data:`MINDS`;
-    ``kind``: one of :data:`KINDS`; ``people``: how many (everyday episodes; people past the
-    second get homes of their own draw, so the first two's episode is the same); ``tasks``:
-    the task kinds a ``tasks`` episode is drawn from (default: all of
-    :data:`~sim2d.generation.tasks.TASKS`); ``morning``: a day of a household after the first
+    so a folder of episodes can be moved or shared), drawn as ``spec`` says (its ``minds``:
+    one of :data:`MINDS`; its ``kind``: one of :data:`KINDS`; its ``tasks``: the task kinds a
+    ``tasks`` episode is drawn from, empty: all of :data:`~sim2d.generation.tasks.TASKS`; its
+    ``autonomy`` is the writers' to apply); ``people``: how many (everyday episodes; people
+    past the second get homes of their own draw, so the first two's episode is the same);
+    ``morning``: a day of a household after the first
     (:mod:`.households`): items where the morning has them, each person sure of what they
     were sure of at night (rich minds draw no ``knows`` or ``stale`` on top), wanting what
     they wanted most (a task is built around the first person's favourite item)."""
-    if people < 1 or (kind == "tasks" and people != 2):
+    minds, kind, max_ticks, tasks = spec.minds, spec.kind, spec.max_ticks, spec.tasks or None
+    if people < 1 or (kind == EpisodeKind.TASKS and people != 2):
         raise ValueError(f"an episode has at least 1 person (tasks: 2), not {people}")
     if minds not in MINDS:
         raise ValueError(f"minds must be one of {', '.join(MINDS)}, not {minds!r}")
@@ -108,7 +117,7 @@ def episode(
         raise ValueError(f"kind must be one of {', '.join(KINDS)}, not {kind!r}")
     rng = np.random.default_rng(seed)
     game_map = load_map(str(map_path))
-    rich = rich_autonomy(seed) if minds == "rich" else []
+    rich = rich_autonomy(seed) if minds == Minds.RICH else []
     if morning is not None and rich:  # the night's beliefs, not a fresh draw
         rich = [line for line in rich if line.split(" =")[0] not in ("knows", "stale")]
         rich += ["knows = 0.0", "stale = 0.0"]
@@ -125,18 +134,18 @@ def episode(
         f"# A generated episode (seed {seed}) on map {game_map.name}.",
         f'name = "{name}"',
         f'map = "{map_ref}"',
-        'robot = "act"',
+        f'robot = "{RobotMode.ACT}"',
         f"tick_seconds = {TICK_SECONDS}",
         f"max_ticks = {max_ticks}",
         "",
         "[autonomy]",
-        f"switch = {rng.uniform(0.0005, 0.002) * (kind != 'tasks'):.5f}",
-        f"mischief = {rng.uniform(0.05, 0.3) * (kind != 'tasks'):.3f}",
-        f"put_away = {rng.uniform(0.3, 0.8) * (kind != 'tasks'):.3f}",
+        f"switch = {rng.uniform(0.0005, 0.002) * (kind != EpisodeKind.TASKS):.5f}",
+        f"mischief = {rng.uniform(0.05, 0.3) * (kind != EpisodeKind.TASKS):.3f}",
+        f"put_away = {rng.uniform(0.3, 0.8) * (kind != EpisodeKind.TASKS):.3f}",
         "play_ticks = [60, 200]",
         "wait_ticks = [20, 60]",
         *rich,
-        *(['planner = "model"'] if minds == "model" else []),
+        *(['planner = "model"'] if minds == Minds.MODEL else []),
         "",
     ]
     if not 1 <= items <= len(ITEM_SHAPES):
@@ -148,7 +157,7 @@ def episode(
         if morning is not None:
             placed[item] = morning.items.get(item, placed[item])
         lines += ["[[items]]", f'id = "{item}"', f'shape = "{shape}"', f'at = "{placed[item]}"', ""]
-    people_of = _task_people if kind == "tasks" else _everyday_people
+    people_of = _task_people if kind == EpisodeKind.TASKS else _everyday_people
     agents = people_of(game_map, placed, homes, cells, seed, search, tasks, people, morning)
     lines += agents if morning is None else with_beliefs(agents, morning.beliefs)
     lines += ["[[agents]]", 'id = "robot"', 'kind = "robot"', f"home = [{homes[2][0]}, {homes[2][1]}]", ""]
@@ -195,15 +204,12 @@ def _everyday_people(
     return agents
 
 
-MAPS = {
-    "paper": None,
-    "house-a": (5, 4, 11),
-    "house-b": (6, 4, 23),
-}
-"""The maps episodes are drawn on: the paper's, and two generated houses (rooms, spots, seed)."""
+HOUSES = {EpisodeMap.HOUSE_A: (5, 4, 11), EpisodeMap.HOUSE_B: (6, 4, 23)}
+"""The generated houses among the maps episodes are drawn on (:data:`protocol.MAPS`,
+re-exported here as ``MAPS``): rooms, spots, seed; the others are bundled maps."""
 
-ITEMS = {"paper": 2, "house-a": 3, "house-b": 3}
-
+ITEMS = {EpisodeMap.PAPER: 2, EpisodeMap.HOUSE_A: 3, EpisodeMap.HOUSE_B: 3}
+"""How many items an episode on each map of :data:`MAPS` has."""
 
 PREFIX = "gen-"
 """Every generated episode's name starts with this, so it can never be mistaken for a
@@ -227,16 +233,14 @@ def write_house_episode(
     rooms: int,
     items: int,
     seed: int,
-    max_ticks: int = 1500,
-    minds: str = "simple",
-    kind: str = "everyday",
+    spec: EpisodeSpec = DEFAULT_EPISODE,
+    *,
     people: int = 2,
-    tasks: Sequence[str] | None = None,
-    autonomy: Mapping[str, str] | None = None,
 ) -> Path:
     """Write a house of ``rooms`` rooms, each with an item spot, and a random episode with
-    ``items`` items and ``people`` people on it (the scaling family of ``toyroom bench``);
-    return its path (``autonomy``: :func:`~sim2d.generation.overrides.with_autonomy`)."""
+    ``items`` items and ``people`` people on it, drawn as ``spec`` says (the scaling family of
+    ``toyroom bench``); return its path (``spec.autonomy``:
+    :func:`~sim2d.generation.overrides.with_autonomy`)."""
     if rooms < 2:
         raise ValueError(f"a house has at least 2 rooms, not {rooms}")
     directory.mkdir(parents=True, exist_ok=True)
@@ -245,19 +249,8 @@ def write_house_episode(
     map_path.write_text(house_map(map_name, rooms, rooms, seed))
     name = episode_name(map_name, seed)
     path = directory / f"{name}.toml"
-    text = episode(
-        name,
-        map_path.name,
-        map_path,
-        items,
-        seed,
-        max_ticks=max_ticks,
-        minds=minds,
-        kind=kind,
-        people=people,
-        tasks=tasks,
-    )
-    path.write_text(with_autonomy(text, autonomy or {}, path))
+    text = episode(name, map_path.name, map_path, items, seed, spec, people=people)
+    path.write_text(with_autonomy(text, parse_overrides(spec.autonomy), path))
     return path
 
 
@@ -265,47 +258,35 @@ def write_episode(
     directory: Path,
     map_name: str,
     seed: int,
-    max_ticks: int = 1500,
-    minds: str = "simple",
-    kind: str = "everyday",
-    tasks: Sequence[str] | None = None,
-    autonomy: Mapping[str, str] | None = None,
+    spec: EpisodeSpec = DEFAULT_EPISODE,
     day: int | None = None,
     morning: Morning | None = None,
 ) -> Path:
-    """Write a random episode (and its generated map) into ``directory``; return its path
-    (``tasks``: the task kinds of a ``tasks`` episode, default all; ``autonomy``: settings of
-    its ``[autonomy]`` table to override, :func:`~sim2d.generation.overrides.with_autonomy`).
+    """Write a random episode (and its generated map) into ``directory``, drawn as ``spec``
+    says; return its path (``spec.autonomy``: settings of its ``[autonomy]`` table to
+    override, :func:`~sim2d.generation.overrides.with_autonomy`).
 
     ``day``: the episode is that day of the household of ``seed`` (:mod:`.households`), named
     ``<episode>-d<day>``; every day after the first needs the end of the day before
     (``morning``)."""
     directory.mkdir(parents=True, exist_ok=True)
-    spec = MAPS[map_name]
-    if spec is None:
+    if map_name not in MAPS:
+        raise ValueError(f"no map {map_name!r}: one of {', '.join(MAPS)}")
+    which = EpisodeMap(map_name)
+    house = HOUSES.get(which)
+    if house is None:
         map_ref, map_path = map_name, SCENARIO_DIR / f"{map_name}.map.toml"
     else:
         map_path = directory / f"{PREFIX}{map_name}.map.toml"
         map_ref = map_path.name
         if not map_path.exists():
-            map_path.write_text(house_map(map_name, *spec))
+            map_path.write_text(house_map(map_name, *house))
     household = episode_name(map_name, seed)
     name = household if day is None else f"{household}-d{day}"
     path = directory / f"{name}.toml"
 
     def draw(of: int, start: Morning | None = None) -> str:
-        return episode(
-            name,
-            map_ref,
-            map_path,
-            ITEMS[map_name],
-            of,
-            max_ticks=max_ticks,
-            minds=minds,
-            kind=kind,
-            tasks=tasks,
-            morning=start,
-        )
+        return episode(name, map_ref, map_path, ITEMS[which], of, spec, morning=start)
 
     if day is None:
         text = draw(seed)
@@ -314,13 +295,15 @@ def write_episode(
     else:
         if morning is None:
             raise ValueError(f"day {day} of household {household} needs the end of day {day - 1} (a morning)")
-        first = first_morning(draw(seed), map_path)
-        people = sorted(morning.favourites) or ["A1", "A2"]
-        goals = [*first.items, *(["out"] if kind != "tasks" else [])]
+        first_day = draw(seed)
+        first = first_morning(first_day, map_path)
+        goals = [*first.items, *(["out"] if spec.kind != EpisodeKind.TASKS else [])]
         spots = [loc.id for loc in load_map(str(map_path)).locations]
+        check_morning(morning, household, map_name, first_day, spots, goals)
+        people = sorted(morning.favourites) or ["A1", "A2"]
         after, changes = night(morning, first, spots, people, goals, seed, day)
         text = draw(day_seed(seed, day), after) + "\n" + "\n".join(household_lines(household, day, changes))
-    path.write_text(with_autonomy(text, autonomy or {}, path))
+    path.write_text(with_autonomy(text, parse_overrides(spec.autonomy), path))
     return path
 
 

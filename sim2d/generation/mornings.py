@@ -4,7 +4,9 @@ sure of and what they wanted at the end of the day before (:class:`protocol.Morn
 from __future__ import annotations
 
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
+
+from protocol import Morning
 
 
 def by_favourites(placed: Mapping[str, str], favourites: Mapping[str, str]) -> dict[str, str]:
@@ -42,3 +44,72 @@ def _blocks(lines: Sequence[str]) -> list[list[str]]:
             blocks.append([])
         blocks[-1].append(line)
     return blocks
+
+
+class MorningError(ValueError):
+    """A morning (``--morning FILE``) that does not fit the household it would start a day of:
+    another household's or map's, or naming an item, place, person or goal the household does
+    not have, or leaving out an item or a person. One line naming what is wrong."""
+
+
+def _names(ids: Iterable[str]) -> str:
+    return ", ".join(repr(i) for i in sorted(ids))
+
+
+def check_morning(
+    morning: Morning,
+    household: str,
+    map_name: str,
+    first_day: str,
+    spots: Sequence[str],
+    goals: Sequence[str],
+) -> None:
+    """Check ``morning`` strictly against the household ``household`` on ``map_name``, whose
+    first day is the episode TOML ``first_day``: its items, people, places (``spots``) and
+    goals (``goals``, with ``out``).
+
+    Raises:
+        MorningError: the first thing wrong, in one line.
+    """
+    if morning.household is None or morning.map is None:
+        raise MorningError(
+            "names no household and map (a morning written before they were required): add "
+            f'"household": "{household}", "map": "{map_name}" if it is this household\'s end of day'
+        )
+    if (morning.household, morning.map) != (household, map_name):
+        raise MorningError(
+            f"is the end of a day of household {morning.household!r} on map {morning.map!r}, not of "
+            f"household {household!r} on map {map_name!r}"
+        )
+    data = tomllib.loads(first_day)
+    items = [str(item["id"]) for item in data.get("items", [])]
+    people = [str(a["id"]) for a in data.get("agents", []) if a.get("kind", "person") == "person"]
+    where = f"the household's items are {_names(items)}"
+    if unknown := set(morning.items) - set(items):
+        raise MorningError(f"names unknown items {_names(unknown)} ({where})")
+    if missing := set(items) - set(morning.items):
+        raise MorningError(f"names no place for items {_names(missing)} ({where})")
+    for item, place in sorted(morning.items.items()):
+        if place not in spots:
+            raise MorningError(
+                f"puts item {item!r} at {place!r}, not a place of map {map_name!r} ({_names(spots)})"
+            )
+    who = f"the household's people are {_names(people)}"
+    if unknown := (set(morning.beliefs) | set(morning.favourites)) - set(people):
+        raise MorningError(f"names unknown people {_names(unknown)} ({who})")
+    if missing := set(people) - set(morning.favourites):
+        raise MorningError(f"names no favourite for {_names(missing)} ({who})")
+    for person, beliefs in sorted(morning.beliefs.items()):
+        for item, place in sorted(beliefs.items()):
+            if item not in items:
+                raise MorningError(f"{person!r} believes in unknown item {item!r} ({where})")
+            if place not in spots:
+                raise MorningError(
+                    f"{person!r} believes item {item!r} is at {place!r}, not a place of map {map_name!r}"
+                )
+    wanted = list(dict.fromkeys([*goals, "out"]))
+    for person, goal in sorted(morning.favourites.items()):
+        if goal not in wanted:
+            raise MorningError(
+                f"{person!r}'s favourite {goal!r} is not a goal of the household ({_names(wanted)})"
+            )

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from protocol import EventKind
+from protocol.itemvalue import HELD, RESTING, value_count, value_of
 
 from ..scenario.autonomy import Autonomy
 from ..scenario.scenario import AgentSetup
@@ -142,13 +143,12 @@ class PlannedPerson(AutonomousPerson):
 
     def _world_belief(self, cell: int, holding: str | None) -> np.ndarray:
         """``(W,)`` the person's belief over the planner's worlds."""
-        L = len(self.table.locations)
-        values = np.zeros((len(self.table.items), 2 * L))
+        values = np.zeros((len(self.table.items), value_count(len(self.table.locations))))
         for k, item in enumerate(self.table.items):
             if item == holding:
-                values[k, 2 * self.table.nearest[cell] + 1] = 1.0
+                values[k, value_of(int(self.table.nearest[cell]), held=True)] = 1.0
             else:
-                values[k, int(item in self.held_by_others) :: 2] = self.belief.of(item)
+                values[k, HELD if item in self.held_by_others else RESTING] = self.belief.of(item)
         return self.table.world_belief(values)
 
     def _act(self, world: World, action: str) -> None:

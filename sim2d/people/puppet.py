@@ -35,7 +35,7 @@ QUEUED_CELLS = 2
 
 
 @dataclass(frozen=True)
-class Question:
+class OpenQuestion:
     """The robot's open question to the puppet: ``request`` (hand over ``item``, for
     ``offer``), ``give`` (take ``item`` from the robot), ``ask`` (do you want ``item``?) or
     ``what`` (what are you looking for?: answered by accepting with an item, or declining for
@@ -58,7 +58,7 @@ class PuppetPerson:
         self.waiting: deque[PersonCommand] = deque()
         """Commands not yet carried out, in order (a discrete action holds up those after it)."""
         self.labels: list[tuple[Step, str]] = [(s, s.label) for s in setup.script if s.label is not None]
-        self.question: Question | None = None
+        self.question: OpenQuestion | None = None
         self.reply: bool | None = None
         self.named: str | None = None
         """The item the participant named in answer to a ``what`` question."""
@@ -222,7 +222,7 @@ class PuppetPerson:
 
     def ask(self, kind: str, item: str, offer: str | None = None) -> None:
         """The robot opens a question (its body waits for :attr:`reply`)."""
-        self.question = Question(kind, item, offer)
+        self.question = OpenQuestion(kind, item, offer)
         self.reply = None
 
     @property

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import msgspec
 
-from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, Household, ItemShape, Study
+from protocol import MAX_AGENTS, MAX_ITEMS, AgentKind, GridCell, Household, ItemShape, RobotMode, Study
 from protocol.message import id_problem
 
 from ..errors import ScenarioError
@@ -22,8 +22,6 @@ from .maps import SCENARIO_DIR, GameMap, load_map, parse_cell, read_toml
 from .numbers import integer, real
 from .script import Step, Take, parse_step
 from .tables import AGENT_KEYS, ITEM_KEYS, SCENARIO_KEYS, check_keys, entry_of, table_id, tables
-
-RobotMode = Literal["act", "observe"]
 
 MAX_TICK_SECONDS = 3600.0
 """The longest tick (s) a scenario may have: a finite time, its multiples too."""
@@ -310,9 +308,10 @@ def load_scenario(name_or_path: str) -> Scenario:
     if not isinstance(name, str) or not name:
         raise ScenarioError(path, "name", "expected a non-empty string")
     game_map = _map_of(data, path)
-    robot = data.get("robot", "observe")
-    if robot not in ("act", "observe"):
-        raise ScenarioError(path, "robot", f"expected 'act' or 'observe', got {robot!r}")
+    robot = data.get("robot", RobotMode.OBSERVE)
+    if robot not in RobotMode.names():
+        expected = " or ".join(map(repr, RobotMode.names()))
+        raise ScenarioError(path, "robot", f"expected {expected}, got {robot!r}")
     agents = _agents(data, game_map, path)
     items = _items(data, game_map, path, agents)
     _check_references(agents, {item.id for item in items}, path)
@@ -325,7 +324,7 @@ def load_scenario(name_or_path: str) -> Scenario:
         path=path,
         map=game_map,
         description=str(data.get("description", "")),
-        robot=robot,
+        robot=RobotMode(robot),
         observed=observed,
         tick_seconds=tick_seconds,
         max_ticks=max_ticks,

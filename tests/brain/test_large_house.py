@@ -7,11 +7,12 @@ from pathlib import Path
 
 from support import MindCsv, toyroom_run
 
+from protocol import EpisodeSpec
 from sim2d.generation import write_house_episode
 
 
 def test_toyroom_run_on_a_ten_room_six_item_house(tmp_path: Path) -> None:
-    scenario = write_house_episode(tmp_path / "scenario", rooms=10, items=6, seed=5, max_ticks=150)
+    scenario = write_house_episode(tmp_path / "scenario", 10, 6, 5, EpisodeSpec(max_ticks=150))
     out = toyroom_run(tmp_path / "run", str(scenario), "--robot", "act", "--no-live")
     report = (out / "report.md").read_text()
     assert "factored model" in report, f"the report should say the factored model ran:\n{report}"

@@ -11,9 +11,9 @@ from pathlib import Path
 import pytest
 from support import golden_examples
 
-from bridge.gateway import csharp
 from protocol import BY_TAG, decode
 from protocol.examples import example_paths
+from toyroom.gateway import csharp
 
 
 @pytest.fixture(scope="module")

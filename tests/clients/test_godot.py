@@ -21,7 +21,7 @@ from types import ModuleType
 import pytest
 from support import EventsCsv, GatewayProcess, GodotEngineProcess, MindCsv, toyroom_run
 
-from bridge.gateway import godot
+from toyroom.gateway import godot
 
 TESTS = Path(__file__).resolve().parents[1]
 SCENARIOS = TESTS.parent / "sim2d" / "scenarios"

@@ -23,7 +23,7 @@ from brain.model.personmodel import person_model
 from brain.model.planner import cached_policy
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
-from protocol import Event, Scene, State
+from protocol import Event, RobotMode, Scene, State
 from sim2d.engine import Engine
 from sim2d.generation import write_episode
 from sim2d.scenario import load_scenario
@@ -51,7 +51,7 @@ def nested_timer(tracker: MindTracker) -> list[float]:
         observe(*args)
         spent.append(time.perf_counter() - start)
 
-    setattr(tracker.nested, "observe", timed)  # noqa: B010 (mypy refuses a method assigned)
+    setattr(tracker.nested, observe.__name__, timed)  # noqa: B010 (mypy refuses a method assigned)
     return spent
 
 
@@ -96,7 +96,7 @@ def houses(ticks: int = 300) -> dict[str, float]:
     with tempfile.TemporaryDirectory() as tmp:
         for map_name, seed in (("house-a", 5), ("house-b", 7)):
             scenario = load_scenario(str(write_episode(Path(tmp), map_name, seed)))
-            engine = Engine(scenario, robot="observe")
+            engine = Engine(scenario, robot=RobotMode.OBSERVE)
             stream: list[tuple[State, tuple[Event, ...]]] = [(engine.state(), ())]
             while not engine.done and len(stream) <= ticks:
                 result = engine.step()

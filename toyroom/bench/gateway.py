@@ -34,15 +34,17 @@ from typing import Any
 from websockets.sync.client import connect
 
 from bridge import Bridge, LockstepClient, handshake, query
-from bridge.processes import CHECKOUT, GRID_ENGINE, start_gateway, stop_node
+from bridge.processes import CHECKOUT, GRID_ENGINE, stop_node
 from bridge.session import SessionSettings
 from protocol import State
+
+from ..gateway import start_gateway
 
 GRID = CHECKOUT / GRID_ENGINE
 
 
-class Gateway:
-    """``python -m bridge.gateway`` on a free port (:func:`bridge.processes.start_gateway`),
+class BenchGateway:
+    """``python -m toyroom.gateway`` on a free port (:func:`toyroom.gateway.start_gateway`),
     for one measurement."""
 
     def __init__(self, world: str) -> None:
@@ -58,7 +60,7 @@ class Gateway:
 def query_rtt(rounds: int, state: State) -> list[float]:
     """Queries answered by a WebSocket client through the gateway (the state echoed back)."""
     world = f"gwbench{uuid.uuid4().hex[:6]}"
-    gateway = Gateway(world)
+    gateway = BenchGateway(world)
     ready = threading.Event()
 
     def client() -> None:
@@ -125,19 +127,19 @@ def lockstep(rounds: int) -> dict[str, Any]:
         )
         return {}
     grid = [sys.executable, str(GRID), "--scenario", "paper-robot"]
-    gateways: list[Gateway] = []
+    gateways: list[BenchGateway] = []
     engines: dict[str, Clocked] = {}
     try:
         world = f"gwdirect{uuid.uuid4().hex[:6]}"
         engines["direct"] = Clocked(world, [*grid, "--world", world])
         world = f"gwgrid{uuid.uuid4().hex[:6]}"
-        gateways.append(Gateway(world))
+        gateways.append(BenchGateway(world))
         engines["gateway"] = Clocked(world, [*grid, "--world", world, "--gateway", gateways[-1].url])
         if shutil.which("mcs") and shutil.which("mono"):
-            from bridge.gateway import csharp
+            from ..gateway import csharp
 
             world = f"gwcs{uuid.uuid4().hex[:6]}"
-            gateways.append(Gateway(world))
+            gateways.append(BenchGateway(world))
             folder = Path(tempfile.mkdtemp())
             csharp.export_scenario("paper-robot", folder)
             engines["csharp"] = Clocked(world, csharp.engine_command(gateways[-1].url, folder))

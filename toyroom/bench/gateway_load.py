@@ -102,7 +102,7 @@ class Reader:
         return dict(json.loads(line)) if line else {"receipts": [], "closed": "exited"}
 
 
-class Engine:
+class LoadEngine:
     """The engine: puts states through the gateway, noting when each was sent."""
 
     def __init__(self, stack: ExitStack, url: str, state: dict[str, Any]) -> None:
@@ -132,8 +132,10 @@ class Engine:
 
 def start_gateway(world: str, log: Path, extra: Sequence[str]) -> tuple[subprocess.Popen[bytes], str]:
     """``toyroom gateway`` on a free port with ``extra`` options, and its URL once it listens."""
-    from bridge.processes import GATEWAY_READY, gateway_command, start_node, stop_node
+    from bridge.processes import start_node, stop_node
     from bridge.session import SessionSettings
+
+    from ..gateway import GATEWAY_READY, gateway_command
 
     process = start_node([*gateway_command(world, SessionSettings(), "ws://127.0.0.1:0"), *extra], log)
     deadline = time.monotonic() + 60
@@ -203,7 +205,7 @@ def _load(
     live = [Reader(url, f"live{i}") for i in range(readers)]
     for reader in live:
         reader.expect("ready", 60)
-    engine = Engine(stack, url, state)
+    engine = LoadEngine(stack, url, state)
     engine.route(live)
     gone: dict[str, float] = {}
     started = time.monotonic()

@@ -19,15 +19,19 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from brain.model.size import MEMORY_BUDGET_GB
+from protocol import EpisodeKind, EpisodeMap, EpisodeSpec, Minds, TaskKind
 from sim2d.generation.episodes import write_episode
 
-HOUSES = ("house-a", "house-b")
+HOUSES = (EpisodeMap.HOUSE_A, EpisodeMap.HOUSE_B)
 SEEDS = (2, 4, 7)
 """The episode seeds: with ``miss = 0.2``, embodied, the two heaviest house-b task episodes of
 seeds 1-4 before issue 53's slim history (2.71 and 2.02 GiB then), and seed 7, the heaviest
 of seeds 5-12 after it (0.56 GiB)."""
 SETTINGS = ("miss=0.2", "perception=embodied")
-TASKS = ("moved", "hidden", "contested", "seen", "told", "overlooked", "stale")
+TASKS = TaskKind.names()
+TICKS = 1500
+"""The episodes' length: the one the seeds above and the memory budget were measured on
+(longer than an evaluation's :data:`protocol.MAX_TICKS`)."""
 _PROBE = """
 import resource, subprocess, sys
 done = subprocess.run(sys.argv[1:], capture_output=True, text=True)
@@ -48,11 +52,10 @@ class MemoryRun:
     message: str
 
 
-def measure(house: str, seed: int, folder: Path, max_ticks: int = 1500) -> MemoryRun:
+def measure(house: EpisodeMap, seed: int, folder: Path, max_ticks: int = TICKS) -> MemoryRun:
     """Run one generated task episode of ``house`` with :data:`SETTINGS`; its peak memory."""
-    scenario = write_episode(
-        folder / "episodes", house, seed, max_ticks, minds="rich", kind="tasks", tasks=TASKS
-    )
+    spec = EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, max_ticks, TASKS)
+    scenario = write_episode(folder / "episodes", house, seed, spec)
     sets = [arg for setting in SETTINGS for arg in ("--set", setting)]
     run = [
         sys.executable,

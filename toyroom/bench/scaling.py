@@ -36,7 +36,7 @@ from brain.model.factored import cached_factored_policy
 from brain.model.planner import cached_policy
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
-from protocol import Event, State
+from protocol import EpisodeSpec, Event, RobotMode, State
 from sim2d.engine import Engine
 from sim2d.generation import write_house_episode
 from sim2d.scenario import load_scenario
@@ -172,8 +172,8 @@ def percentile(values: list[float], q: float) -> float:
 
 def house(rooms: int, items: int, people: int, ticks: int, directory: Path, seed: int = 7) -> dict[str, Any]:
     """Every number of one house of the family."""
-    path = write_house_episode(directory, rooms, items, seed, max_ticks=ticks, people=people)
-    engine = Engine(load_scenario(str(path)), robot="observe")
+    path = write_house_episode(directory, rooms, items, seed, EpisodeSpec(max_ticks=ticks), people=people)
+    engine = Engine(load_scenario(str(path)), robot=RobotMode.OBSERVE)
     recorded = record(engine, ticks)
     point = follow(engine, recorded, ModelSettings(belief_model="point"))
     model = point.tracker.model
@@ -232,7 +232,7 @@ def paper(ticks: int) -> dict[str, dict[str, float]]:
     """``tv_vs_exact`` on the paper map's scenarios."""
     out = {}
     for name in PAPER_SCENARIOS:
-        engine = Engine(name, robot="observe")
+        engine = Engine(name, robot=RobotMode.OBSERVE)
         recorded = record(engine, ticks)
         numbers = divergence(engine, recorded)
         graded = divergence(engine, recorded, "graded")

@@ -22,12 +22,14 @@ from bridge.flags import (
 )
 from bridge.recording.atomic import OutputError, disk_full, output_error
 from bridge.session import add_network_args, world_problem
-from protocol import OBSERVING, EpisodeKind, Minds, Observer, Perception, Policy, TaskKind
+from protocol import OBSERVING, EpisodeKind, Minds, Observer, Perception, Policy, RobotMode, TaskKind
 from protocol import Error as ProtocolErrorBase
+from protocol.episodespec import MAX_TICKS
 
 from .choicehelp import KIND_NOTES, MINDS_NOTES, PERCEPTION_NOTES, POLICY_NOTES, described
-from .commands import COMMANDS, NODES, exec_node
+from .commands import BATCH, COMMANDS, NODES, exec_node
 from .floors import time_problem
+from .households import MAX_DAYS
 
 log = logging.getLogger("toyroom")
 
@@ -46,7 +48,8 @@ NODE_HELP = {
     "fit": "fit the model's parameters to recorded runs (RECORDINGS... --params beta,hazard --out DIR), "
     "cross-validated by episode, and compare models by held-out log-likelihood",
     "memory": "the brain's memory of households across days: show FILE | forget FILE PERSON | "
-    "export FILE [--out JSON]",
+    "export FILE [--out JSON] | import FILE JSON",
+    "morning": "write a household's next morning from a finished run: RUN [--out FILE.json]",
     "rate": "serve a judgments page: participants watch recordings and rate beliefs and desires "
     "(RECORDINGS... --questions FILE.toml [--out FILE.csv] [--participants N])",
 }
@@ -121,7 +124,7 @@ def _run_command(command: Command) -> None:
         "--timeout", type=float, default=10.0, help="seconds per lock-step request (0: none; else >= 1)"
     )
     run.add_argument(
-        "--robot", choices=("act", "observe"), help="override whether the robot acts (default: the scene's)"
+        "--robot", choices=RobotMode.names(), help="override whether the robot acts (default: the scene's)"
     )
     run.add_argument(
         "--engine",
@@ -139,6 +142,7 @@ def _run_command(command: Command) -> None:
     run.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
     run.add_argument("--record", type=Path, metavar="FILE.mcap", help="also record every message to MCAP")
     run.add_argument("--view", action="store_true", help="also open the meshcat live view")
+    run.add_argument("--memory", type=Path, metavar="FILE", help="the brain's memory, as brain --memory")
     add_network_args(run)
     run.set_defaults(world=None)
 
@@ -256,7 +260,7 @@ def _eval_command(command: Command) -> None:
         f"{OBSERVING} (observing) is always run: --policies {OBSERVING} runs it alone",
     )
     evaluation.add_argument(
-        "--max-ticks", type=int, default=1000, help="ticks per episode (default: %(default)s)"
+        "--max-ticks", type=int, default=MAX_TICKS, help="ticks per episode (default: %(default)s)"
     )
     evaluation.add_argument(
         "--days",
@@ -265,15 +269,14 @@ def _eval_command(command: Command) -> None:
         help="live each episode as a household over this many days, each starting where the last "
         "ended (overnight changes, favourites that drift: docs/evaluation.md), the brain with a "
         "memory of each person; scored per day against a brain without memory (default: 1, an "
-        "episode of its own; above 1: local backend, no --batch, not resumable)",
+        f"episode of its own; at most {MAX_DAYS}; above 1: no --batch; resumed a chain's day at a time)",
     )
     evaluation.add_argument(
         "--batch",
         type=int,
-        default=10,
         help="at most this many episodes of a condition share one engine and one brain process "
         "per kind of run (each run still a fresh model and episode; 1: a process pair per run; "
-        "default: %(default)s)",
+        f"default: {BATCH}; refused with --days above 1)",
     )
     _eval_outputs(evaluation)
     add_settings_args(evaluation)

@@ -17,10 +17,15 @@ from typing import Any
 from bridge.flags import PROG_ENV, settings_argv
 from bridge.processes import check_brain_settings, node_environment, stop_on_signals, wait_for_stop
 from bridge.session import SessionSettings, settings_from_args
-from protocol import MAX_DAYS, OBSERVING
+from protocol import MAX_TICKS, OBSERVING, Policy, RobotMode
 from toyroom.evaluation.conditions import POLICIES, Condition
 
+from .households import days_refusal
+
 log = logging.getLogger("toyroom.bridge")
+
+BATCH = 10
+"""``toyroom eval --batch``'s default: episodes of a condition that share one process pair."""
 
 CSHARP_MESSAGES = "clients/unity/Runtime/Protocol/Messages.g.cs"
 """The C# SDK's generated message classes, in the source checkout."""
@@ -94,10 +99,10 @@ def eval_main(
     brain_args: Sequence[str] = (),
     conditions: Sequence[Condition] = (),
     command: str = "",
-    policies: Sequence[str] = ("tom",),
+    policies: Sequence[Policy] = (Policy.TOM,),
     record: bool = False,
-    max_ticks: int = 1000,
-    batch: int = 10,
+    max_ticks: int = MAX_TICKS,
+    batch: int = BATCH,
     address: str | None = None,
     fresh: bool = False,
 ) -> int:
@@ -189,14 +194,14 @@ def conform_main(world: str, settings: SessionSettings, timeout: float, strict: 
     with ``strict``, is skipped)."""
     from bridge.bridge import Bridge
     from bridge.conformance.checks import check_engine, summary
-    from bridge.conformance.probe import Outcome
+    from bridge.conformance.probe import CheckOutcome
 
     with Bridge(world, settings) as bridge:
         results = check_engine(bridge, timeout)
     for result in results:
         print(result.line())
     print(summary(results))
-    skipped = any(r.outcome is Outcome.SKIPPED for r in results)
+    skipped = any(r.outcome is CheckOutcome.SKIPPED for r in results)
     if strict and skipped:
         print("conform --strict: a skipped check counts as failed (run a scene where each can run)")
     return 1 if any(r.failed for r in results) or (strict and skipped) else 0
@@ -213,13 +218,14 @@ NODES = {
     "sim": ("sim2d", ()),
     "brain": ("brain", ()),
     "view": ("toyroom.view", ()),
-    "gateway": ("bridge.gateway", ()),
+    "gateway": ("toyroom.gateway", ()),
     "play": ("toyroom.play", ()),
     "generate": ("sim2d", ("generate",)),
     "export-scenario": ("sim2d", ("export",)),
     "fit": ("toyroom.fitting", ()),
     "rate": ("toyroom.rating", ()),
     "memory": ("brain", ("memory",)),
+    "morning": ("toyroom.cli.morning", ()),
 }
 """Commands that run a node package as its own process (``toyroom sim`` -> ``python -m
 sim2d``, ``toyroom generate`` -> ``python -m sim2d generate``), with their options."""
@@ -261,7 +267,7 @@ def _run(args: argparse.Namespace) -> int:
         world=args.world if args.world != "default" else None,
         timeout=args.timeout,
         log_level=args.log_level or "WARNING",
-        robot=args.robot,
+        robot=RobotMode(args.robot) if args.robot else None,
         engine=args.engine,
         gateway=args.gateway,
         live=False if args.no_live else None,
@@ -270,6 +276,7 @@ def _run(args: argparse.Namespace) -> int:
         shadows=tuple(args.shadow),
         settings=args.settings,
         overrides=tuple(args.overrides),
+        memory=args.memory,
         **({"lease_ms": args.lease_ms} if args.lease_ms is not None else {}),
     )
     return run(config, settings_from_args(args))
@@ -296,15 +303,16 @@ def _eval(args: argparse.Namespace) -> int:
     except ValueError as err:
         print(f"toyroom eval: {err}", file=sys.stderr)
         return 2
-    policies = [p for p in args.policies.split(",") if p != OBSERVING]  # always run
-    unknown = [p for p in policies if p not in POLICIES]
+    named = [p for p in args.policies.split(",") if p != OBSERVING]  # always run
+    unknown = [p for p in named if p not in POLICIES]
     if unknown:
         print(f"toyroom eval: unknown policies {unknown} (known: {', '.join(POLICIES)})", file=sys.stderr)
         return 2
+    policies = [Policy(p) for p in named]
     for flag, value in (
         ("--episodes", args.episodes),
         ("--workers", args.workers),
-        ("--batch", args.batch),
+        ("--batch", BATCH if args.batch is None else args.batch),
         ("--max-ticks", args.max_ticks),
         ("--days", args.days),
     ):
@@ -314,8 +322,8 @@ def _eval(args: argparse.Namespace) -> int:
     if args.address and args.backend != "ray":
         print("toyroom eval: --address is a Ray cluster's: it needs --backend ray", file=sys.stderr)
         return 2
-    if args.days > 1 and (args.backend != "local" or args.days > MAX_DAYS):
-        print(f"toyroom eval: --days runs on the local backend, 1 to {MAX_DAYS} days", file=sys.stderr)
+    if (refusal := days_refusal(args)) is not None:
+        print(f"toyroom eval: {refusal}", file=sys.stderr)
         return 2
     command = shlex.join(["toyroom", *sys.argv[1:]])
     check_out(args.out, args.fresh)  # a finished evaluation there: refused, or (--fresh) removed
@@ -335,7 +343,7 @@ def _eval(args: argparse.Namespace) -> int:
         policies,
         args.record,
         max_ticks=args.max_ticks,
-        batch=args.batch,
+        batch=BATCH if args.batch is None else args.batch,
         address=args.address,
         fresh=args.fresh,
     )

@@ -27,7 +27,7 @@ BRAIN_OUTPUTS = ("mind.csv", "beliefs.png", "preferences.png", "report.md")
 
 
 @dataclass(frozen=True)
-class Outcome:
+class RunOutcome:
     """How a run ended.
 
     Attributes:

@@ -34,7 +34,6 @@ from bridge.processes import (
     engine_command,
     node_command,
     report_failure,
-    start_gateway,
     start_node,
     stop_nodes,
     wait_for_engine,
@@ -43,12 +42,13 @@ from bridge.pubsub import Received
 from bridge.recording.mcap import McapRecorder
 from bridge.recording.trace import TraceRecorder
 from bridge.session import SessionSettings
-from protocol import EngineInfo, Mind, Observer, State
+from protocol import EngineInfo, Mind, Observer, RobotMode, State
 from protocol import Error as ProtocolErrorBase
 
+from ..gateway import start_gateway
 from .livetable import mind_table
 from .outcome import (
-    Outcome,
+    RunOutcome,
     discard_brain_outputs,
     events_csv,
     exit_text,
@@ -87,7 +87,7 @@ class RunConfig:
     world: str | None = None
     timeout: float = 10.0
     log_level: str = "WARNING"
-    robot: str | None = None
+    robot: RobotMode | None = None
     """``act`` or ``observe`` to override the scenario's robot mode."""
     engine: str = "sim2d"
     """``sim2d`` (the pymunk engine), ``grid`` (the example grid engine), ``csharp`` (the C#
@@ -110,6 +110,9 @@ class RunConfig:
     lease_ms: int = RUN_LEASE_MS
     """How long, in milliseconds, the engine's and the brain's links outlive a stall of either
     (their sessions' lease): a stall shorter than this is waited for and the episode runs on."""
+    memory: Path | None = None
+    """The brain's memory of households (``--memory``): a scenario that names its household
+    starts from it, and its day is saved there."""
 
 
 class MindView:
@@ -167,7 +170,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     if config.engine not in GATEWAY_ONLY:  # their command is made once the scenario is exported
         engine_command(config.engine, world, settings, gateway="ws://127.0.0.1:0" if config.gateway else None)
     elif config.engine == "godot":
-        from bridge.gateway import godot
+        from ..gateway import godot
 
         godot.godot()  # installed, and a source checkout to run
     with scenario_checked(config.scenario):  # both before any node starts
@@ -199,20 +202,20 @@ class Episode:
     stop: StopRequest
     nodes: list[subprocess.Popen[bytes]] = field(default_factory=list)
 
-    def run(self) -> Outcome:
+    def run(self) -> RunOutcome:
         """Run the episode; how it ended. Every node started is stopped (its whole process
         group) before this returns."""
         try:
             return self._start()
         except Interrupted as err:
-            return Outcome(128 + err.signum, str(err))
+            return RunOutcome(128 + err.signum, str(err))
         except (BridgeError, ProtocolErrorBase) as err:
             if self.stop.signum is not None:
-                return Outcome(self.stop.exit_status, f"interrupted by {signal_name(self.stop.signum)}")
-            return Outcome(1, str(err))
+                return RunOutcome(self.stop.exit_status, f"interrupted by {signal_name(self.stop.signum)}")
+            return RunOutcome(1, str(err))
         except Exception as err:  # a bug here: say so, and still stop the nodes and mark the folder
             log.exception("toyroom run failed")
-            return Outcome(1, f"toyroom run's own error ({err!r})")
+            return RunOutcome(1, f"toyroom run's own error ({err!r})")
         finally:
             stop_nodes(list(reversed(self.nodes)))
 
@@ -228,13 +231,13 @@ class Episode:
         args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
         if config.engine not in GATEWAY_ONLY:
             return engine_command(config.engine, self.world, self.settings, *args, gateway=url)
-        from bridge.gateway import csharp, godot
+        from ..gateway import csharp, godot
 
         csharp.export_scenario(config.scenario, self.out / "scenarios")
         client = godot if config.engine == "godot" else csharp
         return client.engine_command(url or "", self.out / "scenarios", *args)
 
-    def _start(self) -> Outcome:
+    def _start(self) -> RunOutcome:
         """Start the gateway (when the engine needs one), the engine and the viewer, wait for
         the engine's handshake, then :meth:`_follow`."""
         url = None
@@ -253,10 +256,10 @@ class Episode:
             self.stop.check()
             if info is None:
                 reason = f"the engine {exit_text(engine.returncode)} before it answered the handshake"
-                return Outcome(1, reason, node=("engine", engine.returncode))
+                return RunOutcome(1, reason, node=("engine", engine.returncode))
             return self._follow(bridge, info, engine)
 
-    def _follow(self, bridge: Bridge, info: EngineInfo, engine: subprocess.Popen[bytes]) -> Outcome:
+    def _follow(self, bridge: Bridge, info: EngineInfo, engine: subprocess.Popen[bytes]) -> RunOutcome:
         """Record the world and show the minds while the brain runs the episode."""
         config, out = self.config, self.out
         view = MindView(f"toyroom run: {config.scenario} (world {self.world})", config.live)
@@ -283,27 +286,27 @@ class Episode:
             while brain.poll() is None:
                 self.stop.check()
                 if (error := _write_error(trace, mcap)) is not None:  # a full disk: nothing can be kept
-                    return Outcome(1, error)
+                    return RunOutcome(1, error)
                 # after the last state the brain needs the engine no more: it finishes alone
                 if engine.poll() is not None and not ended.wait(0.5):
                     reason = f"the engine {exit_text(engine.returncode)} before the episode ended"
-                    return Outcome(1, reason, infer=True, node=("engine", engine.returncode))
+                    return RunOutcome(1, reason, infer=True, node=("engine", engine.returncode))
                 view.refresh(0.1)
             self.stop.event.wait(0.2)  # let the last messages reach the recorder
         if (error := _write_error(trace, mcap)) is not None:
-            return Outcome(1, error)
+            return RunOutcome(1, error)
         if brain.returncode != 0:
             reason = f"the brain {exit_text(brain.returncode)}{_last_line(out / 'brain.log')}"
-            return Outcome(1, reason, node=("brain", brain.returncode))
+            return RunOutcome(1, reason, node=("brain", brain.returncode))
         problem = not_one_episode(out / "trace.jsonl")  # what no node may pass off as one run
         if problem is not None:
-            return Outcome(1, problem, removed=NOT_ONE_EPISODE)
+            return RunOutcome(1, problem, removed=NOT_ONE_EPISODE)
         if engine.poll() not in (None, 0):
             print(
                 f"toyroom run: the engine {exit_text(engine.returncode)} after the episode ended",
                 file=sys.stderr,
             )
-        return Outcome(0)
+        return RunOutcome(0)
 
 
 def _write_error(*recorders: object) -> str | None:
@@ -324,10 +327,11 @@ def _brain_args(config: RunConfig, out: Path) -> list[str]:
         *(arg for name in config.shadows for arg in ("--shadow", name)),
         *(("--shadow-out", str(out)) if config.shadows else ()),
         *settings_argv(config.settings, config.overrides),
+        *(("--memory", str(config.memory.resolve())) if config.memory is not None else ()),
     ]
 
 
-def _conclude(config: RunConfig, folder: RunFolder, outcome: Outcome, stop: StopRequest) -> int:
+def _conclude(config: RunConfig, folder: RunFolder, outcome: RunOutcome, stop: StopRequest) -> int:
     """Write what can still be written (``events.csv``; for a failed engine, the brain's
     outputs inferred from the trace), mark a run that did not finish ``FAILED``, and move the
     folder into place; the exit status."""

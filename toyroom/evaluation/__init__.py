@@ -8,7 +8,7 @@ from .batches import BatchResult, run_batch
 from .conditions import Condition
 from .episodes import EpisodeJob, evaluate, run_episode, run_episodes
 from .generation import generate, generate_all, map_of
-from .metrics import Counts, Outcome, score_tick
+from .metrics import Counts, EpisodeOutcome, score_tick
 from .outcome import judge
 from .runs import RunRecord, RunResult, RunSpec, run_once
 
@@ -28,7 +28,7 @@ __all__ = [
     "run_once",
     "score_tick",
     "Counts",
-    "Outcome",
+    "EpisodeOutcome",
     "RunRecord",
     "RunResult",
     "RunSpec",

@@ -14,15 +14,13 @@ from protocol import OBSERVING, Observer, Policy
 from .conditions import Condition
 from .intervals import METRICS as INTERVAL_METRICS
 from .intervals import cuts, intervals, pooled_means
-from .metrics import Counts, Outcome, majority_counts
-from .records import EpisodeRecord, RunScores
+from .metrics import Counts, EpisodeOutcome, majority_counts
+from .records import EpisodeRecord, RunKey, RunScores
 
 BTOM = Observer.BTOM.value
 MAJORITY = "majority"
 """A majority-class baseline scored on the same ticks: always the most common true preference
 (of the episodes scored: it is fitted on them), never a false belief, no belief."""
-ROBOT = "robot"
-"""An episode's acting runs are keyed ``robot-<policy>``; ``none`` is the observing run's."""
 NONE = OBSERVING
 HELP = (
     "ticks_to_goal_fb",
@@ -79,10 +77,9 @@ def _or(tick: int | None, otherwise: int) -> int:
 def policies_of(episode: EpisodeRecord) -> dict[str, str]:
     """Robot policy -> the key of the run it is measured on, acting policies first (``tom``
     first of them), then ``none`` (the robot observing)."""
-    acting = sorted(
-        (k[len(ROBOT) + 1 :] for k in episode.runs if k.startswith(f"{ROBOT}-")), key=lambda p: p != "tom"
-    )
-    return {p: f"{ROBOT}-{p}" for p in acting} | {NONE: BTOM}
+    acting = [key for key in map(RunKey.parse, episode.runs) if key.policy is not None]
+    acting.sort(key=lambda key: key.label != Policy.TOM)
+    return {key.label: str(key) for key in acting} | {NONE: BTOM}
 
 
 LOSSES = ("before_false_belief", "before_robot_acted", "after_robot_acted", "robot_acted")
@@ -108,6 +105,26 @@ def robot_losses(episodes: Sequence[EpisodeRecord]) -> dict[str, dict[str, float
                 parts.append((onset, acted - onset, goal - acted, float(h.acted_tick is not None)))
         n = len(parts)
         table[policy] = {name: (sum(p[i] for p in parts) / n if n else None) for i, name in enumerate(LOSSES)}
+    return table
+
+
+def robot_tasks(episodes: Sequence[EpisodeRecord]) -> dict[str, dict[str, float | None]]:
+    """Per acting policy, the robot tasks of its runs (:mod:`.robottasks`): how many were
+    begun, done, dropped and still running at the end, summed over episodes, and the share
+    begun and not finished (``None`` when none was begun)."""
+    table: dict[str, dict[str, float | None]] = {}
+    for policy, key in policies_of(episodes[0]).items():
+        if policy == NONE:
+            continue
+        tallies = [e.runs[key].tasks for e in episodes]
+        begun, unfinished = sum(t.begun for t in tallies), sum(t.unfinished for t in tallies)
+        table[policy] = {
+            "begun": begun,
+            "done": sum(t.done for t in tallies),
+            "dropped": sum(t.dropped for t in tallies),
+            "running": sum(t.running for t in tallies),
+            "unfinished_share": unfinished / begun if begun else None,
+        }
     return table
 
 
@@ -137,7 +154,7 @@ def robot_metrics(episodes: Sequence[EpisodeRecord], seed: int) -> tuple[dict[st
             for name in ("cut", "share_of_oracle"):
                 per_policy[policy][name + suffix] = cut[policy][name] if policy in cut else None
     for policy, key in policies.items():
-        outcome = Outcome()
+        outcome = EpisodeOutcome()
         for episode in episodes:
             for ok in episode.runs[key].outcome.values():
                 outcome.people += 1
@@ -174,6 +191,7 @@ def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[
     bounds, differences = intervals(per_episode, seed)
     robot, robot_differences = robot_metrics(episodes, seed) if episodes else ({}, {})
     losses = robot_losses(episodes) if episodes and robot else {}
+    tasks = robot_tasks(episodes) if episodes and robot else {}
     return {
         "episodes": len(episodes),
         "episodes_failed": len(failed),
@@ -190,6 +208,7 @@ def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[
         "robot": robot,
         "robot_differences": robot_differences,
         "robot_losses": losses,
+        "robot_tasks": tasks,
     }
 
 

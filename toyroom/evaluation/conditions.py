@@ -22,8 +22,9 @@ from __future__ import annotations
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TypeVar
 
-from protocol import EpisodeKind, Minds, Perception, Policy, TaskKind, task_of
+from protocol import MAX_TICKS, Choice, EpisodeKind, EpisodeSpec, Minds, Perception, Policy, TaskKind, task_of
 
 PERCEPTIONS = Perception.names()
 MINDS = Minds.names()
@@ -39,9 +40,9 @@ POLICIES = Policy.names()
 class Condition:
     """One condition of an evaluation."""
 
-    perception: str = Perception.OMNISCIENT.value
-    minds: str = Minds.SIMPLE.value
-    kind: str = EpisodeKind.EVERYDAY.value
+    perception: Perception = Perception.OMNISCIENT
+    minds: Minds = Minds.SIMPLE
+    kind: EpisodeKind = EpisodeKind.EVERYDAY
     tasks: tuple[str, ...] = ()
     """The task kinds a ``tasks`` condition draws from, in turn by episode seed (empty: all)."""
     autonomy: tuple[str, ...] = ()
@@ -72,11 +73,15 @@ class Condition:
     def task_of(self, seed: int) -> str | None:
         """The task kind of the episode of ``seed`` (``None`` unless ``kind`` is ``tasks``), as
         the generator picks it (:func:`protocol.task_of`)."""
-        return task_of(seed, self.tasks or TASK_KINDS) if self.kind == EpisodeKind.TASKS.value else None
+        return task_of(seed, self.tasks or TASK_KINDS) if self.kind == EpisodeKind.TASKS else None
+
+    def spec(self, max_ticks: int = MAX_TICKS) -> EpisodeSpec:
+        """How this condition's episodes are drawn, ``max_ticks`` long."""
+        return EpisodeSpec(self.minds, self.kind, max_ticks, self.tasks, self.autonomy)
 
     def brain_args(self) -> tuple[str, ...]:
         """What every brain of this condition is told (its perception)."""
-        told = self.perception != Perception.OMNISCIENT.value
+        told = self.perception != Perception.OMNISCIENT
         return ("--set", f"perception={self.perception}") if told else ()
 
 
@@ -90,6 +95,23 @@ def conditions(
     """Every combination, in the order given, each ``tasks`` condition drawing from ``tasks``,
     all with the people's ``autonomy`` settings (raises ``ValueError`` naming a bad value)."""
     return [
-        Condition(p, m, k, tuple(tasks) if k == EpisodeKind.TASKS.value else (), tuple(autonomy))
+        Condition(
+            chosen(Perception, "perception", p),
+            chosen(Minds, "minds", m),
+            chosen(EpisodeKind, "kind", k),
+            tuple(tasks) if k == EpisodeKind.TASKS else (),
+            tuple(autonomy),
+        )
         for p, m, k in itertools.product(perceptions, minds, kinds)
     ]
+
+
+C = TypeVar("C", bound=Choice)
+
+
+def chosen(choices: type[C], name: str, value: str) -> C:
+    """``value`` as one of ``choices``, the value of setting ``name`` (raises ``ValueError``
+    naming the setting and its choices)."""
+    if value not in choices.names():
+        raise ValueError(f"{name} must be one of {', '.join(choices.names())}, not {value!r}")
+    return choices(value)

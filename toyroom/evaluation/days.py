@@ -11,10 +11,13 @@ from pathlib import Path
 from typing import Any
 
 from bridge.recording.atomic import replacing
+from protocol import OBSERVING, Observer, Policy
 
 from .aggregate import POLICY_NAMES, aggregate
+from .conditions import Condition
+from .episodes import OBSERVERS
 from .metrics import Counts
-from .records import EpisodeRecord, RunScores
+from .records import FRESH, EpisodeRecord, RunScores
 
 LATER = 3
 """Days from this one on are pooled: by then the brain has met its people on earlier days."""
@@ -142,3 +145,61 @@ def plot(summary: Mapping[str, Any], path: Path) -> Path:
     finally:
         plt.close(figure)
     return path
+
+
+def days_report(metrics: Mapping[str, Any], out: Path) -> str:
+    """``report.md`` of a households evaluation, each condition's plot drawn into ``out``."""
+    lines = [
+        f"# Households: {metrics['households']} per condition, {metrics['days']} days each, "
+        f"seed {metrics['seed']}",
+        "",
+    ]
+    if metrics.get("command"):
+        lines += ["```", metrics["command"], "```", ""]
+    lines += [
+        f"Per day: `{HELP_METRIC}` (ticks from the day's start to the goal of the people with a false "
+        "belief about what they wanted in any run of the day; lower is better) per robot policy "
+        "(`none`: the robot observing; `-fresh`: a brain with no memory, a first day every day), "
+        "the first policy minus each other (paired on the same people), and the share of revealed "
+        "false beliefs each observer flagged before the person reached the place (%). In brackets: "
+        f"bootstrap 95% intervals. `{LATER}+`: days {LATER} on, households resampled as wholes.",
+        "",
+    ]
+    for condition in metrics["conditions"]:
+        picture = plot(condition, out / f"days-{condition['name']}.png")
+        lines += [f"## {condition['name']}", "", *table(condition, metrics["observers"]), ""]
+        lines += [f"![help by day]({picture.name})", ""]
+    return "\n".join(lines)
+
+
+def day_metrics(
+    households: int,
+    days: int,
+    seed: int,
+    conditions: Sequence[Condition],
+    found: Mapping[tuple[str, int], list[EpisodeRecord]],
+    brain_args: tuple[str, ...],
+    command: str,
+    policies: Sequence[Policy],
+) -> dict[str, Any]:
+    """``metrics.json`` of the households' records ``found``, with every day's record under
+    ``episodes`` (by condition, for ``episodes.json``)."""
+    observers = (*OBSERVERS, f"{Observer.BTOM.value}-{FRESH}")
+    summaries, kept = [], {}
+    for condition in conditions:
+        records = [r for i in range(households) for r in found[(condition.name, i)]]
+        kept[condition.name] = [r.to_builtins() for r in records]
+        summary = {**dataclasses.asdict(condition), "name": condition.name}
+        summary |= by_day(records, days, seed, observers)
+        summaries.append(summary)
+    return {
+        "households": households,
+        "days": days,
+        "seed": seed,
+        "brain_args": list(brain_args),
+        "policies": [*policies, OBSERVING],
+        "command": command,
+        "observers": list(observers),
+        "conditions": summaries,
+        "episodes": kept,
+    }

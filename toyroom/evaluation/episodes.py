@@ -26,9 +26,9 @@ from pathlib import Path
 from typing import Any
 
 from bridge.recording.atomic import OutputError, write_text
-from protocol import OBSERVING, Observer
+from protocol import MAX_TICKS, OBSERVING, EpisodeKind, Minds, Observer, Perception, Policy, RobotMode
 
-from .aggregate import ROBOT, aggregate, by_task
+from .aggregate import aggregate, by_task
 from .batches import run_batch
 from .conditions import Condition
 from .folder import prune_scratch
@@ -37,7 +37,7 @@ from .interrupt import NODES, EvaluationStopped
 from .noroom import check_room, stopped_for_room
 from .planned import policy_table
 from .pool import run_chunks
-from .records import EpisodeRecord, RunScores
+from .records import EpisodeRecord, RunKey, RunScores
 from .report import report
 from .resume import EPISODES, Ledger, begin, finished, plan_of
 from .runs import MOTION, RunResult, RunSpec, run_once
@@ -65,11 +65,11 @@ class EpisodeJob:
     workdir: str
     condition: Condition = Condition()
     brain_args: tuple[str, ...] = ()
-    policies: tuple[str, ...] = ("tom",)
+    policies: tuple[Policy, ...] = (Policy.TOM,)
     """The acting robot's policies, one run each (``RobotSettings.policy``)."""
     record: bool = False
     """Keep every run's MCAP recording in ``recordings/<condition>/`` of the output folder."""
-    max_ticks: int = 1000
+    max_ticks: int = MAX_TICKS
     """The episode's length."""
     scenario: str = ""
     """The episode's scenario file when it was generated beforehand (:func:`generate_all`);
@@ -79,8 +79,8 @@ class EpisodeJob:
 def episode_runs(
     scenario: Path,
     brain_args: tuple[str, ...] = (),
-    perception: str = "omniscient",
-    policies: Sequence[str] = ("tom",),
+    perception: Perception = Perception.OMNISCIENT,
+    policies: Sequence[Policy] = (Policy.TOM,),
 ) -> list[RunSpec]:
     """The robot observing (BToM live, the baselines as shadows of the same ticks: an
     observing robot changes nothing, so one run serves every observer), then one run with
@@ -88,13 +88,13 @@ def episode_runs(
     observe = RunSpec(
         scenario,
         BRAIN_OBSERVERS[0],
-        "observe",
+        RobotMode.OBSERVE,
         shadows=BRAIN_OBSERVERS[1:],
         brain_args=brain_args,
         perception=perception,
     )
     acting = [
-        RunSpec(scenario, BTOM, "act", brain_args=brain_args, policy=policy, perception=perception)
+        RunSpec(scenario, BTOM, RobotMode.ACT, brain_args=brain_args, policy=policy, perception=perception)
         for policy in policies
     ]
     return [observe, *acting]
@@ -139,21 +139,12 @@ def episode_specs(job: EpisodeJob) -> tuple[Path, list[RunSpec]]:
     if job.scenario:
         scenario = Path(job.scenario)
     else:
-        scenario = generate(
-            directory / "scenarios",
-            job.index,
-            job.seed,
-            condition.minds,
-            condition.kind,
-            job.max_ticks,
-            condition.tasks,
-            condition.autonomy,
-        )
+        scenario = generate(directory / "scenarios", job.index, job.seed, condition.spec(job.max_ticks))
     (directory / "logs").mkdir(parents=True, exist_ok=True)
     values = ("--values-cache", str(Path(job.workdir) / "values"))  # each map solved once per evaluation
     args = (*job.condition.brain_args(), *job.brain_args, *values)
     engine_args: tuple[str, ...] = ()
-    if job.condition.minds == "model":  # people act by the planner under the run's settings
+    if job.condition.minds == Minds.MODEL:  # people act by the planner under the run's settings
         engine_args = ("--policy", str(policy_table(scenario, job.brain_args, directory / "policies")))
     specs = []
     for spec in episode_runs(scenario, args, job.condition.perception, job.policies):
@@ -180,8 +171,8 @@ def episode_entry(
     for spec, result, spent in zip(specs, results, seconds, strict=True):
         run_seconds[spec.tag.removeprefix(f"{scenario.stem}-")] = spent
         for observer, scored in result.items():
-            key = observer if spec.robot == "observe" else f"{ROBOT}-{spec.policy}"
-            runs[key] = RunScores.of(scored)
+            key = RunKey(observer) if spec.robot == RobotMode.OBSERVE else RunKey.acting(spec.policy)
+            runs[str(key)] = RunScores.of(scored)
     return EpisodeRecord(
         index=job.index,
         map=map_of(job.index),
@@ -233,9 +224,9 @@ def evaluate(
     progress: Callable[[int], None] | None = None,
     brain_args: tuple[str, ...] = (),
     command: str = "",
-    policies: Sequence[str] = ("tom",),
+    policies: Sequence[Policy] = (Policy.TOM,),
     record: bool = False,
-    max_ticks: int = 1000,
+    max_ticks: int = MAX_TICKS,
     batch: int = BATCH,
     address: str | None = None,
     fresh: bool = False,
@@ -323,7 +314,7 @@ def _summary(condition: Condition, chunk: list[EpisodeRecord], seed: int) -> dic
     summary = {**dataclasses.asdict(condition), "name": condition.name}
     summary |= aggregate(chunk, seed, OBSERVERS)
     summary["by_map"] = {m: aggregate([r for r in chunk if r.map == m], seed, OBSERVERS) for m in MAPS}
-    if condition.kind == "tasks":
+    if condition.kind == EpisodeKind.TASKS:
         summary["by_task"] = by_task(condition, chunk, seed, OBSERVERS)
     return summary
 
@@ -346,7 +337,7 @@ def batches(jobs: Sequence[EpisodeJob], workers: int, size: int) -> list[list[Ep
 def _shares(job: EpisodeJob) -> bool:
     """Whether a job's runs can share processes with other episodes' (a recording per run,
     or a planner table per episode for the engine, need a process each)."""
-    return not job.record and job.condition.minds != "model"
+    return not job.record and job.condition.minds != Minds.MODEL
 
 
 def run_episodes(jobs: Sequence[EpisodeJob]) -> list[EpisodeRecord]:

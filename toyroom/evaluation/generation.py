@@ -11,98 +11,62 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
+from protocol import DEFAULT_EPISODE, EpisodeKind, EpisodeSpec
+from protocol import MAPS as MAPS
+
 from .conditions import Condition
 from .interrupt import NODES
 
 log = logging.getLogger("toyroom.eval")
 
-MAPS = ("paper", "house-a", "house-b")
-
 
 def map_of(index: int) -> str:
-    """The map episode ``index`` of a sweep is drawn on (they cycle through ``MAPS``)."""
+    """The map episode ``index`` of a sweep is drawn on (they cycle through :data:`protocol.MAPS`)."""
     return MAPS[index % len(MAPS)]
 
 
-def generate(
-    directory: Path,
-    index: int,
-    seed: int,
-    minds: str = "simple",
-    kind: str = "everyday",
-    max_ticks: int = 1000,
-    tasks: Sequence[str] = (),
-    autonomy: Sequence[str] = (),
-) -> Path:
-    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says)
-    with simulated people of ``minds``, of ``kind`` (``tasks``: drawn from these task kinds;
-    empty: all), ``max_ticks`` long; ``autonomy``: ``NAME=VALUE`` settings of the people's
-    ``[autonomy]`` table, over the drawn ones (``python -m sim2d generate --autonomy``)."""
-    return _generate(directory, [index], seed, minds, kind, max_ticks, tasks, autonomy)[0]
+def generate(directory: Path, index: int, seed: int, spec: EpisodeSpec = DEFAULT_EPISODE) -> Path:
+    """Write episode ``index`` of a sweep with ``seed`` (on the map :func:`map_of` says),
+    drawn as ``spec`` says (``spec.autonomy``: the generator's ``--autonomy``)."""
+    return _generate(directory, [index], seed, spec)[0]
 
 
 def generate_all(
-    directory: Path,
-    episodes: int,
-    seed: int,
-    minds: str = "simple",
-    kind: str = "everyday",
-    max_ticks: int = 1000,
-    tasks: Sequence[str] = (),
-    autonomy: Sequence[str] = (),
+    directory: Path, episodes: int, seed: int, spec: EpisodeSpec = DEFAULT_EPISODE
 ) -> list[Path]:
     """Write episodes ``0 .. episodes - 1`` of a sweep, as :func:`generate` does each, in one
     process (a process start is most of an episode's generation)."""
-    return _generate(directory, range(episodes), seed, minds, kind, max_ticks, tasks, autonomy)
+    return _generate(directory, range(episodes), seed, spec)
 
 
 def generate_day(
     directory: Path,
     index: int,
     seed: int,
-    condition: Condition,
-    max_ticks: int,
+    spec: EpisodeSpec,
     day: int,
     morning: Path | None = None,
 ) -> Path:
-    """Day ``day`` of the household of episode ``index`` of a sweep with ``seed`` under
-    ``condition`` (``morning``: a JSON :class:`protocol.Morning` of the day before's end, for
+    """Day ``day`` of the household of episode ``index`` of a sweep with ``seed``, drawn as
+    ``spec`` says (``morning``: a JSON :class:`protocol.Morning` of the day before's end, for
     every day after the first; :mod:`sim2d.generation.households`)."""
     days = ["--day", str(day), *(["--morning", str(morning)] if morning is not None else [])]
-    return _generate(
-        directory,
-        [index],
-        seed,
-        condition.minds,
-        condition.kind,
-        max_ticks,
-        condition.tasks,
-        condition.autonomy,
-        days,
-    )[0]
+    return _generate(directory, [index], seed, spec, days)[0]
 
 
 def _generate(
-    directory: Path,
-    indices: Sequence[int],
-    seed: int,
-    minds: str,
-    kind: str,
-    max_ticks: int,
-    tasks: Sequence[str] = (),
-    autonomy: Sequence[str] = (),
-    more: Sequence[str] = (),
+    directory: Path, indices: Sequence[int], seed: int, spec: EpisodeSpec, more: Sequence[str] = ()
 ) -> list[Path]:
     """Episodes ``indices`` of a sweep, written by one ``python -m sim2d generate`` process
     (``more``: more of its options)."""
     if not indices:
         return []
     entries = [f"{map_of(i)}:{seed * 1000 + i}" for i in indices]
+    drawn = ["--max-ticks", str(spec.max_ticks), "--minds", spec.minds, "--kind", spec.kind]
     result = NODES.run(
-        [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries]
-        + ["--max-ticks", str(max_ticks), "--minds", minds, "--kind", kind, "--out", str(directory)]
-        + (["--tasks", ",".join(tasks)] if tasks and kind == "tasks" else [])
-        + [arg for setting in autonomy for arg in ("--autonomy", setting)]
+        [sys.executable, "-m", "sim2d", "generate", "--episodes", *entries, *drawn, "--out", str(directory)]
+        + (["--tasks", ",".join(spec.tasks)] if spec.tasks and spec.kind == EpisodeKind.TASKS else [])
+        + [arg for setting in spec.autonomy for arg in ("--autonomy", setting)]
         + list(more),
         timeout=120 + 10 * len(indices),
     )
@@ -121,7 +85,7 @@ def check_autonomy(autonomy: Sequence[str]) -> None:
         return
     with tempfile.TemporaryDirectory(prefix="toyroom-autonomy-") as directory:
         try:
-            _generate(Path(directory), [0], 0, "simple", "everyday", 10, (), autonomy)
+            _generate(Path(directory), [0], 0, EpisodeSpec(max_ticks=10, autonomy=tuple(autonomy)))
         except RuntimeError as err:
             reason = str(err).strip().splitlines()[-1].split("error: ", 1)[-1]
             raise ValueError(f"--autonomy: {reason.split('.toml: ', 1)[-1]}") from None
@@ -132,16 +96,7 @@ def scenarios_of(workdir: Path, episodes: int, seed: int, condition: Condition, 
     that fails, empty names (each job then generates its own, and fails alone)."""
     directory = workdir / condition.name / "scenarios"
     try:
-        paths = generate_all(
-            directory,
-            episodes,
-            seed,
-            condition.minds,
-            condition.kind,
-            max_ticks,
-            condition.tasks,
-            condition.autonomy,
-        )
+        paths = generate_all(directory, episodes, seed, condition.spec(max_ticks))
     except (RuntimeError, OSError, subprocess.SubprocessError) as err:
         log.warning("%s; each episode is generated on its own", err)
         return [""] * episodes

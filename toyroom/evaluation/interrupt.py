@@ -44,15 +44,20 @@ class EvaluationStopped(BridgeError):
     are kept in ``where`` (once the evaluation has counted them)."""
 
     def __init__(
-        self, signum: int, kept: int | None = None, total: int = 0, where: Path | None = None
+        self,
+        signum: int,
+        kept: int | None = None,
+        total: int = 0,
+        where: Path | None = None,
+        unit: str = "episode",
     ) -> None:
         self.signum, self.kept, self.total, self.where = signum, kept, total, where
         said = f"stopped by {signal_name(signum)}"
         if kept is not None:
             said += (
-                f": kept {kept} of {total} episodes in {where}; run the same command again to finish"
+                f": kept {kept} of {total} {unit}s in {where}; run the same command again to finish"
                 if kept
-                else f": no episode had finished ({total} to run); nothing kept"
+                else f": no {unit} had finished ({total} to run); nothing kept"
             )
         super().__init__(said)
 

@@ -13,26 +13,11 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from .metrics import Counts
+from .scores import metric_names
 
 RESAMPLES = 1000
-METRICS = (
-    "belief_tv",
-    "preference_accuracy",
-    "false_belief_f1",
-    "goal_false_belief_f1",
-    "knowable_false_belief_f1",
-    "revealed_detection",
-    "revealed_detection_any",
-    "brier",
-    "log_loss",
-    "brier_skill",
-    "nested_belief_accuracy",
-    "nested_first_order_accuracy",
-    "nested_gain",
-    "fb_want_p",
-    "fb_want_confident",
-    "fb_want_top",
-)
+METRICS = metric_names(interval=True)
+"""The metrics given a paired bootstrap interval (:class:`~toyroom.evaluation.scores.Scores`)."""
 
 
 def _pooled(counts: Sequence[Counts], picks: np.ndarray) -> dict[str, float | None]:

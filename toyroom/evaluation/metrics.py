@@ -48,6 +48,7 @@ from dataclasses import dataclass, field, fields
 from protocol import Mind, Truth, believes_falsely
 
 from .scoredminds import ScoredMind
+from .scores import Scores
 from .wantread import WantScore
 
 EPS = 1e-3
@@ -180,23 +181,32 @@ class Counts:
         return majority_counts(self, goal)
 
     def metrics(self) -> dict[str, float | None]:
+        """:meth:`scores` as metric name -> value."""
+        return self.scores().as_dict()
+
+    def scores(self) -> Scores:
+        """The pooled metrics of these counts (:class:`~toyroom.evaluation.scores.Scores`)."""
         precision, recall, f1 = _f1(self.tp, self.fp, self.fn)
-        return {
-            "belief_tv": self.tv_sum / self.tv_n if self.tv_n else None,
-            "preference_accuracy": self.pref_hits / self.pref_n if self.pref_n else None,
-            "false_belief_precision": precision,
-            "false_belief_recall": recall,
-            "false_belief_f1": f1,
-            "goal_false_belief_f1": _f1(self.goal_tp, self.goal_fp, self.goal_fn)[2],
-            "knowable_false_belief_f1": _f1(self.known_tp, self.known_fp, self.known_fn)[2],
-            "revealed_detection": self.detected / self.stretches if self.stretches else None,
-            "revealed_lead_median": float(statistics.median(self.leads)) if self.leads else None,
-            "revealed_detection_any": self.detected_any / self.stretches if self.stretches else None,
-            "revealed_lead_any_median": float(statistics.median(self.leads_any)) if self.leads_any else None,
-            **self.nested_scores(),
-            **self.proper_scores(),
-            **self.want_scores(),
-        }
+        return Scores(
+            **{
+                "belief_tv": self.tv_sum / self.tv_n if self.tv_n else None,
+                "preference_accuracy": self.pref_hits / self.pref_n if self.pref_n else None,
+                "false_belief_precision": precision,
+                "false_belief_recall": recall,
+                "false_belief_f1": f1,
+                "goal_false_belief_f1": _f1(self.goal_tp, self.goal_fp, self.goal_fn)[2],
+                "knowable_false_belief_f1": _f1(self.known_tp, self.known_fp, self.known_fn)[2],
+                "revealed_detection": self.detected / self.stretches if self.stretches else None,
+                "revealed_lead_median": float(statistics.median(self.leads)) if self.leads else None,
+                "revealed_detection_any": self.detected_any / self.stretches if self.stretches else None,
+                "revealed_lead_any_median": float(statistics.median(self.leads_any))
+                if self.leads_any
+                else None,
+                **self.nested_scores(),
+                **self.proper_scores(),
+                **self.want_scores(),
+            }
+        )
 
     def want_scores(self) -> dict[str, float | None]:
         """``fb_want_p``, ``fb_want_confident`` and ``fb_want_top`` over the want stretches."""
@@ -349,7 +359,7 @@ def score_tick(
 
 
 @dataclass
-class Outcome:
+class EpisodeOutcome:
     """How an episode ended for its people: whether each got what they wanted."""
 
     successes: int = 0

@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 
 from protocol import RegionKind, Scene, Truth
 
-from .metrics import Outcome
+from .metrics import EpisodeOutcome
 
 
 def judge(
@@ -17,7 +17,7 @@ def judge(
     playing: Mapping[str, str | None],
     regions: Mapping[str, str],
     reached: Sequence[tuple[int, str, str]],
-) -> Outcome:
+) -> EpisodeOutcome:
     """The outcome of a run whose last truth is ``truth``.
 
     Args:
@@ -30,7 +30,7 @@ def judge(
     outside = {r.id for r in scene.regions if r.kind is RegionKind.OUTSIDE}
     homes = {a.id: (a.home.col, a.home.row) for a in scene.agents}
     home_region = {(c.col, c.row): r.id for r in scene.regions for c in r.cells}
-    outcome = Outcome(ticks=truth.tick)
+    outcome = EpisodeOutcome(ticks=truth.tick)
     for person in truth.agents:
         region = regions.get(person.agent, home_region.get(homes.get(person.agent, (-1, -1)), ""))
         wants_out = person.preference == "out"

@@ -16,9 +16,52 @@ import msgspec
 
 from .helpfulness import PersonHelp
 from .metrics import Counts
+from .robottasks import TaskTally
 
 if TYPE_CHECKING:
     from .runs import RunResult
+
+
+ROBOT = "robot"
+"""The prefix of an acting run's key."""
+FRESH = "fresh"
+"""The suffix of a households run without memory."""
+
+
+class RunKey(msgspec.Struct, frozen=True):
+    """The key of one run's scores in an episode's record, as text ``str(key)``: an observing
+    run under its observer's name (``btom``), an acting run as ``robot-<policy>`` (``policy``
+    set); a households run without memory ends in ``-fresh`` (``btom-fresh``,
+    ``robot-tom-fresh``). :meth:`parse` reads the text back."""
+
+    observer: str = "btom"
+    policy: str | None = None
+    """The acting robot's policy (``None``: the robot observed)."""
+    fresh: bool = False
+
+    def __str__(self) -> str:
+        name = self.observer if self.policy is None else f"{ROBOT}-{self.policy}"
+        return f"{name}-{FRESH}" if self.fresh else name
+
+    @property
+    def label(self) -> str:
+        """How tables name the run: its policy (``-fresh`` without memory), or its observer."""
+        return str(self).removeprefix(f"{ROBOT}-")
+
+    @classmethod
+    def acting(cls, policy: object, fresh: bool = False) -> RunKey:
+        """The key of a run whose robot acts by ``policy`` (a :class:`protocol.Policy` or its name)."""
+        return cls(policy=str(getattr(policy, "value", policy)), fresh=fresh)
+
+    @classmethod
+    def parse(cls, key: str) -> RunKey:
+        """The key whose text is ``key`` (an observer's name, ``robot-<policy>``, either with
+        ``-fresh``)."""
+        fresh = key.endswith(f"-{FRESH}")
+        name = key.removesuffix(f"-{FRESH}") if fresh else key
+        if name.startswith(f"{ROBOT}-"):
+            return cls(policy=name[len(ROBOT) + 1 :], fresh=fresh)
+        return cls(observer=name, fresh=fresh)
 
 
 class RunScores(msgspec.Struct, kw_only=True):
@@ -35,6 +78,8 @@ class RunScores(msgspec.Struct, kw_only=True):
     """The ticks scored."""
     help: dict[str, PersonHelp] = msgspec.field(default_factory=dict)
     """Per person, how much the robot helped (:mod:`.helpfulness`)."""
+    tasks: TaskTally = TaskTally()
+    """The robot tasks of an acting run, begun and finished or not (:mod:`.robottasks`)."""
 
     @classmethod
     def of(cls, result: RunResult) -> RunScores:
@@ -46,6 +91,7 @@ class RunScores(msgspec.Struct, kw_only=True):
             episode_ticks=result.outcome.ticks,
             ticks=result.ticks,
             help=dict(result.help),
+            tasks=result.tasks,
         )
 
 

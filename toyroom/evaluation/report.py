@@ -13,25 +13,10 @@ from protocol import PREFERENCE_THRESHOLD, Minds, Perception
 
 from .aggregate import CUTS, POLICY_NAMES
 from .aggregate import HELP as HELP_MEASURES
+from .scores import MetricGroup, metric_names
 
-METRICS = (
-    "belief_tv",
-    "preference_accuracy",
-    "false_belief_precision",
-    "false_belief_recall",
-    "false_belief_f1",
-    "goal_false_belief_f1",
-)
-BEHAVIOUR = (
-    "knowable_false_belief_f1",
-    "revealed_detection",
-    "revealed_lead_median",
-    "revealed_detection_any",
-    "revealed_lead_any_median",
-    "brier",
-    "log_loss",
-    "brier_skill",
-)
+METRICS = metric_names(MetricGroup.BELIEFS)
+BEHAVIOUR = metric_names(MetricGroup.BEHAVIOUR)
 BEHAVIOUR_NOTE = (
     "False beliefs where they can be known: `knowable_false_belief_f1` counts as positives only "
     "the false beliefs caused by a move the robot perceived or revealed by a pursuit (from its "
@@ -43,7 +28,7 @@ BEHAVIOUR_NOTE = (
     "(lower is better) and `brier_skill` (1 - Brier / the base rate's; above 0 beats always "
     "answering the base rate) of P(false belief) over every person-item-tick."
 )
-NESTED = ("nested_belief_accuracy", "nested_first_order_accuracy", "nested_gain")
+NESTED = metric_names(MetricGroup.NESTED)
 NESTED_NOTE = (
     "What each person believes the others believe, where it differs from what they believe "
     "(person-pair-item-ticks, both sure): `nested_belief_accuracy`, the share whose most "
@@ -51,7 +36,7 @@ NESTED_NOTE = (
     "`nested_first_order_accuracy`, the same answered with its estimate of the other's own "
     "belief (a baseline); `nested_gain`, the difference (same resamples: a paired interval)."
 )
-WANT = ("fb_want_p", "fb_want_confident", "fb_want_top")
+WANT = metric_names(MetricGroup.WANT)
 WANT_NOTE = (
     "The want read where help matters: over the ticks from a person's false belief about the "
     "item they want to their first take of it (person-ticks; a stretch also ends when the want "
@@ -148,6 +133,7 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             lines += ["", "tom minus each other policy, paired by episode:", ""]
             lines += _rows(metrics["robot_differences"], list(HELP[1:]), "policy", POLICY_NAMES)
         lines += _losses(metrics.get("robot_losses"))
+        lines += _tasks(metrics.get("robot_tasks"))
     return lines
 
 
@@ -196,6 +182,27 @@ def _losses(losses: Mapping[str, Mapping[str, float | None]] | None) -> list[str
     return lines
 
 
+TASK_NOTE = (
+    "The robot's tasks (an inform, a put-back, a swap, a look, a question), summed over the "
+    "episodes: begun, done, dropped (no longer needed, most often: the person got there before "
+    "the robot's word or put-back landed) and still running at the episode's end; `unfinished`: "
+    "the share begun and not done:"
+)
+
+
+def _tasks(tasks: Mapping[str, Mapping[str, float | None]] | None) -> list[str]:
+    """The robot's begun and unfinished tasks per acting policy (none when there is no robot)."""
+    if not tasks:
+        return []
+    names = ("begun", "done", "dropped", "running", "unfinished_share")
+    lines = ["", TASK_NOTE, "", "| policy | begun | done | dropped | running at the end | unfinished |"]
+    lines.append("|---" * (len(names) + 1) + "|")
+    for policy, row in tasks.items():
+        cells = [str(v) if isinstance(v := row.get(name), int) else _cell(v) for name in names]
+        lines.append(f"| {POLICY_NAMES.get(policy, policy)} | " + " | ".join(cells) + " |")
+    return lines
+
+
 CAUSE_NOTE = (
     "False beliefs by how they arose (`start`: held from the person's first tick, a belief from "
     "before the episode; `moved`: the item changed place unseen; `unmoved`: the item stayed put "
@@ -223,7 +230,7 @@ def plot(condition: Mapping[str, Any], path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    shown = ("belief_tv", "preference_accuracy", "false_belief_f1", "goal_false_belief_f1")
+    shown = metric_names(MetricGroup.BELIEFS, interval=True)
     observers = list(condition["observers"])
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 3.6), gridspec_kw={"width_ratios": [3, 1]})
     width = 0.8 / len(observers)

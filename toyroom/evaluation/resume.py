@@ -21,6 +21,7 @@ import importlib.metadata
 import json
 import shutil
 import tempfile
+import threading
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -64,6 +65,8 @@ class Plan(msgspec.Struct, frozen=True, kw_only=True):
     max_ticks: int
     code: str
     """The code's version (:func:`code_version`)."""
+    days: int = 1
+    """A household's days (``--days``; 1: single episodes)."""
 
 
 class Unfinished(msgspec.Struct, kw_only=True):
@@ -100,6 +103,7 @@ def plan_of(
     policies: Sequence[str],
     record: bool,
     max_ticks: int,
+    days: int = 1,
 ) -> Plan:
     """The plan of an evaluation with these arguments, under this code."""
     settings = ""
@@ -116,6 +120,7 @@ def plan_of(
         record=record,
         max_ticks=max_ticks,
         code=code_version(),
+        days=days,
     )
 
 
@@ -141,6 +146,18 @@ def begin(
         IncompatibleRun: ``out`` holds an unfinished evaluation of another plan (and not
             ``fresh``), or an unreadable :data:`STATE`.
     """
+    state, resumed = start(out, plan, fresh)
+    return state, read_kept(out / EPISODES, names, plan.episodes) if resumed else {}
+
+
+def start(out: Path, plan: Plan, fresh: bool, workdir: str | None = None) -> tuple[Unfinished, bool]:
+    """The evaluation's state in ``out``, and whether it is an earlier session's resumed (its
+    entries in ``episodes.jsonl`` kept), as :func:`begin` says; a new one's scratch folder is
+    ``workdir`` in ``out`` (emptied first) when given, else a new ``toyroom-eval-*``.
+
+    Raises:
+        IncompatibleRun: as :func:`begin`.
+    """
     path = out / STATE
     if path.exists() and not fresh:
         earlier = _read_state(path)
@@ -151,15 +168,19 @@ def begin(
                 "run with --fresh to discard its episodes, or choose another --out"
             )
         (out / earlier.workdir).mkdir(parents=True, exist_ok=True)
-        return earlier, read_kept(out / EPISODES, names, plan.episodes)
+        return earlier, True
     if path.exists():  # --fresh: the unfinished evaluation's scratch folder goes too
         with contextlib.suppress(IncompatibleRun):
             shutil.rmtree(out / _read_state(path).workdir, ignore_errors=True)
-    workdir = Path(tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)).name
+    if workdir is None:
+        workdir = Path(tempfile.mkdtemp(prefix="toyroom-eval-", dir=out)).name
+    else:  # what an evaluation left there without a state (older code, a kill) is no session of this one
+        shutil.rmtree(out / workdir, ignore_errors=True)
+        (out / workdir).mkdir(parents=True)
     state = Unfinished(plan=plan, workdir=workdir)
     save(out, state)
     write_text(out / EPISODES, "")
-    return state, {}
+    return state, False
 
 
 def _read_state(path: Path) -> Unfinished:
@@ -216,12 +237,19 @@ class Ledger:
         self.out, self.state, self._cpu = out, state, cpu
         self.started, self.cpu_started = time.monotonic(), cpu()
         self.count = 0
+        self._lock = threading.Lock()  # a households evaluation keeps its days from its threads
 
     def keep(self, condition: str, entry: EpisodeRecord) -> None:
         """Append a finished episode to ``episodes.jsonl`` and save the seconds spent."""
-        keep(self.out / EPISODES, condition, entry)
-        self.count += 1
-        self.save()
+        self.append(json.dumps({**entry.to_builtins(), "condition": condition}) + "\n")
+
+    def append(self, line: str) -> None:
+        """Append ``line`` (an entry, with its newline) to ``episodes.jsonl`` and save the
+        seconds spent (from any thread)."""
+        with self._lock:
+            appended(self.out / EPISODES, line)
+            self.count += 1
+            self.save()
 
     def seconds(self) -> float:
         """Wall seconds of the whole evaluation (earlier sessions' and this one's)."""

@@ -18,15 +18,30 @@ from bridge.bridge import Bridge
 from bridge.processes import engine_command, node_command, report_failure, wait_for_engine
 from bridge.pubsub import Received
 from bridge.session import SessionSettings
-from protocol import EngineInfo, Event, EventKind, Mind, Morning, Scene, State, Truth, decode, morning_of
+from protocol import (
+    EngineInfo,
+    Event,
+    EventKind,
+    Mind,
+    Morning,
+    Perception,
+    Policy,
+    RobotMode,
+    Scene,
+    State,
+    Truth,
+    decode,
+    morning_of,
+)
 
 from .helpfulness import PersonHelp, helpfulness
 from .heuristic import MotionHeuristic
 from .interrupt import NODES
-from .metrics import Counts, Outcome, false_belief_causes, score_tick
+from .metrics import Counts, EpisodeOutcome, false_belief_causes, score_tick
 from .nestedscore import score_nested
 from .outcome import judge
 from .revealed import Stretch, detection_lead, detection_lead_any, knowable, stretches
+from .robottasks import TaskTally, task_tally
 from .scoredminds import ScoredMind, read_scored_minds
 from .truths import subscribe_truths
 from .wantread import score_want, want_stretches
@@ -41,15 +56,15 @@ class RunSpec:
 
     scenario: Path
     observer: str
-    robot: str
+    robot: RobotMode
     timeout: float = 30.0
     shadows: tuple[str, ...] = ()
     """Observers the same brain runs alongside on the same ticks (``python -m brain --shadow``)."""
     brain_args: tuple[str, ...] = ()
     """More options for the brain, e.g. ``("--set", "belief_model=graded")``."""
-    policy: str = "tom"
+    policy: Policy = Policy.TOM
     """The acting robot's policy (``RobotSettings.policy``)."""
-    perception: str = "omniscient"
+    perception: Perception = Perception.OMNISCIENT
     """What the robot sees (the brain is told by ``brain_args``): the motion heuristic then
     knows no more of the world than the robot does."""
     engine_args: tuple[str, ...] = ()
@@ -58,17 +73,19 @@ class RunSpec:
     @property
     def tag(self) -> str:
         """``<episode>-<observer>-observe`` or ``<episode>-<observer>-act-<policy>``: its logs' names."""
-        action = self.robot if self.robot == "observe" else f"{self.robot}-{self.policy}"
+        action = self.robot if self.robot == RobotMode.OBSERVE else f"{self.robot}-{self.policy}"
         return f"{self.scenario.stem}-{self.observer}-{action}"
 
 
 @dataclass
 class RunResult:
     counts: Counts = field(default_factory=Counts)
-    outcome: Outcome = field(default_factory=Outcome)
+    outcome: EpisodeOutcome = field(default_factory=EpisodeOutcome)
     ticks: int = 0
     help: dict[str, PersonHelp] = field(default_factory=dict)
     """Per person, how much the robot helped (:mod:`toyroom.evaluation.helpfulness`)."""
+    tasks: TaskTally = TaskTally()
+    """The acting robot's tasks, begun and finished or not (:mod:`toyroom.evaluation.robottasks`)."""
     morning: Morning | None = None
     """Where the run's last truth left things (the next day of a household starts there)."""
 
@@ -157,7 +174,7 @@ def brain_command(
         *("--timeout", str(spec.timeout), "--log-level", "WARNING"),
         *shadows,
         *spec.brain_args,
-        *(("--set", f"policy={spec.policy}") if spec.robot == "act" else ()),
+        *(("--set", f"policy={spec.policy}") if spec.robot == RobotMode.ACT else ()),
     )
 
 
@@ -214,7 +231,7 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
         RuntimeError: an observer's minds miss ticks of the truth.
     """
     tag = spec.tag
-    outcome = Outcome()
+    outcome = EpisodeOutcome()
     if record.truths:
         last = record.truths[max(record.truths)]
         outcome = judge(scene, last, record.playing, record.regions, record.reached)
@@ -227,10 +244,11 @@ def score_run(spec: RunSpec, scene: Scene, record: RunRecord, shadow_dir: Path) 
     truth = TruthView(record.truths, record.took, stretches(record.truths, cells, spots), record.takes)
     results = {spec.observer: _score(record.minds, truth, outcome)}
     results[spec.observer].help = helpfulness(scene, record.states, record.truths, record.events)
+    results[spec.observer].tasks = task_tally(record.minds)
     if record.truths:
         results[spec.observer].morning = morning_of(record.truths[max(record.truths)])
-    if spec.robot == "observe":
-        heuristic = MotionHeuristic(scene, embodied=spec.perception == "embodied")
+    if spec.robot == RobotMode.OBSERVE:
+        heuristic = MotionHeuristic(scene, embodied=spec.perception == Perception.EMBODIED)
         guessed = {
             tick: heuristic.mind(record.states[tick], record.truths[tick])
             for tick in sorted(record.states)
@@ -284,7 +302,7 @@ class TruthView:
         self.wanting = want_stretches(truths, takes)
 
 
-def _score(minds: Mapping[int, Mind | ScoredMind], truth: TruthView, outcome: Outcome) -> RunResult:
+def _score(minds: Mapping[int, Mind | ScoredMind], truth: TruthView, outcome: EpisodeOutcome) -> RunResult:
     """Score every tick that has both a mind and the truth (channels that are never dropped),
     and every revealed stretch."""
     result = RunResult(outcome=outcome)

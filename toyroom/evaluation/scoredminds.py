@@ -51,11 +51,28 @@ class ScoredAgent(msgspec.Struct, frozen=True, gc=False):
     nested_beliefs: tuple[ScoredNested, ...] = ()
 
 
+class ScoredEnd(msgspec.Struct, frozen=True, gc=False):
+    """A robot task that ended at this tick (``TaskEnd``): ``outcome`` ``done`` or ``dropped``."""
+
+    task: str
+    detail: str
+    outcome: str
+
+
+class ScoredRobot(msgspec.Struct, frozen=True, gc=False):
+    """What the evaluation counts of a robot's activity (:mod:`.robottasks`)."""
+
+    robot: str
+    task: str
+    ended: ScoredEnd | None = None
+
+
 class ScoredMind(msgspec.Struct, frozen=True, gc=False):
     """What the evaluation scores of one tick's ``mind`` message."""
 
     tick: int
     agents: tuple[ScoredAgent, ...]
+    robots: tuple[ScoredRobot, ...] = ()
 
 
 class _Head(msgspec.Struct):
@@ -85,7 +102,8 @@ def read_scored_minds(path: Path) -> dict[int, ScoredMind]:
         at = line.find(_AGENTS)
         head, agents = line[:at], line[at:]
         if previous is not None and at > 0 and head.endswith(b",") and agents == previous[0]:
-            mind = ScoredMind(tick=_head_decoder.decode(head[:-1] + b"}").tick, agents=previous[1].agents)
+            tick = _head_decoder.decode(head[:-1] + b"}").tick
+            mind = ScoredMind(tick=tick, agents=previous[1].agents, robots=previous[1].robots)
         else:
             mind = _decoder.decode(line)
         minds[mind.tick] = mind

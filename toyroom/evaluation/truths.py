@@ -28,14 +28,14 @@ _AGENTS = b',"agents":'
 _NUMBERS = re.compile(rb'"(?:episode|tick)":\d+')
 
 
-class _Head(msgspec.Struct):
+class _TruthHead(msgspec.Struct):
     """What comes before a truth's ``agents``: its episode and tick are read."""
 
     episode: int
     tick: int
 
 
-_head_decoder = msgspec.json.Decoder(_Head)
+_head_decoder = msgspec.json.Decoder(_TruthHead)
 
 
 class TruthDecoder:
@@ -60,7 +60,7 @@ class TruthDecoder:
                 try:
                     numbers = _head_decoder.decode(head + b"}")
                 except msgspec.DecodeError:  # a malformed number: the whole decode says what is wrong
-                    numbers = _Head(episode=-1, tick=-1)
+                    numbers = _TruthHead(episode=-1, tick=-1)
                 if numbers.episode >= 0 and numbers.tick >= 0:
                     return msgspec.structs.replace(truth, episode=numbers.episode, tick=numbers.tick)
         truth = decode(data, Truth)

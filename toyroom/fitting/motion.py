@@ -26,7 +26,7 @@ import numpy as np
 
 from brain.model.arrays import BoolArray, FloatArray
 from brain.model.personinterface import StepRecord
-from brain.model.planner import Policy
+from brain.model.planner import PlanPolicy
 from brain.model.world import WorldModel
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
@@ -39,7 +39,7 @@ from toyroom.evaluation.heuristic import OUT, WINDOW, MotionHeuristic, goal_dist
 from .evidence import Evidence
 from .judged import rank_of
 from .judgments import Judgment
-from .replay import Recorder
+from .replay import RecordingModel
 
 MOTION = "motion"
 """The model's name in :data:`toyroom.fitting.search.MODELS`."""
@@ -53,7 +53,7 @@ def motion_evidence(
     """The log-likelihood of every person's decisions in ``trace`` under the motion heuristic
     at each of ``points`` (values of ``beta`` and ``epsilon``; the rest from ``settings``)."""
     tracker = MindTracker(trace.info.scene, settings)
-    tracker.person_model = Recorder(tracker.person_model)
+    tracker.person_model = RecordingModel(tracker.person_model)
     for state, events in trace:
         tracker.observe(state, events)
     beta = np.array([float(p.get("beta", settings.beta)) for p in points])
@@ -65,7 +65,7 @@ def motion_evidence(
         chains = tracker.tracks[person].chains
         steps = chains[0].steps if chains else []
         ll, n = _person(
-            tracker.model, policy if isinstance(policy, Policy) else None, distances, steps, beta, epsilon
+            tracker.model, policy if isinstance(policy, PlanPolicy) else None, distances, steps, beta, epsilon
         )
         total, actions = total + ll, actions + n
     return [Evidence(float(ll), actions) for ll in total]
@@ -73,7 +73,7 @@ def motion_evidence(
 
 def _person(
     model: WorldModel,
-    policy: Policy | None,
+    policy: PlanPolicy | None,
     distances: Mapping[str, Mapping[GridCell, int]],
     steps: Sequence[StepRecord],
     beta: FloatArray,
@@ -97,7 +97,7 @@ def _person(
     return ll, n
 
 
-def _possible(model: WorldModel, policy: Policy | None, cell: int, held: int) -> BoolArray:
+def _possible(model: WorldModel, policy: PlanPolicy | None, cell: int, held: int) -> BoolArray:
     """``(A,)`` the actions possible from ``(cell, held)``."""
     if policy is not None:
         q = policy.q[:, policy.state_slice(cell, held), :]

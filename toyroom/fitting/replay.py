@@ -58,7 +58,7 @@ class RecordOnly:
         return self.cache[truth]
 
 
-class Recorder:
+class RecordingModel:
     """A person model whose filters only record (see :class:`RecordOnly`)."""
 
     def __init__(self, base: PersonModel) -> None:
@@ -93,7 +93,7 @@ def evidence_at_points(
     base = tracker.person_model
     if not replayable(settings, base) or any(set(p) - set(CHEAP) for p in points):
         return None
-    tracker.person_model = Recorder(base)
+    tracker.person_model = RecordingModel(base)
     for state, events in trace:
         tracker.observe(state, events)
     values = {name: np.array([float(p.get(name, getattr(settings, name))) for p in points]) for name in CHEAP}

@@ -12,15 +12,23 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from protocol import Ask, CommandState, CommandStatus, Give, Request, RobotCommand, Say, SayTopic, State
-
-EARSHOT_CELLS = 2
-"""A person hears the robot in the same region or within this many cells (as sim2d)."""
+from protocol import (
+    EARSHOT_CELLS,
+    Ask,
+    CommandState,
+    CommandStatus,
+    Give,
+    Request,
+    RobotCommand,
+    Say,
+    SayTopic,
+    State,
+)
 
 
 def in_earshot(state: State, person: str, robot: str) -> bool:
     """Whether ``person`` hears ``robot`` in ``state``: the same region, or within
-    :data:`EARSHOT_CELLS` cells."""
+    :data:`protocol.EARSHOT_CELLS` cells (as sim2d)."""
     agents = {a.id: a for a in state.agents}
     me, it = agents.get(person), agents.get(robot)
     if me is None or it is None:

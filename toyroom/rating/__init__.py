@@ -7,7 +7,7 @@ page draws (:mod:`.drawing`), the answers file (:mod:`.answers`), the page (:mod
 (:mod:`.server`) and the command (:mod:`.node`)."""
 
 from .answers import COLUMNS, AnswerBook
-from .questions import Question, QuestionsError, Study, load_study
+from .questions import Question, QuestionsError, RatingStudy, load_study
 from .server import RatingServer, RatingSettings, token_for
 
 __all__ = [
@@ -19,5 +19,5 @@ __all__ = [
     "QuestionsError",
     "RatingServer",
     "RatingSettings",
-    "Study",
+    "RatingStudy",
 ]

@@ -8,7 +8,7 @@ import html
 import json
 from typing import Any
 
-from .questions import Question, Study
+from .questions import Question, RatingStudy
 from .script import SCRIPT
 
 STYLE = """
@@ -95,7 +95,7 @@ def page_state(
     }
 
 
-def render(study: Study, participant: str, question: Question | None, state: dict[str, Any]) -> str:
+def render(study: RatingStudy, participant: str, question: Question | None, state: dict[str, Any]) -> str:
     """The page for ``participant`` at ``question`` (``None``: the thank-you page)."""
     total = len(study.questions)
     number = min(state["answered"] + 1, total)

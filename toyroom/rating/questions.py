@@ -117,7 +117,7 @@ class Question:
 
 
 @dataclass(frozen=True)
-class Study:
+class RatingStudy:
     """A questions file: the texts the page shows and the questions, in the file's order."""
 
     path: Path
@@ -166,7 +166,7 @@ def _text(table: dict[str, Any], key: str, where: str, default: str = "") -> str
     return value.strip()
 
 
-def load_study(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> Study:
+def load_study(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> RatingStudy:
     """Read and check ``path`` against the recordings (``names``: each one's file name
     without extension).
 
@@ -210,7 +210,7 @@ def load_study(path: Path, traces: Sequence[Trace], names: Sequence[str]) -> Stu
     ids = [q.id for q in questions]
     if dupes := sorted({i for i in ids if ids.count(i) > 1}):
         raise QuestionsError(f"{path}: question ids must differ; repeated: {', '.join(dupes)}")
-    return Study(
+    return RatingStudy(
         path,
         _text(data, "title", str(path), "Rating study"),
         _text(data, "instructions", str(path)),

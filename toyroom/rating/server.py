@@ -45,7 +45,7 @@ from .answers import AnswerBook
 from .drawing import captions, frames, plan
 from .page import page_state, render
 from .progress import Progress
-from .questions import Question, Study
+from .questions import Question, RatingStudy
 from .serving import DEFAULT_LIMITS, BoundedHTTPServer, ServerLimits
 
 log = logging.getLogger("toyroom.rating")
@@ -93,7 +93,7 @@ class RatingSettings:
     """What the server serves: the study, its recordings (in the order the questions index
     them), the participants' ids, the answers CSV, the secret, and extra allowed origins."""
 
-    study: Study
+    study: RatingStudy
     traces: Sequence[Trace]
     participants: tuple[str, ...]
     answers: Path

@@ -8,8 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from brain.errors import MemoryFileError
+from brain.errors import MemoryFileError, MemoryRequestError
 from brain.memory import SCHEMA_VERSION, PersonMemory, Snapshot, open_memory
+from brain.memory.transfer import export
 
 
 def snapshot(day: int, final: bool = True, tick: int = 100, household: str = "home") -> Snapshot:
@@ -28,30 +29,34 @@ def test_a_day_starts_from_the_last_days_end_and_a_restart_from_its_checkpoint(t
         memory.save(snapshot(2, final=False, tick=40))
     with open_memory(path) as memory:  # reopened: everything was committed
         assert memory.morning("home", 2) == snapshot(1), "day 2 starts from day 1's end"
-        assert memory.morning("home", 3) == snapshot(1), "day 2 has no end yet"
-        assert memory.resume("home", 2) == snapshot(2, final=False, tick=40), "a restart resumes"
-        assert memory.resume("home", 3) == snapshot(1), "no checkpoint of day 3: its morning"
+        cut = snapshot(2, final=False, tick=40)
+        assert memory.morning("home", 3) == cut, "day 2 has no end: day 3 starts from its checkpoint"
+        assert memory.resume("home", 2) == cut, "a restart resumes"
+        assert memory.resume("home", 3) == cut, "no checkpoint of day 3: its morning"
         memory.save(snapshot(2, tick=900))
         assert memory.morning("home", 3) == snapshot(2, tick=900), "day 3 starts from day 2's end"
         assert memory.resume("home", 2) == snapshot(1), (
             "a day's end replaces its checkpoint: a rerun starts afresh"
         )
         assert memory.morning("elsewhere", 2) is None and memory.households() == ["home"]
-        exported = memory.export()
+        exported = export(memory)
     assert exported["schema"] == SCHEMA_VERSION and len(exported["snapshots"]) == 2, exported
 
 
-def test_forget_removes_every_row_about_a_person(tmp_path: Path) -> None:
+def test_forget_removes_every_row_about_a_person_in_one_household(tmp_path: Path) -> None:
     path = tmp_path / "memory.sqlite"
     with open_memory(path) as memory:
         memory.save(snapshot(1))
+        memory.save(snapshot(2))
         memory.save(snapshot(1, household="other"))
-        removed = memory.forget("A1")
-        assert removed == 2 * (3 + 2), f"3 preference and 2 belief rows in each household, got {removed}"
-        assert memory.people() == ["A2"], memory.people()
-        morning = memory.morning("home", 2)
+        removed = memory.forget("A1", "home")
+        assert removed == 2 * (3 + 2), f"3 preference and 2 belief rows on each of 2 days, got {removed}"
+        assert memory.people_by_household() == {"home": ["A2"], "other": ["A1", "A2"]}
+        morning = memory.morning("home", 3)
         assert morning is not None and morning.person("A1") is None and morning.person("A2") is not None
-        assert memory.forget("A1") == 0, "nothing left to forget"
+        assert memory.forget("A1") == 5, "A1 is now in one household only: no need to name it"
+        with pytest.raises(MemoryRequestError, match="holds no person 'A1' \\(it holds A2"):
+            memory.forget("A1")
 
 
 def test_a_damaged_file_is_refused_with_its_name(tmp_path: Path) -> None:

@@ -16,6 +16,7 @@ from brain.model.inference import HmmStep, forward_step
 from brain.model.world import build_world_model
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
+from protocol import EpisodeSpec
 from sim2d.engine import Engine
 from sim2d.generation import write_house_episode
 from sim2d.scenario import load_scenario
@@ -104,7 +105,7 @@ def test_close_to_the_exact_model_on_the_paper_map(scenario: str) -> None:
 
 
 def test_a_large_house_runs_factored(tmp_path: Path) -> None:
-    path = write_house_episode(tmp_path, rooms=10, items=6, seed=2, max_ticks=200)
+    path = write_house_episode(tmp_path, rooms=10, items=6, seed=2, spec=EpisodeSpec(max_ticks=200))
     engine = Engine(load_scenario(str(path)), robot="observe")
     tracker = MindTracker(engine.scene())
     assert not tracker.exact, f"{tracker.model.n_worlds} worlds should exceed the exact model's limit"

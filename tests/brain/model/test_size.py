@@ -14,11 +14,13 @@ import tracemalloc
 from pathlib import Path
 
 import msgspec
+import numpy as np
 import pytest
 
 from brain.errors import ModelTooLarge
-from brain.model.size import MAX_MODEL_BYTES, MEMORY_BUDGET_GB, model_size, row_floor
-from brain.settings import ModelSettings
+from brain.model.size import MAX_MODEL_BYTES, MEMORY_BUDGET_GB, factored_rows, model_size, row_floor
+from brain.settings import ModelSettings, UnseenWorld
+from brain.tracking.itemworld import ItemWorld
 from brain.tracking.tracker import MindTracker
 from protocol import ItemSpec
 from sim2d.engine import Engine
@@ -84,7 +86,8 @@ def test_branches_lapses_and_people_beyond_the_memory_budget_are_refused_at_the_
     twenty_rooms: Path,
 ) -> None:
     engine = Engine(str(twenty_rooms))
-    tracker = MindTracker(engine.scene(), ModelSettings(perception="embodied", miss=0.2))
+    joint = ModelSettings(perception="embodied", miss=0.2, unseen_world=UnseenWorld.JOINT)
+    tracker = MindTracker(engine.scene(), joint)
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     with pytest.raises(ModelTooLarge) as caught:
         tracker.observe(engine.state(), ())
@@ -103,6 +106,30 @@ def test_branches_lapses_and_people_beyond_the_memory_budget_are_refused_at_the_
     ok = MindTracker(engine.scene(), ModelSettings(perception="embodied", miss=0.2))
     ok.observe(engine.state(), ())  # 36 branches x 2 people x 16 rows x 17.8 kB: accepted
     assert ok.view is not None and len(ok.view.rows) == 36, len(ok.view.rows) if ok.view else None
+
+
+def test_the_scene_refused_with_joint_branches_runs_factored(twenty_rooms: Path) -> None:
+    """Issue 66, item 2: by default (``unseen_world = auto``) the 20-room, 3-item house the
+    joint branches cannot hold looks with the factored world, within the budget, and follows
+    its people."""
+    engine = Engine(str(twenty_rooms))
+    tracker = MindTracker(engine.scene(), ModelSettings(perception="embodied", miss=0.2))
+    tracker.observe(engine.state(), ())
+    assert isinstance(tracker.world, ItemWorld) and tracker.view is None
+    for _ in range(40):
+        out = engine.step()
+        tracker.observe(out.state, out.events)
+    where = tracker.where()
+    assert where is not None and np.allclose(where.sum(axis=1)[where.sum(axis=1) > 0], 1.0)
+    assert any(tracker.online(p) is not None for p in tracker.people)
+    people, rows = len(tracker.people), 16  # lapse rows
+    assert (
+        factored_rows(engine.scene(), tracker.settings, tracker.person_model, 64)
+        * people
+        * rows
+        * (row_floor(engine.scene(), tracker.settings))
+        <= MEMORY_BUDGET_GB * 2**30
+    )
 
 
 def test_the_floor_of_a_row_is_the_factored_filters_arrays(twenty_rooms: Path) -> None:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
+from protocol import EpisodeKind, EpisodeSpec, Minds
 from sim2d.generation.episodes import write_episode
 from tests.support import toyroom_run
 
@@ -17,7 +18,7 @@ TASKS = ["moved", "hidden", "contested", "seen", "told", "overlooked", "stale"]
 
 def test_the_benefit_robot_asks_each_person_and_hears_their_answer(tmp_path: Path) -> None:
     scenario = write_episode(
-        tmp_path / "episode", "paper", 7003, 1000, minds="rich", kind="tasks", tasks=TASKS
+        tmp_path / "episode", "paper", 7003, EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, TASKS)
     )
     out = toyroom_run(
         tmp_path / "run", str(scenario), "--set", "policy=benefit", "--set", "perception=embodied"

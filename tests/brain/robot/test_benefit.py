@@ -17,7 +17,7 @@ from brain.model.estimates import Estimate
 from brain.model.world import build_world_model
 from brain.robot.benefit import cell_distances, inform_worth, lasting_preference, look_or_guess
 from brain.robot.choice import candidates, chosen, questions
-from brain.robot.situation import Inform, Look, PutBack, Question, Snapshot
+from brain.robot.situation import AskWhat, Inform, Look, PutBack, Situation, put_back_tasks
 from brain.settings import RobotSettings
 from protocol import Cell
 from sim2d.engine import Engine
@@ -41,7 +41,7 @@ def believes(place: str, p_ball: float = 0.9) -> Estimate:
     return Estimate(beliefs, preference, (BALL, LOCATIONS.index(place), p_ball), np.zeros(2))
 
 
-def snapshot(world, cells: dict[str, tuple[int, int]], ball: str, a1: Estimate, **kw) -> Snapshot:
+def snapshot(world, cells: dict[str, tuple[int, int]], ball: str, a1: Estimate, **kw) -> Situation:
     """A2 holds the skate (so only A1 may need the ball); the ball rests at ``ball``."""
     scene, model, state = world
     agents = tuple(
@@ -56,7 +56,7 @@ def snapshot(world, cells: dict[str, tuple[int, int]], ball: str, a1: Estimate, 
     )
     now = msgspec.structs.replace(state, agents=agents, items=items)
     estimates = {"A1": a1, "A2": believes("P2", 0.05)}
-    return Snapshot(
+    return Situation(
         scene,
         model,
         now,
@@ -69,7 +69,7 @@ def snapshot(world, cells: dict[str, tuple[int, int]], ball: str, a1: Estimate, 
     )
 
 
-def best(snap: Snapshot, kind: type) -> float:
+def best(snap: Situation, kind: type) -> float:
     """The best net worth of a candidate of ``kind`` for A1's ball (``-inf``: none)."""
     nets = [
         s.worth.net
@@ -135,7 +135,7 @@ def test_a_certain_place_makes_looking_worthless(world) -> None:
     )
 
 
-def both_resting(world, a1: Estimate, places: dict[str, str]) -> Snapshot:
+def both_resting(world, a1: Estimate, places: dict[str, str]) -> Situation:
     """A1 on P2's side of the house, A2 far away and sure where both items rest, the robot in
     the corridor; the skate and the ball rest at ``places``."""
     scene, model, state = world
@@ -149,7 +149,7 @@ def both_resting(world, a1: Estimate, places: dict[str, str]) -> Snapshot:
         (0, 0, 0.5),
         np.zeros(2),
     )
-    return Snapshot(scene, model, now, {"A1": a1, "A2": a2}, {}, {}, {}, robot="robot")
+    return Situation(scene, model, now, {"A1": a1, "A2": a2}, {}, {}, {}, robot="robot")
 
 
 def undecided(skate: str, ball: str) -> Estimate:
@@ -198,7 +198,7 @@ def test_an_item_the_person_knows_where_is_not_named(world) -> None:
     )
 
 
-def ball_unseen(world, a1: Estimate, asked: dict[str, tuple[int, float]] | None = None) -> Snapshot:
+def ball_unseen(world, a1: Estimate, asked: dict[str, tuple[int, float]] | None = None) -> Situation:
     """A1 (in S1's room) believes both items at S2; the skate rests at S1, in the robot's
     sight, and the ball at P1 or at P2, rooms the robot (in the corridor) cannot see: a wrong
     word about the ball sends A1 across the house."""
@@ -221,7 +221,7 @@ def wanting(p_ball: float, p_skate: float) -> Estimate:
     return Estimate(beliefs, preference, (BALL, LOCATIONS.index("S2"), p_ball), np.zeros(2))
 
 
-def question_net(snap: Snapshot, settings: RobotSettings | None = None) -> float:
+def question_net(snap: Situation, settings: RobotSettings | None = None) -> float:
     """The net worth of asking A1 what they are looking for (``-inf``: not a candidate)."""
     nets = [s.worth.net for s in questions(snap, settings or RobotSettings()) if s.task.person == "A1"]
     return max(nets, default=-np.inf)
@@ -248,7 +248,7 @@ def test_asking_beats_a_guess_when_two_items_are_equally_likely_wanted(world) ->
     assert asked > guess, (
         f"asking ({asked:.2f}) should beat telling A1 the ball's likelier room ({guess:.2f})"
     )
-    assert Question("A1") in [s.task for s in chosen(snap, settings)], "expected the question to be chosen"
+    assert AskWhat("A1") in [s.task for s in chosen(snap, settings)], "expected the question to be chosen"
     # with the odds uneven, what the answer can teach is worth less
     assert question_net(ball_unseen(world, wanting(0.8, 0.2))) < asked
 
@@ -258,7 +258,7 @@ def test_no_question_when_the_desire_is_already_known(world, p_ball: float) -> N
     snap = ball_unseen(world, wanting(p_ball, 1.0 - p_ball))
     asked = question_net(snap)
     assert asked <= 0, f"A1 wants the ball with p = {p_ball}: asking should not pay, got net {asked:.2f}"
-    assert not any(isinstance(s.task, Question) for s in chosen(snap, RobotSettings()))
+    assert not any(isinstance(s.task, AskWhat) for s in chosen(snap, RobotSettings()))
 
 
 def test_a_person_is_not_asked_twice_within_ask_again_after(world) -> None:
@@ -268,7 +268,7 @@ def test_a_person_is_not_asked_twice_within_ask_again_after(world) -> None:
     assert question_net(recently, settings) == -np.inf, "A1 was asked 59 s ago: no question yet"
     later = ball_unseen(world, wanting(0.5, 0.5), {"A1": (1, now - 61.0)})
     questions_now = [s.task for s in questions(later, settings) if s.task.person == "A1"]
-    assert questions_now == [Question("A1", 1)], (
+    assert questions_now == [AskWhat("A1", 1)], (
         f"61 s later the robot may ask again, as its second question: got {questions_now}"
     )
 
@@ -280,3 +280,35 @@ def test_an_errand_out_ends_in_the_want_the_person_set_out_with() -> None:
     assert lasting == pytest.approx([0.05 + 0.09, 0.05 + 0.81, 0.0]), lasting
     even = lasting_preference(preference, None)
     assert even == pytest.approx([0.5, 0.5, 0.0]), f"no want before: the items' own shares, got {even}"
+
+
+def mistaken(place: str) -> Estimate:
+    """A1 wants the ball, is sure it is at ``place``, and that is a false belief."""
+    est = believes(place, 0.98)
+    return dataclasses.replace(est, false_belief=np.array([0.0, 1.0]))
+
+
+@pytest.mark.parametrize(
+    ("believed", "expected"),
+    [("S2", []), ("P1", [PutBack("ball", "P1", "A1", why="where A1 left it")])],
+)
+def test_an_item_is_put_back_only_where_that_shortens_its_owners_way(world, believed, expected) -> None:
+    """Issue 65: the robot's put-backs made people slower (seed 51, day 1: `tom` +15.6 ticks
+    [2.5, 33.9] against no robot), carrying items off their owner's way and away from where
+    they use them. A1, outside, left the ball at ``believed``; A2 moved it to P2, where people
+    play. Believing S2, A1 would see it at P2 from there and play with it where it lies:
+    carrying it back lengthens their way, so it stays. Believing P1 (at the far end), the ball
+    goes back."""
+    snap = snapshot(
+        world,
+        {"A1": (7, 1), "A2": (14, 10), "robot": (9, 8)},
+        "P2",
+        mistaken(believed),
+        owners={"ball": "A1"},
+        moves={"ball": (believed, "P2", "A2")},
+    )
+    settings = RobotSettings(put_back_harm=1.0)
+    assert list(put_back_tasks(snap, settings)) == expected, f"A1 believing the ball at {believed}"
+    net = best(snap, PutBack)
+    if not expected:
+        assert net <= 0, f"under `benefit` the put-back should not be worth doing, got net {net:.2f} steps"

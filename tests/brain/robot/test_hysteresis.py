@@ -9,7 +9,7 @@ import pytest
 from brain.model.world import build_world_model
 from brain.robot.commands import CommandBook
 from brain.robot.context import RobotContext
-from brain.robot.situation import Inform, Snapshot, Task
+from brain.robot.situation import Inform, Situation, Task
 from brain.settings import RobotSettings
 from protocol import Cell
 from sim2d.engine import Engine
@@ -45,7 +45,7 @@ def at(
         for a in state.agents
     )
     now = msgspec.structs.replace(state, time=seconds, agents=agents)
-    ctx.snapshot = Snapshot(scene, model, now, {}, {}, {})
+    ctx.snapshot = Situation(scene, model, now, {}, {}, {})
 
 
 def calling(*tasks: Task):

@@ -16,7 +16,7 @@ from scenes import tiny_scene, tiny_state
 from brain.model.world import build_world_model
 from brain.oracle import OracleError, TruthFeed, oracle_minds
 from brain.robot.oracle import oracle_estimates
-from brain.robot.situation import Inform, PutBack, Snapshot, inform_tasks, put_back_tasks
+from brain.robot.situation import Inform, Situation, inform_tasks, put_back_tasks
 from brain.settings import RobotSettings
 from protocol import Capability, ItemBelief, ItemPlace, ItemShape, ItemSpec, Prob, Pursuit, TrueMind, Truth
 
@@ -72,9 +72,10 @@ def test_the_pursuit_is_the_want_and_out_is_no_item() -> None:
 
 def test_toms_finders_act_on_the_true_false_belief() -> None:
     """On the oracle's estimates, ``tom``'s finders tell ``p`` where the ball is as they head
-    for B, and (``p`` left it at B) put it back there."""
+    for B; and, ``p`` having left it at B, put it back there from A unless that lengthens
+    their way: in this room A is in view from every cell (and a play spot), so it stays."""
     state = tiny_state(3, (1, 0), ball_at="A")
-    snap = Snapshot(
+    snap = Situation(
         scene=SCENE,
         model=MODEL,
         state=state,
@@ -84,9 +85,7 @@ def test_toms_finders_act_on_the_true_false_belief() -> None:
     )
     settings = RobotSettings(put_back_harm=1.0)
     assert list(inform_tasks(snap, settings)) == [Inform(person="p", item="ball", location="A")]
-    assert list(put_back_tasks(snap, settings)) == [
-        PutBack(item="ball", location="B", owner="p", why="where p believes it is")
-    ]
+    assert list(put_back_tasks(snap, settings)) == [], "the ball at A lies in p's view: moving it costs p"
 
 
 class Wire:

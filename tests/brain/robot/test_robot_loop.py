@@ -114,21 +114,23 @@ def test_announce_policy_tells_the_others_of_every_move(tmp_path: Path) -> None:
 
 def test_a_likely_deception_is_told_to_the_deceived_not_put_back(tmp_path: Path) -> None:
     """``paper-deceive``: A2 moves the ball A1 wants while A1 is in P1, believing A1 did not
-    see (nested beliefs). The robot reads a likely deception and tells A1, who gets the ball
-    sooner than after a put-back behind A2's back (``--set on_deception=put_back``)."""
+    see (nested beliefs). The robot reads a likely deception and tells A1. With
+    ``--set on_deception=put_back`` it would put the ball back behind A2's back instead, but
+    not here: the ball now lies where A1 plays with it (P2), so carrying it back to S2 would
+    lengthen A1's way (issue 65: a put-back must serve its owner better than leaving it)."""
     told = EventsCsv(toyroom_run(tmp_path / "tell", "paper-deceive") / "events.csv")
     moved = told.first_tick(actor="A2", kind="drop", item="ball", location="P2")
     read = told.first_tick(actor="A2", kind="deception", item="ball", target="A1")
     said = told.first_tick(actor="robot", kind="say", item="ball", target="A1", location="P2")
     assert moved <= read < said, (moved, read, said)
     assert not told.find(actor="robot", kind="take"), "the robot moves nothing behind A2's back"
+    assert told.find(actor="A1", kind="play", item="ball", location="P2"), "told, A1 plays with the ball"
     back = EventsCsv(
         toyroom_run(tmp_path / "put", "paper-deceive", "--set", "on_deception=put_back") / "events.csv"
     )
-    assert back.find(actor="robot", kind="drop", item="ball", location="S2"), "put_back: the ball goes back"
-    played = told.find(actor="A1", kind="play", item="ball")[-1]
-    played_back = back.find(actor="A1", kind="play", item="ball")[-1]
-    assert int(played["tick"]) < int(played_back["tick"]), (played, played_back)
+    assert back.first_tick(actor="A2", kind="deception", item="ball", target="A1") == read
+    taken = back.find(actor="robot", kind="take", item="ball")
+    assert not taken, f"expected the ball left where A1 plays with it, got the robot taking it: {taken}"
 
 
 def test_sally_anne_robot_acts_before_sally_reaches_the_basket(tmp_path: Path) -> None:

@@ -16,7 +16,7 @@ from brain.robot.branches import inform_branch
 from brain.robot.commands import CommandBook
 from brain.robot.context import RobotContext
 from brain.robot.controller import RobotBrain
-from brain.robot.situation import Inform, PutBack, Snapshot, _believed_why, put_back_tasks, why_unneeded
+from brain.robot.situation import Inform, PutBack, Situation, _believed_why, put_back_tasks, why_unneeded
 from brain.settings import RobotSettings
 from brain.tracking.tracker import MindTracker
 from protocol import Cell, TaskEnd, TaskOutcome
@@ -32,7 +32,7 @@ def world():
     return scene, build_world_model(scene), engine.state()
 
 
-def snapshot(world, seconds: float, a1_holds: str | None, a1_cell: tuple[int, int], **kw) -> Snapshot:
+def snapshot(world, seconds: float, a1_holds: str | None, a1_cell: tuple[int, int], **kw) -> Situation:
     """The paper scene at ``seconds``: the ball resting at P2, the skate at S1, A2's hands empty."""
     scene, model, state = world
     items = tuple(
@@ -50,7 +50,7 @@ def snapshot(world, seconds: float, a1_holds: str | None, a1_cell: tuple[int, in
         for a in state.agents
     )
     now = msgspec.structs.replace(state, time=seconds, agents=agents, items=items)
-    return Snapshot(scene, model, now, {}, kw.get("owners", {}), {}, kw.get("moves", {}))
+    return Situation(scene, model, now, {}, kw.get("owners", {}), {}, kw.get("moves", {}))
 
 
 def test_a_put_back_says_whose_belief_it_serves(world) -> None:

@@ -6,14 +6,26 @@ from __future__ import annotations
 import subprocess
 import sys
 import uuid
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
 from support import CSharpEngineProcess, EngineProcess, GatewayProcess, GridEngineProcess
 
 from bridge import Bridge
+from bridge.conformance import Check, Probe
+from bridge.conformance.commands import (
+    check_cancel,
+    check_command_while_one_runs,
+    check_navigation,
+    check_robot_commands,
+    check_say_several,
+    check_status_order,
+)
+from bridge.conformance.handshake import check_handshake, check_liveliness, check_scene
+from bridge.conformance.stepping import check_control_reply, check_stepping
 from bridge.conformance.suite import EngineConformance
+from bridge.conformance.wire import check_event_order, check_messagepack
 
 GRID_ENGINE = Path(__file__).resolve().parents[3] / "examples" / "grid_engine" / "main.py"
 
@@ -104,25 +116,26 @@ class TestGridEngineRealtime(EngineConformance):
             yield world
 
 
-BROKEN = {
-    "version": ("handshake", "the peer speaks 2.0"),
-    "status": ("robot commands", "expected accepted -> running -> succeeded"),
-    "double-step": ("stepping", "expected tick 1, got 2"),
-    "extra-tick": ("stepping", "expected tick 1, got 2"),
-    "refuse-commands": ("navigation", "expected succeeded, got ['failed(refused)']"),
-    "omit-lists": ("control reply", "expected the control_reply of a step to carry its last state"),
-    "events-after-state": ("event order", "expected each tick's events before its state"),
-    "duplicate-status": ("status order", "expected accepted -> running -> one final status"),
-    "never-arrive": ("navigation", "expected a final status within 400 ticks"),
-    "ignore-cancel": ("cancel", "expected the cancel succeeded and the navigate cancelled"),
-    "drop-queued": ("command while one runs", "expected a status (accepted or failed), got none"),
-    "wrong-encoding": ("messagepack", "expected a MessagePack reply, got application/json"),
-    "no-visibility": ("scene", "visibility"),
-    "door-in-region": ("scene", "door"),
-    "no-token": ("liveliness", "expected a liveliness token"),
-    "say-one": ("say several", "expected a say event per item on one tick"),
+BROKEN: dict[str, tuple[Callable[[Probe], str], str]] = {
+    "version": (check_handshake, "the peer speaks 2.0"),
+    "status": (check_robot_commands, "expected accepted -> running -> succeeded"),
+    "double-step": (check_stepping, "expected tick 1, got 2"),
+    "extra-tick": (check_stepping, "expected tick 1, got 2"),
+    "refuse-commands": (check_navigation, "expected succeeded, got ['failed(refused)']"),
+    "omit-lists": (check_control_reply, "expected the control_reply of a step to carry its last state"),
+    "events-after-state": (check_event_order, "expected each tick's events before its state"),
+    "duplicate-status": (check_status_order, "expected accepted -> running -> one final status"),
+    "never-arrive": (check_navigation, "expected a final status within 400 ticks"),
+    "ignore-cancel": (check_cancel, "expected the cancel succeeded and the navigate cancelled"),
+    "drop-queued": (check_command_while_one_runs, "expected a status (accepted or failed), got none"),
+    "wrong-encoding": (check_messagepack, "expected a MessagePack reply, got application/json"),
+    "no-visibility": (check_scene, "visibility"),
+    "door-in-region": (check_scene, "door"),
+    "no-token": (check_liveliness, "expected a liveliness token"),
+    "say-one": (check_say_several, "expected a say event per item on one tick"),
 }
-"""Each ``--break`` mode of the grid engine: the check that must fail, and what it must say."""
+"""Each ``--break`` mode of the grid engine: the check function that must fail, and what it
+must say."""
 ROBOT_BREAKS = (
     "status",
     "refuse-commands",
@@ -170,7 +183,8 @@ def test_broken_robots_fail_the_named_check_in_real_time(world: str, fault: str)
 def fails_at(world: str, fault: str, *clock: str) -> None:
     """The grid engine broken with ``fault`` fails ``toyroom conform`` at the check named in
     :data:`BROKEN`, saying what it says there."""
-    check, says = BROKEN[fault]
+    function, says = BROKEN[fault]
+    check = Check(function).name
     if clock:
         says = says.replace("within 400 ticks", "within 400 ticks of real time")
     with GridEngineProcess(world, "--scenario", "paper-robot", "--break", fault, *clock):

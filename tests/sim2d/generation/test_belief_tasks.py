@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from protocol import Pursuit
+from protocol import EpisodeKind, EpisodeSpec, Pursuit
 from sim2d.engine import Engine
 from sim2d.generation.episodes import write_episode
 from sim2d.generation.tasks import BELIEF_TASKS, seed_of, task_of
@@ -17,6 +17,9 @@ from sim2d.people.autonomous import AutonomousPerson
 from sim2d.people.pursuit import Primitive, Reconsider, pursuit_of
 from sim2d.scenario.scenario import load_scenario
 from toyroom.evaluation.revealed import revealed
+
+TASK_EPISODE = EpisodeSpec(kind=EpisodeKind.TASKS)
+"""A task episode."""
 
 
 def run(path: Path, ticks: int = 600) -> list[tuple[int, set[tuple[str, str, str]]]]:
@@ -39,7 +42,7 @@ def run(path: Path, ticks: int = 600) -> list[tuple[int, set[tuple[str, str, str
 def test_the_owner_walks_to_the_wrong_place_nothing_moved(tmp_path: Path, kind: str, map_name: str) -> None:
     seed = seed_of(kind, 1)
     assert task_of(seed) == kind
-    path = write_episode(tmp_path, map_name, seed, kind="tasks")
+    path = write_episode(tmp_path, map_name, seed, TASK_EPISODE)
     scenario = load_scenario(str(path))
     owner = scenario.people[0]
     assert all(p.jobs.moves is None for p in scenario.people), "nothing is moved in these tasks"
@@ -51,7 +54,7 @@ def test_the_owner_walks_to_the_wrong_place_nothing_moved(tmp_path: Path, kind: 
 
 
 def test_told_happens_out_of_the_robots_hearing(tmp_path: Path) -> None:
-    path = write_episode(tmp_path, "paper", seed_of("told"), kind="tasks")
+    path = write_episode(tmp_path, "paper", seed_of("told"), TASK_EPISODE)
     engine = Engine(load_scenario(str(path)), seed=1)
     says = []
     owner, teller = engine.people["A1"], engine.people["A2"]

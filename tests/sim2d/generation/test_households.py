@@ -8,22 +8,27 @@ from pathlib import Path
 
 import pytest
 
-from protocol import Household, Morning
+from protocol import EpisodeKind, EpisodeSpec, Household, Minds, Morning
 from sim2d.engine import Engine
 from sim2d.generation.episodes import write_episode
 from sim2d.generation.households import DRIFT, drift, night
 from sim2d.generation.mornings import with_beliefs
 
+RICH_TASKS = EpisodeSpec(Minds.RICH, EpisodeKind.TASKS)
+"""Rich minds, a task episode."""
+
 MORNING = Morning(
     items={"ball": "L1", "skate": "L4", "block": "L1"},
     beliefs={"A1": {"ball": "L1", "skate": "L0"}, "A2": {"skate": "L4"}},
     favourites={"A1": "ball", "A2": "skate"},
+    household="gen-house-a-s5",
+    map="house-a",
 )
 
 
 def test_day_one_is_the_episode_of_its_seed_with_a_household_table(tmp_path: Path) -> None:
-    alone = write_episode(tmp_path / "alone", "house-a", 5, kind="tasks", minds="rich").read_text()
-    day1 = write_episode(tmp_path / "days", "house-a", 5, kind="tasks", minds="rich", day=1).read_text()
+    alone = write_episode(tmp_path / "alone", "house-a", 5, RICH_TASKS).read_text()
+    day1 = write_episode(tmp_path / "days", "house-a", 5, RICH_TASKS, day=1).read_text()
     assert day1.startswith(alone.replace('name = "gen-house-a-s5"', 'name = "gen-house-a-s5-d1"')), (
         "day 1 differs from the episode beyond its name"
     )
@@ -32,7 +37,8 @@ def test_day_one_is_the_episode_of_its_seed_with_a_household_table(tmp_path: Pat
 
 @pytest.mark.parametrize("kind", ["tasks", "everyday"])
 def test_a_later_day_starts_from_the_morning_and_loads(tmp_path: Path, kind: str) -> None:
-    path = write_episode(tmp_path, "house-a", 5, kind=kind, minds="rich", day=4, morning=MORNING)
+    spec = EpisodeSpec(Minds.RICH, kind)
+    path = write_episode(tmp_path, "house-a", 5, spec, day=4, morning=MORNING)
     data = tomllib.loads(path.read_text())
     assert data["household"] == {"id": "gen-house-a-s5", "day": 4}
     changed = [line for line in path.read_text().splitlines() if line.startswith("# overnight")]

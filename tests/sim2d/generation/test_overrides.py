@@ -9,21 +9,20 @@ from pathlib import Path
 
 import pytest
 
+from protocol import EpisodeKind, EpisodeSpec, Minds
 from sim2d.errors import ScenarioError
 from sim2d.generation.episodes import write_episode
-from sim2d.generation.overrides import parse_override, parse_overrides, with_autonomy
+from sim2d.generation.overrides import parse_override, with_autonomy
 from sim2d.scenario.scenario import load_scenario
 
 
 def test_an_override_replaces_the_drawn_setting_and_nothing_else(tmp_path: Path) -> None:
-    drawn = write_episode(tmp_path / "drawn", "house-a", 11013, minds="rich", kind="tasks")
+    drawn = write_episode(tmp_path / "drawn", "house-a", 11013, EpisodeSpec(Minds.RICH, EpisodeKind.TASKS))
     changed = write_episode(
         tmp_path / "changed",
         "house-a",
         11013,
-        minds="rich",
-        kind="tasks",
-        autonomy=parse_overrides(["replan_lag=[100000, 100000]", "miss=0.3"]),
+        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, autonomy=("replan_lag=[100000, 100000]", "miss=0.3")),
     )
     before, after = load_scenario(str(drawn)).autonomy, load_scenario(str(changed)).autonomy
     assert after.replan_lag == (100000, 100000) and after.miss == 0.3, after
@@ -51,7 +50,7 @@ def test_a_malformed_override_is_named(text: str, says: str) -> None:
 
 def test_an_override_the_table_cannot_take_is_refused_and_nothing_written(tmp_path: Path) -> None:
     with pytest.raises(ScenarioError, match=r"miss = 2\.0"):
-        write_episode(tmp_path, "paper", 1, autonomy={"miss": "2"})
+        write_episode(tmp_path, "paper", 1, EpisodeSpec(autonomy=("miss=2",)))
     assert not (tmp_path / "gen-paper-s1.toml").exists(), "a refused episode was written"
     with pytest.raises(ScenarioError, match="tick pairs"):
         with_autonomy(

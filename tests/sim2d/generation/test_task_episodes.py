@@ -6,11 +6,18 @@ from pathlib import Path
 
 import pytest
 
+from protocol import EpisodeKind, EpisodeSpec, Minds
 from sim2d.engine import Engine
 from sim2d.generation.episodes import write_episode
 from sim2d.generation.tasks import seed_of, task_of
 from sim2d.people.autonomous import AutonomousPerson
 from sim2d.scenario.scenario import load_scenario
+
+RICH_TASKS = EpisodeSpec(Minds.RICH, EpisodeKind.TASKS)
+"""Rich minds, a task episode."""
+
+TASK_EPISODE = EpisodeSpec(kind=EpisodeKind.TASKS)
+"""A task episode."""
 
 
 def run(path: Path, ticks: int = 700) -> tuple[list[tuple[int, str, str, str | None, str | None]], int]:
@@ -35,7 +42,7 @@ def run(path: Path, ticks: int = 700) -> tuple[list[tuple[int, str, str, str | N
 @pytest.mark.parametrize("seed", [0, 1])
 def test_an_item_moved_while_its_owner_is_away_gives_them_a_false_belief(tmp_path: Path, seed: int) -> None:
     assert task_of(seed) in ("moved", "hidden")
-    path = write_episode(tmp_path, "paper", seed, kind="tasks")
+    path = write_episode(tmp_path, "paper", seed, TASK_EPISODE)
     scenario = load_scenario(str(path))
     owner, mover = scenario.people
     assert owner.jobs.errand > 0 and mover.jobs.moves is not None and owner.prefers == mover.jobs.moves[0]
@@ -49,21 +56,21 @@ def test_an_item_moved_while_its_owner_is_away_gives_them_a_false_belief(tmp_pat
 
 def test_a_contested_item_is_wanted_by_both(tmp_path: Path) -> None:
     seed = seed_of("contested")
-    scenario = load_scenario(str(write_episode(tmp_path, "house-a", seed, kind="tasks")))
+    scenario = load_scenario(str(write_episode(tmp_path, "house-a", seed, TASK_EPISODE)))
     assert {p.prefers for p in scenario.people} == {scenario.items[0].id}
     assert all(p.jobs.errand == 0 and p.jobs.moves is None for p in scenario.people)
 
 
 def test_everyday_episodes_are_unchanged_by_the_kind_option(tmp_path: Path) -> None:
     everyday = write_episode(tmp_path / "a", "paper", 4).read_text()
-    again = write_episode(tmp_path / "b", "paper", 4, kind="everyday").read_text()
+    again = write_episode(tmp_path / "b", "paper", 4, EpisodeSpec(kind=EpisodeKind.EVERYDAY)).read_text()
     assert everyday == again and "errand" not in everyday
 
 
 def test_a_move_the_owner_watched_leaves_no_false_belief(tmp_path: Path) -> None:
     """Sally-Anne's true-belief control: the owner sees the item moved before the errand."""
     seed = seed_of("seen")
-    path = write_episode(tmp_path, "paper", seed, kind="tasks")
+    path = write_episode(tmp_path, "paper", seed, TASK_EPISODE)
     scenario = load_scenario(str(path))
     owner, mover = scenario.people
     assert owner.jobs.errand_after > 0 and mover.jobs.moves is not None
@@ -75,7 +82,7 @@ def test_a_move_the_owner_watched_leaves_no_false_belief(tmp_path: Path) -> None
 
 def test_an_errand_is_carried_through_when_told(tmp_path: Path) -> None:
     """Told where the item they want is while on an errand, the owner finishes the errand."""
-    path = write_episode(tmp_path, "paper", 0, kind="tasks")
+    path = write_episode(tmp_path, "paper", 0, TASK_EPISODE)
     engine = Engine(load_scenario(str(path)), seed=1)
     owner = engine.people["A1"]
     for _ in range(5):
@@ -119,7 +126,7 @@ def test_the_move_lands_while_the_owner_is_out_shortly_before_they_are_back(
 ) -> None:
     """``move_after`` times the move from walking distances: taken after the owner is outside,
     dropped before they come back in, and not long before."""
-    path = write_episode(tmp_path, map_name, seed, kind="tasks")
+    path = write_episode(tmp_path, map_name, seed, TASK_EPISODE)
     out, back, dropped, false = owner_timeline(path)
     assert out is not None and back is not None and dropped is not None, (out, back, dropped)
     assert out < dropped < back, f"expected the drop while the owner is out ({out}..{back}), got {dropped}"
@@ -130,7 +137,7 @@ def test_the_move_lands_while_the_owner_is_out_shortly_before_they_are_back(
 def test_the_owner_knows_where_their_item_is_whatever_the_minds(tmp_path: Path) -> None:
     """Rich minds start not knowing most things; a task's owner knows where they left theirs."""
     seed = seed_of("moved")
-    scenario = load_scenario(str(write_episode(tmp_path, "paper", seed, kind="tasks", minds="rich")))
+    scenario = load_scenario(str(write_episode(tmp_path, "paper", seed, RICH_TASKS)))
     owner = scenario.people[0]
     assert owner.jobs.knows == (owner.prefers,)
     engine = Engine(scenario, seed=1)
@@ -146,7 +153,7 @@ def test_a_hidden_item_is_where_the_owner_looks_last(tmp_path: Path, search: str
     from sim2d.generation.tasks import search_order
 
     seed = seed_of("hidden")
-    scenario = load_scenario(str(write_episode(tmp_path, "house-b", seed, kind="tasks")))
+    scenario = load_scenario(str(write_episode(tmp_path, "house-b", seed, TASK_EPISODE)))
     game_map = scenario.map
     start = game_map.locations[0]
     order = search_order(game_map, start, search)

@@ -9,6 +9,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from protocol import EpisodeSpec, Minds
 from sim2d.engine import Engine
 from sim2d.generation.episodes import episode, rich_autonomy
 from sim2d.people.autonomous import AutonomousPerson
@@ -190,7 +191,7 @@ def test_a_wanderer_walks_somewhere_first_and_a_replanner_drops_walks() -> None:
 
 def test_simple_minds_are_the_same_draw_for_draw() -> None:
     simple = episode("e", "paper", SCENARIO_DIR / "paper.map.toml", 2, 7)
-    rich = episode("e", "paper", SCENARIO_DIR / "paper.map.toml", 2, 7, minds="rich")
+    rich = episode("e", "paper", SCENARIO_DIR / "paper.map.toml", 2, 7, EpisodeSpec(minds=Minds.RICH))
     assert [line for line in rich.splitlines() if line not in rich_autonomy(7)] == simple.splitlines()
 
     def story(engine: Engine) -> list[tuple[int, str, str]]:

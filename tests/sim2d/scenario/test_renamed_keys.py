@@ -7,16 +7,20 @@ from pathlib import Path
 
 import pytest
 
+from protocol import EpisodeKind, EpisodeSpec, Minds
 from sim2d.errors import ScenarioError
 from sim2d.generation.episodes import write_episode
 from sim2d.generation.overrides import parse_override
 from sim2d.scenario.scenario import load_scenario
 
+RICH_TASKS = EpisodeSpec(Minds.RICH, EpisodeKind.TASKS)
+"""Rich minds, a task episode."""
+
 
 def test_an_episode_with_the_former_key_loads_the_same(
     tmp_path: Path, caplog: pytest.LogCaptureFixture
 ) -> None:
-    new = write_episode(tmp_path / "new", "house-a", 11013, minds="rich", kind="tasks")
+    new = write_episode(tmp_path / "new", "house-a", 11013, RICH_TASKS)
     text = new.read_text()
     assert "\nforget_per_tick = " in text, "expected a rich episode to draw forget_per_tick"
     old = new.parent / "old.toml"  # beside its map
@@ -30,7 +34,7 @@ def test_an_episode_with_the_former_key_loads_the_same(
 
 
 def test_both_keys_at_once_are_refused(tmp_path: Path) -> None:
-    path = write_episode(tmp_path / "ep", "house-a", 11013, minds="rich", kind="tasks")
+    path = write_episode(tmp_path / "ep", "house-a", 11013, RICH_TASKS)
     path.write_text(path.read_text().replace("\nforget_per_tick = ", "\nforget = 0.001\nforget_per_tick = "))
     with pytest.raises(ScenarioError, match="forget_per_tick is set twice"):
         load_scenario(str(path))

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from protocol import EpisodeSpec
 from sim2d.errors import ScenarioError
 from sim2d.generation.episodes import KINDS, MINDS, write_episode, write_house_episode
 from sim2d.generation.tasks import TASKS
@@ -133,7 +134,7 @@ def test_every_kind_of_generated_episode_loads(tmp_path: Path) -> None:
     """Every ``[[agents]]`` key the generator writes (errand, move_after, tell, believes,
     overlooks, autonomous, home, prefers...) and every ``[autonomy]`` key is a known one."""
     paths = [
-        write_episode(tmp_path / f"{map_name}-{kind}-{minds}", map_name, seed, kind=kind, minds=minds)
+        write_episode(tmp_path / f"{map_name}-{kind}-{minds}", map_name, seed, EpisodeSpec(minds, kind))
         for map_name in ("paper", "house-a")
         for kind in KINDS
         for minds in MINDS

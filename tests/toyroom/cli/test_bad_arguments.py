@@ -19,6 +19,15 @@ CASES = [
         "toyroom eval: --max-ticks must be at least 1, got -1",
     ),
     (
+        ("eval", "--days", "2", "--batch", "4", "--out", "{tmp}/e"),
+        "toyroom eval: --batch is not used with --days 2 (each day of a household is its own engine "
+        "and brain): leave it out",
+    ),
+    (
+        ("eval", "--days", "100", "--out", "{tmp}/e"),
+        "toyroom eval: --days is a household's days, 1 to 99, got 100",
+    ),
+    (
         ("fit", "{tmp}/run.mcap", "--params", "beta", "--out", "{tmp}/afile"),
         "toyroom fit: --out {tmp}/afile: expected a folder, got a file",
     ),

@@ -27,7 +27,7 @@ TIMING = ("seconds", "run_seconds", "failed_runs")
 
 def _jobs(tmp_path: Path, episodes: int) -> list[EpisodeJob]:
     condition = Condition()
-    paths = generate_all(tmp_path / condition.name / "scenarios", episodes, SEED, max_ticks=TICKS)
+    paths = generate_all(tmp_path / condition.name / "scenarios", episodes, SEED, condition.spec(TICKS))
     return [
         EpisodeJob(i, SEED, str(tmp_path), condition, max_ticks=TICKS, scenario=str(path))
         for i, path in enumerate(paths)

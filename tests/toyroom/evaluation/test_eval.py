@@ -11,9 +11,11 @@ from pathlib import Path
 
 import pytest
 
+from protocol import EpisodeKind, EpisodeSpec, Minds
 from toyroom.evaluation.conditions import Condition
 from toyroom.evaluation.episodes import evaluate
 from toyroom.evaluation.generation import check_autonomy, generate, generate_all, map_of
+from toyroom.evaluation.scores import metric_names
 
 EPISODES, SEED = 2, 5
 
@@ -57,28 +59,9 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
     assert condition["episodes_failed"] == 0, f"episodes failed: {out / 'episodes.json'}"
     for observer in ("btom", "truebelief", "perceptonly", "motion", "majority"):
         values = condition["observers"][observer]
-        assert set(values) == {
-            "belief_tv",
-            "preference_accuracy",
-            "false_belief_precision",
-            "false_belief_recall",
-            "false_belief_f1",
-            "goal_false_belief_f1",
-            "knowable_false_belief_f1",
-            "revealed_detection",
-            "revealed_lead_median",
-            "revealed_detection_any",
-            "revealed_lead_any_median",
-            "brier",
-            "log_loss",
-            "brier_skill",
-            "nested_belief_accuracy",
-            "nested_first_order_accuracy",
-            "nested_gain",
-            "fb_want_p",
-            "fb_want_confident",
-            "fb_want_top",
-        }, observer
+        assert list(values) == list(metric_names()), (
+            f"{observer}: expected the record's metrics, got {list(values)}"
+        )
         assert set(values["false_belief_f1"]) == set(values["goal_false_belief_f1"]) == {"mean", "lo", "hi"}
         assert set(values["brier"]) == set(values["brier_skill"]) == {"mean", "lo", "hi"}
         assert values["brier"]["mean"] is not None and 0.0 <= values["brier"]["mean"] <= 1.0
@@ -98,7 +81,12 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
             "share_of_oracle_any_fb",
         }, policy
         assert policy["wasted_trips"]["mean"] is not None
+    tasks = condition["robot_tasks"]["tom"]
+    assert set(tasks) == {"begun", "done", "dropped", "running", "unfinished_share"}, tasks
+    assert tasks["begun"] == tasks["done"] + tasks["dropped"] + tasks["running"], tasks
+    assert "none" not in condition["robot_tasks"], "the observing robot begins no task"
     report = (out / "report.md").read_text()
+    assert "| policy | begun | done | dropped | running at the end | unfinished |" in report
     assert report.startswith(f"# Evaluation: {EPISODES} episodes per condition")
     assert "perceptonly` is an oracle" in report, "the omniscient / simple condition says why"
     assert (out / "metrics-omniscient-simple-everyday.png").stat().st_size > 0
@@ -165,8 +153,9 @@ def test_brain_settings_reach_every_run(tmp_path: Path) -> None:
 def test_episodes_generated_together_are_those_generated_one_by_one(tmp_path: Path) -> None:
     """One process writes a sweep's episodes (a process start is most of an episode's
     generation), the very files one call per episode writes."""
-    together = generate_all(tmp_path / "together", 4, seed=7, minds="rich", kind="tasks", max_ticks=600)
-    assert generate(tmp_path / "one", 3, 7, "rich", "tasks", 600).read_text() == together[3].read_text()
+    rich_tasks = EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, max_ticks=600)
+    together = generate_all(tmp_path / "together", 4, seed=7, spec=rich_tasks)
+    assert generate(tmp_path / "one", 3, 7, rich_tasks).read_text() == together[3].read_text()
     for index, path in enumerate(together):
         episode = ["--map", map_of(index), "--seed", str(7000 + index), "--out", str(tmp_path / f"a{index}")]
         options = ["--minds", "rich", "--kind", "tasks", "--max-ticks", "600"]
@@ -191,9 +180,8 @@ def test_episodes_generated_together_are_those_generated_one_by_one(tmp_path: Pa
 def test_autonomy_settings_reach_every_episode_and_bad_ones_are_named(tmp_path: Path) -> None:
     """``toyroom eval --autonomy``: each generated episode carries the setting; a setting the
     generator refuses is a ``ValueError`` in its words before any run starts."""
-    paths = generate_all(
-        tmp_path, 2, seed=3, kind="tasks", max_ticks=300, autonomy=["replan_lag=[9000, 9000]"]
-    )
+    spec = EpisodeSpec(kind=EpisodeKind.TASKS, max_ticks=300, autonomy=("replan_lag=[9000, 9000]",))
+    paths = generate_all(tmp_path, 2, seed=3, spec=spec)
     for path in paths:
         assert "replan_lag = [9000, 9000]" in path.read_text(), path.read_text()[:400]
     check_autonomy(["replan_lag=[9000, 9000]"])

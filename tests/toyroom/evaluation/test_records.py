@@ -47,7 +47,15 @@ def test_a_scored_episode_keeps_its_keys_in_order() -> None:
         "failed_runs",
         "seconds",
     ]
-    assert list(data["btom"]) == ["counts", "outcome", "ticks_to_goal", "episode_ticks", "ticks", "help"]
+    assert list(data["btom"]) == [
+        "counts",
+        "outcome",
+        "ticks_to_goal",
+        "episode_ticks",
+        "ticks",
+        "help",
+        "tasks",
+    ]
     assert list(data["btom"]["counts"])[:3] == ["tv_sum", "tv_n", "pref_hits"]
 
 

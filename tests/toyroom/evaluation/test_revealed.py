@@ -10,7 +10,7 @@ import math
 import pytest
 
 from protocol import ItemBelief, ItemPlace, Prob, Pursuit, TrueMind, Truth
-from toyroom.evaluation.metrics import EPS, Counts, Outcome, majority_counts
+from toyroom.evaluation.metrics import EPS, Counts, EpisodeOutcome, majority_counts
 from toyroom.evaluation.revealed import Stretch, heading_wrong, knowable, stretches
 from toyroom.evaluation.runs import TruthView, _score
 from toyroom.evaluation.scoredminds import Chance, ScoredAgent, ScoredBelief, ScoredMind
@@ -78,7 +78,7 @@ def test_only_revealed_or_moved_false_beliefs_are_knowable() -> None:
 
 def test_the_scores_are_the_hand_computed_ones() -> None:
     view = TruthView(TRUTHS, {}, stretches(TRUTHS, CELLS, SPOTS))
-    counts = _score({t: mind(t) for t in range(7)}, view, Outcome()).counts
+    counts = _score({t: mind(t) for t in range(7)}, view, EpisodeOutcome()).counts
     scores = counts.metrics()
     # Detected at tick 3, before the stretch ends (tick 6): one stretch of one, lead 3 ticks.
     assert (scores["revealed_detection"], scores["revealed_lead_median"]) == (1.0, 3.0)
@@ -99,13 +99,13 @@ def test_flagging_too_late_or_never_is_no_detection() -> None:
     view = TruthView(TRUTHS, {}, stretches(TRUTHS, CELLS, SPOTS))
     late = {t: mind(t) for t in range(7)}
     late[3] = late[4] = late[5] = mind(2)  # flagged only at tick 6: the stretch is over
-    scores = _score(late, view, Outcome()).counts.metrics()
+    scores = _score(late, view, EpisodeOutcome()).counts.metrics()
     assert scores["revealed_detection"] == 0.0 and scores["revealed_lead_median"] is None
 
 
 def test_a_majority_observer_never_flags_and_scores_the_base_rate_worse() -> None:
     view = TruthView(TRUTHS, {}, stretches(TRUTHS, CELLS, SPOTS))
-    counts = _score({t: mind(t) for t in range(7)}, view, Outcome()).counts
+    counts = _score({t: mind(t) for t in range(7)}, view, EpisodeOutcome()).counts
     majority = majority_counts(counts, "ball").metrics()
     assert majority["revealed_detection"] == 0.0 and majority["knowable_false_belief_f1"] == 0.0
     assert majority["brier"] == pytest.approx(11 / 14)
@@ -136,15 +136,15 @@ def test_an_item_agnostic_reading_detects_a_walk_to_the_wrong_place() -> None:
     # wants the ball 0.6, believes it at L2 0.9 from tick 4: 0.54 > 0.5, lead 6 - 4 = 2 ticks,
     # though the observer never names the ball's false belief
     read = {t: reading(t, {"ball": 0.6, "skate": 0.4}, 0.9) for t in range(7)}
-    scores = _score(read, view, Outcome()).counts.metrics()
+    scores = _score(read, view, EpisodeOutcome()).counts.metrics()
     assert (scores["revealed_detection_any"], scores["revealed_lead_any_median"]) == (1.0, 2.0), scores
     assert scores["revealed_detection"] == 0.0, "no item was flagged: the item-specific metric misses it"
     # the skate rests at L2: wanting it more (0.6) is no mistake, and the ball's 0.4 x 0.9 = 0.36
     skate = {t: reading(t, {"ball": 0.4, "skate": 0.6}, 0.9) for t in range(7)}
-    assert _score(skate, view, Outcome()).counts.metrics()["revealed_detection_any"] == 0.0
+    assert _score(skate, view, EpisodeOutcome()).counts.metrics()["revealed_detection_any"] == 0.0
     # the item-specific flag of the first fixture also reads as heading wrong? Its beliefs put
     # the ball at L1, so no: the two metrics measure different readings
-    flagged = _score({t: mind(t) for t in range(7)}, view, Outcome()).counts.metrics()
+    flagged = _score({t: mind(t) for t in range(7)}, view, EpisodeOutcome()).counts.metrics()
     assert flagged["revealed_detection_any"] == 0.0 and flagged["revealed_detection"] == 1.0
 
 

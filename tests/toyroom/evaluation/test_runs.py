@@ -8,7 +8,7 @@ import pytest
 from support import golden_examples
 
 from protocol import Mind, Truth
-from toyroom.evaluation.metrics import Counts, Outcome, score_tick
+from toyroom.evaluation.metrics import Counts, EpisodeOutcome, score_tick
 from toyroom.evaluation.nestedscore import score_nested
 from toyroom.evaluation.runs import TruthView, _score, check_complete, missing_ticks
 from toyroom.evaluation.wantread import score_want
@@ -59,7 +59,7 @@ def test_scores_reused_from_the_tick_before_equal_scoring_every_tick() -> None:
         score_nested(minds[tick], truths[tick], counts)
         counts.add_want(score_want(minds[tick], truths[tick], view.wanting[tick]))
         expected.add(counts)
-    got = _score(minds, view, Outcome()).counts
+    got = _score(minds, view, EpisodeOutcome()).counts
     assert got == expected, f"expected {expected}, got {got}"
     assert got.tv_n > 0, "expected some beliefs scored"
     assert got.want_n > 0, "expected some wants scored (the golden truth holds a false belief)"

@@ -25,6 +25,7 @@ import zenoh
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.server import ServerConnection
 
+from bridge.pubsub import FOREVER
 from protocol import Encoding, ErrorCode, ErrorReply, ProtocolError, check_name, encode
 from protocol.frames import (
     FRAMES_VERSION,
@@ -48,7 +49,6 @@ from protocol.frames import (
 )
 from protocol.limits import MAX_FRAME_BYTES
 
-from ..pubsub import FOREVER
 from .checks import Refusal, checked_payload, read_frame, to_json
 from .keepalive import Keepalive
 from .outbox import Outbox, QueueLimits

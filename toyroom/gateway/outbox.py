@@ -9,7 +9,7 @@ naming it and the queue, the frames still queued discarded, and the socket close
 :data:`TOO_SLOW` (1008) and the reason ``too slow: N frames queued``. A client that reads
 nothing never receives that close frame: its connection is cut :data:`DROP_GRACE` seconds
 later. Its liveliness token is withdrawn at the drop (``on_drop``), and the rest it declared
-once its reader thread ends (:meth:`~bridge.gateway.link.ClientLink.close`).
+once its reader thread ends (:meth:`~toyroom.gateway.link.ClientLink.close`).
 
 Pings (:meth:`Outbox.ping`, for :mod:`.keepalive`) go ahead of the queued frames, behind the
 frame in flight only. The socket's own send buffer is held to :data:`SEND_BUFFER`, so that

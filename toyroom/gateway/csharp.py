@@ -14,8 +14,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from ..errors import BridgeError
-from ..processes import CHECKOUT
+from bridge.errors import BridgeError
+from bridge.processes import CHECKOUT
 
 SDK = "clients/unity"
 BUILD = CHECKOUT / SDK / ".build"

@@ -12,8 +12,9 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..errors import BridgeError
-from ..processes import CHECKOUT
+from bridge.errors import BridgeError
+from bridge.processes import CHECKOUT
+
 from .csharp import export_scenario
 
 __all__ = ["PROJECT", "GODOT", "engine_command", "export_scenario", "godot"]

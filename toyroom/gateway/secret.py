@@ -11,8 +11,8 @@ import os
 import stat
 from pathlib import Path
 
-from ..errors import ConfigError
-from ..flags import open_regular
+from bridge.errors import ConfigError
+from bridge.flags import open_regular
 
 OTHERS = 0o077
 """The permission bits of the group and of others: a token file must have none of them."""

@@ -1,4 +1,4 @@
-"""``python -m bridge.gateway`` (``toyroom gateway``): the gateway until SIGINT or SIGTERM."""
+"""``python -m toyroom.gateway`` (``toyroom gateway``): the gateway until SIGINT or SIGTERM."""
 
 from __future__ import annotations
 
@@ -10,10 +10,11 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..errors import BridgeError
-from ..flags import add_log_level, command_parser, configure_logging
-from ..processes import stop_on_signals, wait_for_stop
-from ..session import SessionSettings, world_problem
+from bridge.errors import BridgeError
+from bridge.flags import add_log_level, command_parser, configure_logging
+from bridge.processes import stop_on_signals, wait_for_stop
+from bridge.session import SessionSettings, world_problem
+
 from .outbox import MAX_QUEUED_FRAMES, QueueLimits
 from .server import DEFAULT_URL, Gateway, GatewaySettings
 
@@ -24,7 +25,7 @@ PING_FLOOR_WHY = "a client that takes one slow frame to answer a ping would be d
 
 def build_parser() -> argparse.ArgumentParser:
     parser = command_parser(
-        "python -m bridge.gateway",
+        "python -m toyroom.gateway",
         "carry one world's protocol over a WebSocket, for engines without Zenoh (Unity, C#)",
     )
     parser.add_argument("--world", default="default", help="world name: the key prefix toyroom/WORLD/")

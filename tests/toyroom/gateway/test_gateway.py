@@ -23,9 +23,9 @@ from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import ClientConnection, connect
 
 from bridge import Bridge, ConfigError, NoReply, Publisher, RemoteError, query
-from bridge.gateway import Gateway, GatewaySettings, parse_listen
 from protocol import Encoding, EngineInfo, Hello, Mind, State, Step
 from protocol.schema import SCHEMA_DIR
+from toyroom.gateway import Gateway, GatewaySettings, parse_listen
 
 DEEP = "[" * 30000 + "]" * 30000
 """JSON nested deeper than any decoder goes (msgspec raises ``RecursionError`` on it)."""

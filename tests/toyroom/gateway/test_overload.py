@@ -18,10 +18,10 @@ from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import ClientConnection, connect
 
 from bridge import Bridge, RemoteError, handshake
-from bridge.gateway import Gateway, GatewaySettings
 from protocol import Encoding, encode
 from protocol.limits import MAX_FRAME_BYTES
 from toyroom.bench.gateway_load import stalled_reader, summary_line
+from toyroom.gateway import Gateway, GatewaySettings
 
 pytestmark = pytest.mark.process
 

@@ -26,10 +26,10 @@ import zenoh
 from websockets.sync.server import Server, ServerConnection, serve
 from websockets.typing import Origin
 
+from bridge.errors import ConfigError
+from bridge.session import LOOPBACK, SessionSettings, is_loopback, open_session
 from protocol.limits import MAX_FRAME_BYTES
 
-from ..errors import ConfigError
-from ..session import LOOPBACK, SessionSettings, is_loopback, open_session
 from .link import ClientLink, LinkSettings
 from .outbox import QueueLimits
 from .secret import read_secret

@@ -1,7 +1,0 @@
-"""``python -m bridge.gateway``: the gateway node (``toyroom gateway``)."""
-
-import sys
-
-from .node import main
-
-sys.exit(main())

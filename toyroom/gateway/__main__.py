@@ -1,0 +1,7 @@
+"""``python -m toyroom.gateway``: the gateway node (``toyroom gateway``)."""
+
+import sys
+
+from .node import main
+
+sys.exit(main())
