@@ -336,6 +336,8 @@ SUBCOMMANDS = {
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the brain node (or its ``memory``, ``infer``, ``plan`` or ``check-settings``
+    subcommand) on ``argv``; the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
     sub = argv[0] if argv and argv[0] in SUBCOMMANDS else None
     parser = SUBCOMMANDS.get(sub or "", run_parser)()

@@ -109,7 +109,7 @@ class ModelSettings:
             the joint branches where they fit, :mod:`brain.tracking.unseen`).
         miss: the chance that a person overlooks an item coming into view (kept while it stays
             there): each person's filter keeps rows of who overlooked what, weighed by their
-            decisions (:mod:`brain.model.lapses`); 0 (the default) turns lapses off.
+            decisions (:mod:`brain.model.person.lapses`); 0 (the default) turns lapses off.
         hearsay_per_s: the rate (per second) at which someone in a person's region tells them where
             they believe an item is, unheard by the robot (rows of who was told what, like
             ``miss``); 0 (the default) turns it off.
@@ -139,7 +139,7 @@ class ModelSettings:
             that a person's favourites are redrawn: that much of a remembered desire is
             spread evenly over the candidates at the next day's start.
         memory_strength: households: how many looks' worth a remembered belief about an item
-            counts for in the next morning's prior (:mod:`brain.model.remembered`).
+            counts for in the next morning's prior (:mod:`brain.model.person.remembered`).
         memory_forget: households: the share of the morning's prior, per item, that goes back
             to the grid's own weights (a night may blur what a person believed; the robot's
             own memory of where items rest is blurred alike: something may move overnight).

@@ -63,10 +63,14 @@ def query(
     """Send a query and return the first answer, decoded as ``expected``.
 
     Args:
+        session: the Zenoh session the query is sent on.
+        key: the key expression queried.
         request: the query's payload (``None``: no payload).
+        expected: the message type the answer is decoded as.
         timeout: seconds to wait for an answer; ``None`` waits forever (for debugging).
         request_id: sent as the query's attachment: a queryable that has answered this id
             answers with that answer again instead of handling the request twice.
+        encoding: the wire encoding of the request and the answer.
 
     Raises:
         NoReply: nobody serves ``key``, or no answer came within ``timeout``.

@@ -33,6 +33,7 @@ from .scenario.scenario import scenario_names
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The parser of ``python -m sim2d``: the engine node's options."""
     parser = command_parser("python -m sim2d", "The pymunk engine node, until interrupted.")
     parser.add_argument(
         "--scenario", default="paper-robot", help="scenario name or .toml path (default: %(default)s)"
@@ -65,6 +66,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def scene_parser() -> argparse.ArgumentParser:
+    """The parser of ``python -m sim2d scene``."""
     parser = command_parser("python -m sim2d scene", "Print a scenario's protocol scene as JSON.")
     parser.add_argument("--scenario", required=True, help="scenario name or .toml path")
     parser.add_argument("--seed", type=int, default=0, help="episode seed (default: %(default)s)")
@@ -267,6 +269,7 @@ def _episode_list(parser: argparse.ArgumentParser, entries: Sequence[str]) -> li
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the engine node (or ``generate``, ``scene``, ``export``) on ``argv``; the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] == "generate":
         return generate_main(argv[1:])

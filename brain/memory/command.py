@@ -44,6 +44,7 @@ WAIT_SECONDS = 60.0
 
 
 def memory_parser() -> argparse.ArgumentParser:
+    """The parser of ``python -m brain memory``: show, forget, export and import."""
     parser = command_parser(
         "python -m brain memory",
         "Read or change the brain's memory of households across days (--memory FILE of the brain).",

@@ -4,7 +4,7 @@
   model assumes (``memory_drift``: the chance per day that a person's favourites are redrawn),
   becomes the prior over the candidate desires (:func:`desire_prior`).
 - **A person's belief in the morning** is what the brain read them to believe at night
-  (:func:`remembered_beliefs`, weighed by :mod:`brain.model.remembered`).
+  (:func:`remembered_beliefs`, weighed by :mod:`brain.model.person.remembered`).
 - **The robot's own knowledge** of where each item rests weighs the embodied robot's
   hypotheses of the unseen world the same way (:func:`view_log_prior`).
 """
@@ -17,7 +17,7 @@ import numpy as np
 
 from ..model.arrays import FloatArray, IntArray
 from ..model.desires import most_wanted
-from ..model.remembered import Remembered
+from ..model.person.remembered import Remembered
 from .snapshot import Distribution
 
 

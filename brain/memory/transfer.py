@@ -40,6 +40,9 @@ class Saved(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
 
 
 class Exported(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
+    """A memory file as exported: its snapshots, the scenes' names of places and items, whose
+    it is (``--person``) and the schema it was written under."""
+
     schema: int
     snapshots: list[Saved]
     names: dict[str, dict[str, str]] = {}

@@ -1,17 +1,15 @@
 """The model's pure math (numpy arrays in, arrays out; no I/O, no bridge): the world as
 indexed arrays, each person's belief update from percepts, the Boltzmann planner, the HMM's
 forward and backward passes, the factored model of large houses, and the estimates read off
-a posterior."""
+a posterior; one person's filter in each of its forms, on that math, in its own room
+(:mod:`brain.model.person`)."""
 
 from .arrays import BoolArray, FloatArray, IntArray
 from .belief import BeliefModel, Percept, percept, told, true_values
 from .desires import RATING_SCALE, DesireSummary, goal_scale, on_scale
 from .estimates import OUT, Estimate, estimate, false_belief_probability, reread
-from .exactperson import ExactModel
-from .factoredperson import FactoredModel
 from .inference import HmmStep, forward, forward_step, smooth, switch_probability
-from .personinterface import PersonFilter, PersonModel, StepRecord
-from .personmodel import person_model
+from .person import ExactModel, FactoredModel, PersonFilter, PersonModel, StepRecord, person_model
 from .planner import TAKE, Move, PlanPolicy, cached_policy, plan
 from .revisions import SharedRevisions
 from .world import MOVE_STEPS, WorldModel, build_world_model

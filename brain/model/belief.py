@@ -33,7 +33,7 @@ from .world import ABSENT, WorldModel, is_held, location_of, value_of
 
 NOT_IN_VIEW = -1
 UNNOTICED = -2
-"""An item in view the person overlooks (:mod:`brain.model.lapses`): the percept says nothing
+"""An item in view the person overlooks (:mod:`brain.model.person.lapses`): the percept says nothing
 about it, and the person's belief about it stays as it was."""
 
 
@@ -56,6 +56,7 @@ def true_values(
     held by someone near ``l`` (the location a carried item counts as being at).
 
     Args:
+        model: the world model whose items and locations the values index.
         resting: item id -> location id where it rests (``None`` when carried; an item
             missing, or neither resting nor carried, is :data:`ABSENT` when the scene has one).
         holders: item id -> cell index of its carrier (``None`` when resting).

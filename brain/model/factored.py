@@ -123,7 +123,7 @@ class FactoredPolicy:
         likelihood: ``(D, C, 3, V, A)`` Boltzmann action likelihoods per preference
             (``out``'s does not depend on the value: it is planned with one and broadcast).
         q: ``(D, C, 3, V, A)`` the Q-values behind them (``-inf``: impossible), for people
-            who plan with a graded belief (:mod:`brain.model.gradedfactored`).
+            who plan with a graded belief (:mod:`brain.model.person.gradedfactored`).
     """
 
     model: WorldModel

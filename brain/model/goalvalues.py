@@ -52,9 +52,12 @@ def terminal_goals(
     """``(S, A)`` the goal each terminal pair ends the episode on, ``-1`` for the rest.
 
     Args:
-        next_state, kind: ``(S, A)`` the planner's :class:`~brain.model.planner.Transitions`.
+        next_state: ``(S, A)`` the next state of the planner's
+            :class:`~brain.model.planner.Transitions`.
+        kind: ``(S, A)`` the kind of each pair, of the same transitions.
         held: ``(S,)`` held code (0: nothing, else item index + 1).
-        first_use, first_take: the action indices of ``Use(0)`` and ``Take(0)``.
+        first_use: the action index of ``Use(0)``.
+        first_take: the action index of ``Take(0)``.
     """
     S, A = next_state.shape
     n_items = A - first_use  # Use(0..K-1) are the last K actions

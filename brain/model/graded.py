@@ -36,8 +36,8 @@ from ..settings import ModelSettings
 from .arrays import FloatArray
 from .belief import BeliefModel, Percept
 from .mixture import Beliefs, Mixture
+from .person.remembered import hypothesis_weights
 from .planner import Move
-from .remembered import hypothesis_weights
 from .world import RESTING, VALUES_PER_LOCATION, WorldModel, location_of
 
 UPDATES = ("predict", "paper")
@@ -162,7 +162,7 @@ class InitialBeliefs:
         """``(G,)`` the prior weights of a person remembered from an earlier day to believe each
         item at each location with ``memory[k]`` ``(L,)`` (``None``: not remembered): each
         item's point weights (:func:`informed_weights` given ``truth``, else the grid's own)
-        weighed by the memory (:func:`~brain.model.remembered.hypothesis_weights`)."""
+        weighed by the memory (:func:`~brain.model.person.remembered.hypothesis_weights`)."""
         places = [None] * len(memory) if truth is None else [location_of(v) for v in truth]
         bases = [
             self.point_weights
@@ -235,6 +235,8 @@ def qmdp_likelihood(beliefs: Beliefs, q: FloatArray, action: int, beta: float, e
         q: ``(U, W, A)`` the planner's Q-values at the person's cell and held item, per
             preference and world (``-inf``: impossible in that world).
         action: the action taken.
+        beta: the Boltzmann rationality the likelihood softmaxes the Q-values with.
+        epsilon: the chance of an action taken at random, mixed in evenly.
     """
     values = expected_q_by_action(beliefs, q)  # (A, U, G)
     return choice_likelihood(values, action, beta, epsilon, axis=0).T

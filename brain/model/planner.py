@@ -55,14 +55,17 @@ TAKE = 5
 
 
 def n_actions(n_items: int) -> int:
+    """``A = 2 K + 7``: the number of actions with ``n_items`` items."""
     return TAKE + 2 * n_items + 2
 
 
 def drop_action(n_items: int) -> int:
+    """``Drop``'s action index with ``n_items`` items."""
     return TAKE + n_items
 
 
 def play_action(n_items: int) -> int:
+    """``Play``'s action index with ``n_items`` items."""
     return TAKE + n_items + 1
 
 

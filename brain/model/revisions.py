@@ -2,7 +2,7 @@
 
 An observing brain runs ``btom`` live and ``perceptonly`` as a shadow on the same ticks
 (:mod:`brain.outputs.shadows`). Both follow each person's percepts with the same graded
-revision (:meth:`brain.model.gradedperson.GradedModel.revise`); they differ only in how
+revision (:meth:`brain.model.person.gradedperson.GradedModel.revise`); they differ only in how
 they weigh the hypotheses (``perceptonly`` reads no decisions). The revision is most of
 either's cost on the evaluation houses (``(G, W)`` = ``(1331, 512)`` per person and branch),
 so the second model takes the first's result instead of computing it again: bit for bit

@@ -19,7 +19,7 @@ from protocol import AgentKind, RegionKind, Scene
 
 from ..errors import ModelTooLarge
 from ..settings import ModelSettings
-from .lapses import lapse_rows
+from .person.lapses import lapse_rows
 from .planner import n_actions
 from .world import VALUES_PER_LOCATION
 
@@ -118,7 +118,7 @@ def row_floor(scene: Scene, settings: ModelSettings) -> int:
 def check_tracking_size(scene: Scene, settings: ModelSettings, branches: int, model: object) -> None:
     """Refuse a scene whose filters could not fit in :data:`MEMORY_BUDGET_GB` even at their
     smallest: ``branches`` of the robot's unseen world, times its people, times the rows of a
-    person's filter under ``model`` (:func:`~brain.model.lapses.lapse_rows`: with lapses, up to
+    person's filter under ``model`` (:func:`~brain.model.person.lapses.lapse_rows`: with lapses, up to
     ``LAPSE_ROWS + UNTESTED_ROWS``), times :func:`row_floor`.
 
     Raises:

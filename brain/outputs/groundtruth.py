@@ -25,6 +25,8 @@ class TruthStep:
 
 @dataclass(frozen=True)
 class GroundTruth:
+    """A scenario's ground truth for one agent: its labelled steps in order."""
+
     scenario: str
     agent: str
     steps: tuple[TruthStep, ...]

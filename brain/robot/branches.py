@@ -62,7 +62,7 @@ def _say_where(task: Inform) -> Say:
 
 
 def _said(task: Inform) -> str:
-    """An inform's sentence: ``"A1, the ball is at S1, the skate at P1."``"""
+    """An inform's sentence, e.g. ``"A1, the ball is at S1, the skate at P1."``."""
     rest = "".join(f", the {item} at {location}" for item, location in task.also)
     return f"{task.person}, the {task.item} is at {task.location}{rest}."
 

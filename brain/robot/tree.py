@@ -1,4 +1,4 @@
-"""The robot's behaviour tree (py_trees), in the paper's priority order:
+"""The robot's behaviour tree (py_trees), its branches in the paper's priority order.
 
 1. inform: a person heads for an item that is not where they believe: tell them where it is;
 2. swap: a person's preferred item is held by someone else: tell them it is occupied, ask

@@ -12,9 +12,9 @@ from ..memory.priors import remembered, view_log_prior
 from ..memory.snapshot import Distribution, Snapshot
 from ..model.arrays import FloatArray
 from ..model.estimates import OUT
-from ..model.gradedperson import GradedModel
-from ..model.personinterface import PersonModel
-from ..model.remembered import Remembered
+from ..model.person.gradedperson import GradedModel
+from ..model.person.personinterface import PersonModel
+from ..model.person.remembered import Remembered
 from ..model.world import WorldModel, location_of
 from ..settings import ModelSettings
 from .itemview import ItemView

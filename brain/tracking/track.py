@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from ..model.arrays import FloatArray, IntArray
 from ..model.belief import Percept
 from ..model.estimates import Estimate, mix, reread, slim
-from ..model.personinterface import PersonFilter, PersonModel, StepRecord
+from ..model.person.personinterface import PersonFilter, PersonModel, StepRecord
 
 
 @dataclass

@@ -22,13 +22,13 @@ from ..memory.snapshot import Snapshot
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, carried_off, true_values
 from ..model.estimates import Estimate, reread
-from ..model.gradedperson import GradedFilter, GradedModel
 from ..model.inference import switch_probability
 from ..model.nested import NestedBeliefs
-from ..model.personinterface import StepRecord
-from ..model.personmodel import person_model
+from ..model.person.gradedperson import GradedFilter, GradedModel
+from ..model.person.personinterface import StepRecord
+from ..model.person.personmodel import person_model
+from ..model.person.remembered import Remembered
 from ..model.planner import Move, play_action
-from ..model.remembered import Remembered
 from ..model.revisions import SharedRevisions
 from ..settings import ModelSettings
 from .answered import answered

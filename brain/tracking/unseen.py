@@ -19,7 +19,7 @@ from protocol import Scene, State
 
 from ..errors import ModelTooLarge
 from ..model.arrays import IntArray
-from ..model.personinterface import PersonModel
+from ..model.person.personinterface import PersonModel
 from ..model.size import (
     EXACT_MAX_BRANCHES,
     JOINT_MAX_WORLDS,

@@ -39,6 +39,8 @@ HEADER = ("tick", "actor", "kind", "item", "location", "target", "detail")
 
 @dataclass(frozen=True)
 class EventRow:
+    """One row of ``events.csv``: a discrete event of the run (the module's header, column by column)."""
+
     tick: int
     actor: str
     kind: str

@@ -173,6 +173,7 @@ def move_after(
 
 
 def person_lines(person: str, home: GridCell, *extra: str) -> list[str]:
+    """The scenario-file lines of an autonomous person ``person`` living at ``home`` (then ``extra``)."""
     return [
         "[[agents]]",
         f'id = "{person}"',

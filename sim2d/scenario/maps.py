@@ -126,6 +126,7 @@ def _is_int(value: Any) -> bool:
 
 
 def parse_cell(value: Any, path: Path, entry: str) -> GridCell:
+    """A ``[col, row]`` cell read from a scenario file (``entry`` of ``path``, for the error)."""
     if (
         not isinstance(value, list)
         or len(value) != 2

@@ -39,12 +39,16 @@ class Signal:
 
 @dataclass(frozen=True)
 class Enter:
+    """``{do = "enter", region = ...}``: walk the shortest path until inside the region."""
+
     region: str
     label: str | None = None
 
 
 @dataclass(frozen=True)
 class Goto:
+    """``{do = "goto", ...}``: walk onto a cell (of a location, when named)."""
+
     cell: GridCell
     location: str | None = None
     label: str | None = None
@@ -52,17 +56,23 @@ class Goto:
 
 @dataclass(frozen=True)
 class Take:
+    """``{do = "take", item = ...}``: take the item from the spot the person stands on."""
+
     item: str
     label: str | None = None
 
 
 @dataclass(frozen=True)
 class Drop:
+    """``{do = "drop"}``: put the carried item down at the spot the person stands on."""
+
     label: str | None = None
 
 
 @dataclass(frozen=True)
 class Play:
+    """``{do = "play"}``: play with the carried item for ``ticks``, ``until`` a signal, or on."""
+
     ticks: int | None = None
     until: Signal | None = None
     label: str | None = None
@@ -70,6 +80,8 @@ class Play:
 
 @dataclass(frozen=True)
 class Use:
+    """``{do = "use", item = ...}``: use an item resting at the person's ``use`` location, in place."""
+
     item: str
     ticks: int | None = None
     until: Signal | None = None
@@ -78,6 +90,8 @@ class Use:
 
 @dataclass(frozen=True)
 class Wait:
+    """``{do = "wait"}``: wait for ``ticks``, ``until`` a signal, or for good."""
+
     ticks: int | None = None
     until: Signal | None = None
     label: str | None = None
@@ -102,6 +116,7 @@ def _positive(value: Any, path: Path, entry: str, key: str) -> int | None:
 
 
 def parse_step(table: Any, game_map: GameMap, path: Path, entry: str) -> Step:
+    """One step of a script, read from its inline table (``entry`` of ``path``, for the error)."""
     if not isinstance(table, dict):
         raise ScenarioError(path, entry, f"expected a table {{do = ...}}, got {table!r}")
     do = table.get("do")

@@ -18,6 +18,7 @@ from .suite import main as suite
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """``toyroom bench``: measure toyroom's performance numbers in one run; the exit status."""
     parser = argparse.ArgumentParser(
         prog="toyroom bench", description="toyroom's performance numbers, measured in one run."
     )

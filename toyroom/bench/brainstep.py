@@ -19,7 +19,7 @@ from rich.console import Console
 from rich.table import Table
 
 from brain.model.lookahead import cached_lookahead
-from brain.model.personmodel import person_model
+from brain.model.person.personmodel import person_model
 from brain.model.planner import cached_policy
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker

@@ -1,4 +1,4 @@
-"""The gateway's cost, measured beside the Zenoh paths it stands in for (``toyroom bench``):
+"""The gateway's cost, measured beside the Zenoh paths it stands in for (``toyroom bench``).
 
 - ``query_rtt_us``: a query with a state-sized payload answered by a WebSocket client that
   serves the key through the gateway (Zenoh -> gateway -> WebSocket -> gateway -> Zenoh),

@@ -269,6 +269,7 @@ def summary_line(result: dict[str, Any]) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """The gateway's stalled-reader load test on ``argv``; the exit status."""
     parser = argparse.ArgumentParser(prog="python -m toyroom.bench.gateway --stalled-reader")
     parser.add_argument("--readers", type=int, default=4, help="live readers (default 4)")
     parser.add_argument(

@@ -248,7 +248,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         "`tv vs exact`: mean total-variation distance "
         "between the factored and exact item beliefs per person, item and tick, where the exact "
         "model fits. `graded`: the default (graded beliefs: exact up to 512 worlds, "
-        "`brain/model/gradedfactored.py` above), its step and its TV against the exact graded model.",
+        "`brain/model/person/gradedfactored.py` above), its step and its TV against the exact graded model.",
         "",
         "| rooms | items | worlds | model | planner s | step us (p99) | exact: planner s, step us "
         "| tv vs exact | preference tv | graded step us (p99) | graded tv vs exact |",

@@ -141,6 +141,7 @@ def failure_note(
 
     Args:
         reason: why it did not finish.
+        folder: the run's folder, which holds its outputs.
         span: the ticks its trace holds (``None``: none).
         argv: the ``toyroom infer`` arguments that recover the brain's outputs (with the paths
             the folder will have).

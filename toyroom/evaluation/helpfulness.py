@@ -1,5 +1,5 @@
 """How much a robot helped each simulated person in a run (pure functions over what the
-evaluator heard):
+evaluator heard).
 
 - ``false_belief``: whether the person, at some tick, had a false belief about the item they
   wanted then (:func:`protocol.believes_falsely`: their true belief gave its true location

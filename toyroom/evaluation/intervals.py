@@ -48,6 +48,7 @@ def intervals(
     Args:
         per_episode: observer -> its counts on each episode, in the same episode order.
         seed: the resamples' seed (the evaluation's, so the numbers repeat).
+        resamples: how many bootstrap resamples of the episodes.
     """
     names = list(per_episode)
     n = len(per_episode[names[0]]) if names else 0

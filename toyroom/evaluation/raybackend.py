@@ -114,6 +114,10 @@ def run_with_ray(
     """``fn(job)`` for every job, as Ray tasks; the results in the order of ``jobs``.
 
     Args:
+        fn: the task, run once per job.
+        jobs: what ``fn`` is called with, one task each.
+        workers: the CPUs of a Ray started here (no ``address``).
+        progress: called with how many results have just arrived, each time some do.
         address: the cluster (:func:`cluster_address`: default ``RAY_ADDRESS``; none: Ray
             started here on loopback with ``workers`` CPUs).
         shipped: the files a job needs (paths on this machine), which go with it by value:

@@ -65,6 +65,7 @@ ORACLE = (
 
 
 def figure_name(condition: Mapping[str, Any]) -> str:
+    """The file name of a condition's metrics figure."""
     return f"metrics-{condition['name']}.png"
 
 

@@ -79,6 +79,8 @@ class RunSpec:
 
 @dataclass
 class RunResult:
+    """What one run of an episode gave: its counts, outcome, ticks, help per person and tasks."""
+
     counts: Counts = field(default_factory=Counts)
     outcome: EpisodeOutcome = field(default_factory=EpisodeOutcome)
     ticks: int = 0

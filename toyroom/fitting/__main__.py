@@ -17,6 +17,7 @@ from .command import fit_main, fit_parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """``toyroom fit`` on ``argv``; the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
     args = fit_parser().parse_args(argv)
     configure_logging(args.log_level)

@@ -25,6 +25,7 @@ from .search import DEFAULT_MODELS, MODELS, model_grid
 
 
 def fit_parser() -> argparse.ArgumentParser:
+    """The parser of ``toyroom fit``."""
     parser = command_parser("toyroom fit", "Fit the model's parameters to recorded episodes.")
     add_fit_args(parser)
     add_settings_args(parser)

@@ -25,7 +25,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from brain.model.arrays import BoolArray, FloatArray
-from brain.model.personinterface import StepRecord
+from brain.model.person.personinterface import StepRecord
 from brain.model.planner import PlanPolicy
 from brain.model.world import WorldModel
 from brain.settings import ModelSettings

@@ -5,7 +5,7 @@ maximum marginal likelihood over every recording, with a bounded derivative-free
 The objective is the log-likelihood of every decision in every recording (the sum of
 :class:`~toyroom.fitting.evidence.Evidence`), one tracker pass per recording and point, in
 worker processes. It has no analytic gradient, and it is not smooth everywhere: lapse rows
-split, merge and are pruned at thresholds (:mod:`brain.model.lapses`), so a finite-difference
+split, merge and are pruned at thresholds (:mod:`brain.model.person.lapses`), so a finite-difference
 gradient (L-BFGS-B) can be thrown by a kink a step wide. Powell's method (the default) needs
 no gradient, searches one direction at a time with a bracketing line search inside the bounds,
 and so moves far from a coarse grid's point in few evaluations; ``nelder-mead`` (bounded

@@ -8,8 +8,8 @@ on those, vectorised over the points: ``P`` points cost one tracker pass, one be
 revision per step and ``P`` small ``(G, U, A)`` choice rules, instead of ``P`` passes.
 
 The pass uses a tracker whose filters only keep their records (:class:`RecordOnly`); the
-replay is :class:`brain.model.gradedperson.GradedFilter`'s (graded beliefs, QMDP: the
-default, ``truebelief``, ``nocost``) or :class:`~brain.model.exactperson.ExactFilter`'s
+replay is :class:`brain.model.person.gradedperson.GradedFilter`'s (graded beliefs, QMDP: the
+default, ``truebelief``, ``nocost``) or :class:`~brain.model.person.exactperson.ExactFilter`'s
 (``point``) arithmetic on stacked posteriors, checked against them point by point in
 ``tests/toyroom/fitting/test_replay.py``. Other models (belief-space planning, lapses,
 factored scenes, an embodied robot's branches) return ``None``: the caller runs them per
@@ -26,10 +26,10 @@ import numpy as np
 
 from brain.model.arrays import FloatArray
 from brain.model.estimates import Estimate
-from brain.model.exactperson import ExactModel
 from brain.model.graded import choice_likelihood, expected_q
-from brain.model.gradedperson import GradedModel
-from brain.model.personinterface import PersonFilter, PersonModel, StepRecord
+from brain.model.person.exactperson import ExactModel
+from brain.model.person.gradedperson import GradedModel
+from brain.model.person.personinterface import PersonFilter, PersonModel, StepRecord
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from bridge.recording.trace import Trace

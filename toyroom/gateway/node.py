@@ -24,6 +24,7 @@ PING_FLOOR_WHY = "a client that takes one slow frame to answer a ping would be d
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The parser of ``python -m toyroom.gateway``."""
     parser = command_parser(
         "python -m toyroom.gateway",
         "carry one world's protocol over a WebSocket, for engines without Zenoh (Unity, C#)",
@@ -64,6 +65,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def settings_from(args: argparse.Namespace) -> GatewaySettings:
+    """The gateway's settings from its parsed arguments."""
     session = SessionSettings(
         mode=args.mode,
         listen=tuple(args.zenoh_listen) if args.zenoh_listen else None,
@@ -86,6 +88,7 @@ def settings_from(args: argparse.Namespace) -> GatewaySettings:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the gateway node on ``argv`` until interrupted; the exit status."""
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level)
     if (problem := world_problem(args.world)) is not None:

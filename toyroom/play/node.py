@@ -34,6 +34,7 @@ DEFAULT_LISTEN = f"{LOOPBACK}:8470"
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The parser of ``python -m toyroom.play``."""
     parser = command_parser(
         "python -m toyroom.play",
         "Let participants play one person of a scenario in their browser, each in a world of their "
@@ -199,6 +200,7 @@ def _follow(server: PlayServer, stop: threading.Event) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the play node on ``argv`` until interrupted; the exit status."""
     args = build_parser().parse_args(argv)
     configure_logging(args.log_level)
     _quiet_websockets(args.log_level)

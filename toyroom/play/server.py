@@ -57,6 +57,7 @@ def parse_listen(text: str) -> tuple[str, int]:
 
 
 def is_loopback_host(host: str) -> bool:
+    """Whether ``host`` names this machine only (``localhost``, ``::1``, ``127.*``)."""
     return host in ("localhost", "::1") or host.startswith("127.")
 
 

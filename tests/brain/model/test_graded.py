@@ -180,9 +180,9 @@ def test_graded_uses_the_graded_factored_model_on_large_houses(caplog: pytest.Lo
     import tempfile
     from pathlib import Path
 
-    from brain.model.factoredperson import FactoredModel
-    from brain.model.gradedfactored import GradedFactoredModel
-    from brain.model.personmodel import person_model
+    from brain.model.person.factoredperson import FactoredModel
+    from brain.model.person.gradedfactored import GradedFactoredModel
+    from brain.model.person.personmodel import person_model
     from sim2d.generation import write_house_episode
     from sim2d.scenario import load_scenario
 
@@ -192,7 +192,7 @@ def test_graded_uses_the_graded_factored_model_on_large_houses(caplog: pytest.Lo
     model = person_model(scene, ModelSettings())
     assert isinstance(model, GradedFactoredModel), f"expected the graded factored model, got {type(model)}"
     assert isinstance(person_model(scene, ModelSettings(belief_model="point")), FactoredModel)
-    with caplog.at_level("WARNING", logger="brain.model.personmodel"):
+    with caplog.at_level("WARNING", logger="brain.model.person.personmodel"):
         person_model(scene, ModelSettings(desire_model="graded"))
     assert "favourite desires and QMDP only" in caplog.text, caplog.text
 
@@ -306,8 +306,8 @@ def test_the_joint_says_what_is_nowhere() -> None:
 def test_truebelief_likelihood_of_one_world_rows_is_every_rows_to_the_bit(paper):
     """``truebelief`` puts every hypothesis in the one true world after its first step; the
     decision likelihood is then read off one row, and must equal the full ``(G, W)`` product."""
-    from brain.model.gradedperson import GradedModel
-    from brain.model.personinterface import StepRecord
+    from brain.model.person.gradedperson import GradedModel
+    from brain.model.person.personinterface import StepRecord
 
     scene, model, s2, _, cell = paper
     graded = GradedModel(scene, SETTINGS, true_world=True)

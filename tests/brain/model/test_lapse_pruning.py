@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-import brain.model.lapses as lapses
+import brain.model.person.lapses as lapses
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 from sim2d.engine import Engine

@@ -54,9 +54,9 @@ def test_a_rumour_splits_off_a_told_row_with_its_chance() -> None:
     import numpy as np
 
     from brain.model.belief import NOT_IN_VIEW, Percept
-    from brain.model.lapses import LapseModel
-    from brain.model.personinterface import StepRecord
-    from brain.model.personmodel import base_person_model
+    from brain.model.person.lapses import LapseModel
+    from brain.model.person.personinterface import StepRecord
+    from brain.model.person.personmodel import base_person_model
 
     settings = ModelSettings(hearsay_per_s=1.0)
     scene = corridor_scene()
@@ -103,8 +103,8 @@ def test_a_forgetful_person_outside_grows_unsure() -> None:
     """The person sees the ball at B, then, outside, takes a step whose record says 0.3 of
     each belief drifted: the robot expects them to give B 0.7 + 0.3 / 2."""
     from brain.model.belief import NOT_IN_VIEW, Percept
-    from brain.model.personinterface import StepRecord
-    from brain.model.personmodel import base_person_model
+    from brain.model.person.personinterface import StepRecord
+    from brain.model.person.personmodel import base_person_model
 
     scene = corridor_scene()
     model = base_person_model(scene, ModelSettings())

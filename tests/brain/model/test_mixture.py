@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from brain.model import gradedperson
 from brain.model.belief import NOT_IN_VIEW, Percept
 from brain.model.estimates import Estimate
-from brain.model.gradedperson import GradedModel
 from brain.model.mixture import Mixture, mixture_of
-from brain.model.personinterface import StepRecord
+from brain.model.person import gradedperson
+from brain.model.person.gradedperson import GradedModel
+from brain.model.person.personinterface import StepRecord
 from brain.model.revisions import SharedRevisions
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker

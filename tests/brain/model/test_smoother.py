@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 from scenes import tiny_scene, tiny_state
 
-from brain.model.exactperson import ExactModel
-from brain.model.gradedperson import GradedModel
 from brain.model.inference import HmmStep, forward, hazard_matrix, smooth
 from brain.model.modes import CARRY, PURSUE, dropped_carry
+from brain.model.person.exactperson import ExactModel
+from brain.model.person.gradedperson import GradedModel
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
 

@@ -1,4 +1,4 @@
-"""Graded beliefs as a person model (:mod:`brain.model.personinterface`): each person holds
+"""Graded beliefs as a person model (:mod:`brain.model.person.personinterface`): each person holds
 a graded belief of their own and plans with it (:mod:`brain.model.graded`);
 ``ModelSettings.belief_model = "graded"``; online and smoothed."""
 
@@ -13,13 +13,13 @@ import numpy as np
 
 from protocol import Scene
 
-from ..settings import ModelSettings
-from .answers import said_over
-from .arrays import FloatArray
-from .belief import BeliefModel
-from .desires import Desires
-from .estimates import Estimate, estimate, reread
-from .graded import (
+from ...settings import ModelSettings
+from ..answers import said_over
+from ..arrays import FloatArray
+from ..belief import BeliefModel
+from ..desires import Desires
+from ..estimates import Estimate, estimate, reread
+from ..graded import (
     InitialBeliefs,
     drift,
     expected_joint,
@@ -27,15 +27,15 @@ from .graded import (
     unnormalised_update,
     update_beliefs,
 )
-from .inference import hazard_matrix, log_of, switch_probability, switched
-from .lookahead import cached_lookahead
-from .mixture import Beliefs, Mixture, certain, mixture_of, revised
-from .modes import ModeColumns, ModeRates, ModeStep, joint_likelihood, joint_prior, mode_back, mode_step
+from ..inference import hazard_matrix, log_of, switch_probability, switched
+from ..lookahead import cached_lookahead
+from ..mixture import Beliefs, Mixture, certain, mixture_of, revised
+from ..modes import ModeColumns, ModeRates, ModeStep, joint_likelihood, joint_prior, mode_back, mode_step
+from ..planner import PlanPolicy, cached_policy
+from ..revisions import SharedRevisions
+from ..world import value_of
 from .personinterface import StepRecord
-from .planner import PlanPolicy, cached_policy
 from .remembered import Remembered
-from .revisions import SharedRevisions
-from .world import value_of
 
 
 class GradedModel:
@@ -344,7 +344,7 @@ class GradedFilter:
     too (``posterior`` is its sum over them); ``None`` without."""
 
     def __deepcopy__(self, memo: dict[int, object]) -> GradedFilter:
-        """A copy for another row of a lapse mixture (:mod:`brain.model.lapses`): a posterior
+        """A copy for another row of a lapse mixture (:mod:`brain.model.person.lapses`): a posterior
         of its own, the model shared (a deep copy would copy its Q-values) and so is a
         mixture (read-only: revisions make new ones)."""
         state = self.state if isinstance(self.state, Mixture) else self.state.copy()

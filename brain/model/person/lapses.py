@@ -33,11 +33,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .arrays import TIE, first_max
-from .belief import UNNOTICED, Percept
-from .estimates import Estimate, mix
+from ..arrays import TIE, first_max
+from ..belief import UNNOTICED, Percept
+from ..estimates import Estimate, mix
+from ..world import WorldModel, is_held, location_of
 from .personinterface import PersonFilter, PersonModel, StepRecord
-from .world import WorldModel, is_held, location_of
 
 LAPSE_ROWS = 8
 """The heaviest rows a person's mixture keeps whatever the evidence (:func:`_merged`)."""

@@ -26,18 +26,18 @@ import numpy as np
 
 from protocol import Scene
 
-from ..settings import ModelSettings
-from .arrays import FloatArray
-from .belief import Percept
-from .desires import Desires, favourite_utilities
-from .estimates import Estimate, reread
-from .factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy, factored_intention
-from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
-from .graded import choice_likelihood, informed_weights, initial_points
-from .inference import hazard_matrix, log_of
+from ...settings import ModelSettings
+from ..arrays import FloatArray
+from ..belief import Percept
+from ..desires import Desires, favourite_utilities
+from ..estimates import Estimate, reread
+from ..factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy, factored_intention
+from ..factoredsmoother import BackwardStep, ProductPosterior, smooth_products
+from ..graded import choice_likelihood, informed_weights, initial_points
+from ..inference import hazard_matrix, log_of
+from ..planner import Move
+from ..world import HELD, RESTING, location_of
 from .personinterface import StepRecord
-from .planner import Move
-from .world import HELD, RESTING, location_of
 
 
 class GradedFactoredModel:
@@ -156,7 +156,7 @@ class GradedFactoredFilter:
     """Whether a step was taken: the first sets the prior by the world then."""
 
     def __deepcopy__(self, memo: dict[int, object]) -> GradedFactoredFilter:
-        """A copy for another row (lapses, :mod:`brain.model.lapses`; the factored unseen
+        """A copy for another row (lapses, :mod:`brain.model.person.lapses`; the factored unseen
         world's, :mod:`brain.tracking.personrows`): arrays of its own, the model shared (a deep
         copy would copy its Q-values: 6.6 s of 10 on a 20-room house's first 100 ticks)."""
         return dataclasses.replace(

@@ -1,4 +1,4 @@
-"""The factored model as a person model (:mod:`brain.model.personinterface`): the
+"""The factored model as a person model (:mod:`brain.model.person.personinterface`): the
 filter of :mod:`brain.model.factored`, and its smoother (:mod:`brain.model.factoredsmoother`)."""
 
 from __future__ import annotations
@@ -11,11 +11,11 @@ import numpy as np
 
 from protocol import Scene
 
-from ..settings import ModelSettings
-from .arrays import FloatArray
-from .desires import Desires, favourite_utilities
-from .estimates import Estimate
-from .factored import (
+from ...settings import ModelSettings
+from ..arrays import FloatArray
+from ..desires import Desires, favourite_utilities
+from ..estimates import Estimate
+from ..factored import (
     FactoredBeliefs,
     FactoredPolicy,
     FactoredPosterior,
@@ -25,8 +25,8 @@ from .factored import (
     factored_prior,
     factored_step,
 )
-from .factoredsmoother import BackwardStep, ProductPosterior, smooth_products
-from .inference import log_of
+from ..factoredsmoother import BackwardStep, ProductPosterior, smooth_products
+from ..inference import log_of
 from .personinterface import StepRecord
 
 

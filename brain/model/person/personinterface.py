@@ -1,9 +1,9 @@
 """What the tracker needs of a person model, whatever its form: the record of one observed
 step (:class:`StepRecord`), a person's online filter (:class:`PersonFilter`) and the model
 that makes filters and smooths a chain (:class:`PersonModel`). Every form implements these
-(:mod:`brain.model.exactperson`, :mod:`brain.model.gradedperson`,
-:mod:`brain.model.factoredperson`, :mod:`brain.model.gradedfactored`,
-:mod:`brain.model.lapses`); :func:`brain.model.personmodel.person_model` picks one.
+(:mod:`brain.model.person.exactperson`, :mod:`brain.model.person.gradedperson`,
+:mod:`brain.model.person.factoredperson`, :mod:`brain.model.person.gradedfactored`,
+:mod:`brain.model.person.lapses`); :func:`brain.model.person.personmodel.person_model` picks one.
 Each step is kept as a small :class:`StepRecord` (the percept, not the ``(W, W)``
 transition, which smoothing rebuilds), so a long episode does not hold a matrix per step.
 """
@@ -14,10 +14,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from .arrays import FloatArray
-from .belief import Percept
-from .estimates import Estimate
-from .world import WorldModel
+from ..arrays import FloatArray
+from ..belief import Percept
+from ..estimates import Estimate
+from ..world import WorldModel
 
 
 @dataclass(frozen=True)

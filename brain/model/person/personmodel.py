@@ -1,17 +1,17 @@
 """The forms of one person's hidden-state model, behind one interface for the tracker
-(:mod:`brain.model.personinterface`), and :func:`person_model`, which picks one:
+(:mod:`brain.model.person.personinterface`), and :func:`person_model`, which picks one.
 
-- :class:`~brain.model.exactperson.ExactModel`: the joint ``(W, U)`` posterior over believed
+- :class:`~brain.model.person.exactperson.ExactModel`: the joint ``(W, U)`` posterior over believed
   worlds and candidate desires (the paper's point-belief model; online and smoothed).
-- :class:`~brain.model.factoredperson.FactoredModel`: per preference, one belief per item
+- :class:`~brain.model.person.factoredperson.FactoredModel`: per preference, one belief per item
   (:mod:`brain.model.factored`), for houses whose ``W = V**K`` worlds do not fit; online only.
-- :class:`~brain.model.gradedperson.GradedModel`: each person holds a graded belief of their
+- :class:`~brain.model.person.gradedperson.GradedModel`: each person holds a graded belief of their
   own and plans with it (:mod:`brain.model.graded`); ``ModelSettings.belief_model =
   "graded"``; online and smoothed.
-- :class:`~brain.model.gradedfactored.GradedFactoredModel`: graded beliefs in the factored form.
+- :class:`~brain.model.person.gradedfactored.GradedFactoredModel`: graded beliefs in the factored form.
 
 :func:`person_model` picks one by ``belief_model`` (graded by default) and
-``exact_max_worlds``, wrapped in :class:`~brain.model.lapses.LapseModel` for lapses and hearsay.
+``exact_max_worlds``, wrapped in :class:`~brain.model.person.lapses.LapseModel` for lapses and hearsay.
 """
 
 from __future__ import annotations
@@ -20,22 +20,22 @@ import logging
 
 from protocol import Scene
 
-from ..settings import ModelSettings
+from ...settings import ModelSettings
+from ..size import check_model_size
+from ..world import build_world_model
 from .exactperson import ExactModel
 from .factoredperson import FactoredModel
 from .gradedfactored import GradedFactoredModel
 from .gradedperson import GradedModel
 from .lapses import LapseModel
 from .personinterface import PersonModel
-from .size import check_model_size
-from .world import build_world_model
 
 log = logging.getLogger(__name__)
 
 
 def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
     """:func:`base_person_model`, wrapped to allow lapses of attention and hearsay when
-    ``settings.miss`` or ``settings.hearsay_per_s`` is above 0 (:mod:`brain.model.lapses`)."""
+    ``settings.miss`` or ``settings.hearsay_per_s`` is above 0 (:mod:`brain.model.person.lapses`)."""
     base = base_person_model(scene, settings, true_world=true_world)
     lapses = settings.miss > 0 or settings.hearsay_per_s > 0
     return LapseModel(base, settings.miss) if lapses and not true_world else base
@@ -44,7 +44,7 @@ def person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = Fa
 def base_person_model(scene: Scene, settings: ModelSettings, *, true_world: bool = False) -> PersonModel:
     """The model ``settings.belief_model`` names, graded (the default) or point: exact while
     the scene's ``W`` worlds are at most ``settings.exact_max_worlds``, factored above it
-    (:mod:`brain.model.gradedfactored`, :mod:`brain.model.factored`).
+    (:mod:`brain.model.person.gradedfactored`, :mod:`brain.model.factored`).
 
     Raises:
         ModelTooLarge: its arrays would exceed :data:`brain.model.size.MAX_MODEL_BYTES`.

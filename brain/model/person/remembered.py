@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .arrays import FloatArray, IntArray
+from ..arrays import FloatArray, IntArray
 
 FLOOR = 0.05
 """Added to every point's probability of a place before it is weighed: a place the person

@@ -1,4 +1,4 @@
-"""The point-belief model as a person model (:mod:`brain.model.personinterface`): the joint
+"""The point-belief model as a person model (:mod:`brain.model.person.personinterface`): the joint
 ``(W, U)`` posterior over believed worlds and candidate desires (the paper's model; online
 and smoothed)."""
 
@@ -12,15 +12,15 @@ import numpy as np
 
 from protocol import Scene
 
-from ..settings import ModelSettings
-from .answers import said_over
-from .arrays import FloatArray
-from .belief import BeliefModel
-from .desires import Desires
-from .estimates import Estimate, estimate
-from .inference import HmmStep, filter_step, log_of, smooth
+from ...settings import ModelSettings
+from ..answers import said_over
+from ..arrays import FloatArray
+from ..belief import BeliefModel
+from ..desires import Desires
+from ..estimates import Estimate, estimate
+from ..inference import HmmStep, filter_step, log_of, smooth
+from ..planner import PlanPolicy, cached_policy
 from .personinterface import StepRecord
-from .planner import PlanPolicy, cached_policy
 
 
 class ExactModel:
