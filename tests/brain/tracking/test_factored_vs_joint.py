@@ -39,6 +39,7 @@ def tv(a: np.ndarray, b: np.ndarray) -> float:
     return float(0.5 * np.abs(a - b).sum(axis=-1).mean())
 
 
+@pytest.mark.sweep  # three scenes tracked twice over 200 ticks: about a minute of CPU
 @pytest.mark.parametrize("name", ["paper-1", "sally-anne", "house-a:4"])
 def test_factored_beliefs_are_within_002_of_the_joint_ones(name: str, tmp_path: Path) -> None:
     engine = engine_of(name, tmp_path)

@@ -70,6 +70,7 @@ def _stop_after(process: subprocess.Popen[str], jsonl: Path, days: int, deadline
     process.send_signal(signal.SIGINT)
 
 
+@pytest.mark.sweep  # two households evaluations of three days end to end, one stopped: over a minute
 @pytest.mark.timeout(600)
 def test_a_households_evaluation_stopped_by_ctrl_c_resumes_to_the_same_metrics(tmp_path: Path) -> None:
     whole_out, part_out = tmp_path / "whole", tmp_path / "part"
