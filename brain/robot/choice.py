@@ -38,6 +38,7 @@ from .benefit import (
     inform_worth,
     lasting_preference,
     look_or_guess,
+    put_back_walk,
     put_back_worth,
     tell_worth,
 )
@@ -197,9 +198,7 @@ def _put_back(
     believed = int(np.argmax(est.beliefs[k, : model.n_locations]))
     if believed == t or model.locations[believed] == ABSENT:
         return
-    steps = cell_distances(model)
-    at, to = _spot_cell(snap, t), _spot_cell(snap, believed)
-    walk = float(steps[robot, at]) + float(steps[at, to]) - 1.0
+    walk = put_back_walk(model, robot, t, believed)
     if not np.isfinite(walk):
         return
     worth = put_back_worth(model, snap.estimates, cells, person, k, t, believed, walk, settings)
@@ -227,11 +226,6 @@ def _cells(snap: Situation) -> dict[str, int]:
     """Every agent's cell index."""
     index = snap.model.cell_index
     return {a.id: c for a in snap.state.agents if (c := index.get((a.cell.col, a.cell.row))) is not None}
-
-
-def _spot_cell(snap: Situation, location: int) -> int:
-    """The cell index of location index ``location``."""
-    return int(np.argmin(snap.model.distance[location]))
 
 
 def inform_chosen(snap: Situation, settings: RobotSettings) -> Iterator[Inform]:
