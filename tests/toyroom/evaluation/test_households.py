@@ -67,15 +67,25 @@ def test_a_household_of_three_days_is_scored_by_day(tmp_path: Path) -> None:
     assert all(1 <= r[0] <= 3 and all(0.0 <= v <= 1.0 for v in r[2:]) for r in desires), desires
 
 
+def _connected(process: psutil.Process) -> bool:
+    """Whether ``process`` holds an established TCP connection (its Zenoh session is open)."""
+    try:
+        return any(c.status == psutil.CONN_ESTABLISHED for c in process.net_connections("tcp"))
+    except (psutil.NoSuchProcess, psutil.AccessDenied):
+        return False
+
+
 def _kill_on_day_three(stop: threading.Event, killed: list[int]) -> None:
-    """SIGKILL the first brain of day 3 of the chain with memory, a fifth of a second after it
-    is seen (it was a second: a day-3 brain that finished sooner escaped, and CI at a32918b
-    failed with no brain of day 3 killed)."""
+    """SIGKILL the first brain of day 3 of the chain with memory once its Zenoh session is
+    connected, so mid-day. A kill timed from when the brain was first seen (a second, then a
+    fifth of one) missed on a loaded machine: CI at a32918b found no day-3 brain to kill, and
+    CI at d1eeb9f killed one whose day had already been scored."""
     while not stop.is_set() and not killed:
         for process in psutil.process_iter(["pid", "cmdline"]):
             command = " ".join(process.info["cmdline"] or [])
             if "-m brain" in command and "-d3.toml" in command and "observe.sqlite" in command:
-                time.sleep(0.2)
+                while not stop.is_set() and process.is_running() and not _connected(process):
+                    time.sleep(0.01)
                 try:
                     process.kill()
                     killed.append(process.info["pid"])
