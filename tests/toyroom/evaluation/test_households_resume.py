@@ -164,4 +164,5 @@ def test_a_households_evaluation_stopped_here_finishes_on_ray_to_the_same_metric
         f"expected each day's Ray node, got {[r.get('node') for r in records]}"
     )
     kept, local = _work_files(part_out), _work_files(whole_out)
-    assert kept == local, f"expected the local run's work/ files, got {sorted(set(kept) ^ set(local))} differing"
+    differing = sorted(set(kept) ^ set(local))
+    assert kept == local, f"expected the local run's work/ files, got {differing} differing"
