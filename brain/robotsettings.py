@@ -38,6 +38,7 @@ FINITE_ALLOWED = (
 """What :func:`unbounded` says every float setting allows."""
 
 ROBOT_ALLOWED = {
+    "policy": f"one of {', '.join(Policy.names())}",
     "confirm_seconds": "confirm_seconds >= 0",
     "attempts": "an int >= 1",
     "navigate_timeout": f"navigate_timeout >= {MIN_COMMAND_TIMEOUT:g} (engine seconds)",
@@ -170,7 +171,7 @@ class RobotSettings:
     navigate_timeout: float = 60.0
     action_timeout: float = 10.0
     answer_timeout: float = 45.0
-    policy: str = Policy.TOM.value
+    policy: Policy = Policy.TOM
     deception_threshold: float = 0.5
     on_deception: str = "tell"
     interruption_cost: float = 1.0
@@ -186,6 +187,7 @@ class RobotSettings:
             raise ValueError(
                 f"invalid robot settings: policy={self.policy!r} (one of {', '.join(ROBOT_POLICIES)})"
             )
+        object.__setattr__(self, "policy", Policy(self.policy))  # a name given as text: its choice
         if self.on_deception not in ("tell", "put_back"):
             raise ValueError(
                 f"invalid robot settings: on_deception={self.on_deception!r} (one of tell, put_back)"

@@ -170,7 +170,7 @@ class ModelSettings:
     desire_model: str = "favourite"
     person_planner: str = "qmdp"
     desire_levels: int = 3
-    perception: str = Perception.OMNISCIENT.value
+    perception: Perception = Perception.OMNISCIENT
     unseen_world: UnseenWorld = UnseenWorld.AUTO
     miss: float = 0.0
     hearsay_per_s: float = 0.0
@@ -220,6 +220,7 @@ class ModelSettings:
             "memory_forget": 0.0 <= self.memory_forget <= 1.0,
         }
         check_values("model", self, checks, ALLOWED)
+        object.__setattr__(self, "perception", Perception(self.perception))  # a name given as text
 
 
 ALLOWED = {

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .choices import EpisodeKind, Minds
+from .choices import EpisodeKind, Minds, TaskKind
 
 MAX_TICKS = 1000
 """A generated episode's length in ticks unless told otherwise (``toyroom eval --max-ticks``'s
@@ -33,7 +33,7 @@ class EpisodeSpec:
     minds: Minds = Minds.SIMPLE
     kind: EpisodeKind = EpisodeKind.EVERYDAY
     max_ticks: int = MAX_TICKS
-    tasks: tuple[str, ...] = ()
+    tasks: tuple[TaskKind, ...] = ()
     autonomy: tuple[str, ...] = ()
 
 

@@ -23,7 +23,7 @@ from bridge.flags import (
 )
 from bridge.recording.mcap import McapRecorder
 from bridge.session import add_network_args, settings_from_args, world_problem
-from protocol import MAX_TICKS, ClockMode, EpisodeKind, EpisodeSpec, Minds, Morning, RobotMode
+from protocol import MAX_TICKS, ClockMode, EpisodeKind, EpisodeSpec, Minds, Morning, RobotMode, TaskKind
 
 from .engine import Engine
 from .errors import Sim2dError
@@ -245,7 +245,7 @@ def _override(text: str) -> tuple[str, str]:
         raise argparse.ArgumentTypeError(str(err)) from None
 
 
-def _task_kinds(text: str) -> tuple[str, ...]:
+def _task_kinds(text: str) -> tuple[TaskKind, ...]:
     """``--tasks``'s comma-separated kinds, checked (a bad one is a usage error naming it)."""
     from .generation.tasks import check_kinds
 

@@ -47,6 +47,7 @@ from protocol import (
     Truth,
     believes_falsely,
 )
+from toyroom.evaluation.conditions import task_kinds
 from toyroom.evaluation.generation import generate_all
 
 
@@ -146,7 +147,7 @@ def main() -> int:
         folder / "scenarios",
         args.episodes,
         args.seed,
-        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, tuple(args.tasks.split(","))),
+        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, task_kinds(args.tasks.split(","))),
     ):
         observed = run(scenario, folder / "none" / scenario.stem, RobotMode.OBSERVE, see)
         base = {o["person"]: o for o in owners(observed)}

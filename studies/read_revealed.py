@@ -30,6 +30,7 @@ from pathlib import Path
 
 from bridge.recording.trace import trace_records
 from protocol import EngineInfo, EpisodeKind, EpisodeSpec, Minds, RobotMode, State, Truth
+from toyroom.evaluation.conditions import task_kinds
 from toyroom.evaluation.generation import generate_all
 from toyroom.evaluation.revealed import stretches
 
@@ -116,7 +117,7 @@ def main() -> int:
         folder / "scenarios",
         args.episodes,
         args.seed,
-        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, tuple(args.tasks.split(","))),
+        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, task_kinds(args.tasks.split(","))),
     )
     rows = [row for scenario in scenarios for row in readings(run(scenario, folder / "runs", args.set))]
     print("episode              person item   steps sure_knew P(fb)max P(wants)start P(wants)max")

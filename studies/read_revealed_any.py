@@ -31,6 +31,7 @@ from pathlib import Path
 
 from bridge.recording.trace import trace_records
 from protocol import EngineInfo, EpisodeKind, EpisodeSpec, Mind, Minds, RobotMode, State, Truth
+from toyroom.evaluation.conditions import task_kinds
 from toyroom.evaluation.generation import generate_all
 from toyroom.evaluation.revealed import Stretch, heading_wrong, stretches
 
@@ -140,7 +141,7 @@ def main() -> int:
         folder / "scenarios",
         args.episodes,
         args.seed,
-        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, tuple(args.tasks.split(","))),
+        EpisodeSpec(Minds.RICH, EpisodeKind.TASKS, 1000, task_kinds(args.tasks.split(","))),
     )
     with ThreadPoolExecutor(2) as pool:
         runs = list(pool.map(lambda s: run(s, folder / "runs", args.set), scenarios))

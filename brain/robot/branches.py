@@ -308,14 +308,14 @@ on the simulated people's true minds (an upper bound, not a robot one could buil
 :mod:`brain.robot.oracle`)."""
 
 
-def build_tree(namespace: str, policy: str = "tom") -> py_trees.behaviour.Behaviour:
+def build_tree(namespace: str, policy: Policy = Policy.TOM) -> py_trees.behaviour.Behaviour:
     """The robot's tree for ``policy``; its behaviours use the context at ``<namespace>/context``
     (``tom`` and ``oracle`` share one tree: they differ in the minds it reads)."""
-    if policy == Policy.TIDY.value:
+    if policy == Policy.TIDY:
         branches = [put_back_branch(namespace, tidy_tasks)]
-    elif policy == Policy.ANNOUNCE.value:
+    elif policy == Policy.ANNOUNCE:
         branches = [inform_branch(namespace, announce_tasks)]
-    elif policy == Policy.BENEFIT.value:
+    elif policy == Policy.BENEFIT:
         branches = [
             ask_branch(namespace),
             inform_branch(namespace, benefit_inform),

@@ -80,7 +80,7 @@ class MindTracker:
         """The robot's own knowledge of where items rest (``None``: it sees everything): the
         joint branches or the factored world (:mod:`brain.tracking.unseen`)."""
         self.robot = next((a.id for a in scene.agents if a.kind is AgentKind.ROBOT), None)
-        if self.settings.perception == Perception.EMBODIED.value:
+        if self.settings.perception == Perception.EMBODIED:
             if self.robot is None:
                 raise ValueError(
                     f"perception = embodied needs a robot in scene '{scene.name}', which has none"

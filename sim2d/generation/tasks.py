@@ -56,12 +56,13 @@ def seed_of(kind: str, nth: int = 0, kinds: Sequence[str] = TASKS) -> int:
     return next(seeds)
 
 
-def check_kinds(kinds: Sequence[str]) -> tuple[str, ...]:
-    """``kinds`` as a tuple, every one of :data:`TASKS` (raises ``ValueError`` naming a bad one)."""
+def check_kinds(kinds: Sequence[str]) -> tuple[TaskKind, ...]:
+    """``kinds`` (names of :data:`TASKS`) as their :class:`~protocol.TaskKind` values, in order
+    (raises ``ValueError`` naming a bad one)."""
     bad = [kind for kind in kinds if kind not in TASKS]
     if bad or not kinds:
         raise ValueError(f"task kinds are some of {', '.join(TASKS)}, not {', '.join(bad) or 'none'}")
-    return tuple(kinds)
+    return tuple(TaskKind(kind) for kind in kinds)
 
 
 def ticks_per_cell(game_map: GameMap, tick_seconds: float) -> int:

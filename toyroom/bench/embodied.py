@@ -20,7 +20,7 @@ from typing import Any
 
 from brain.settings import ModelSettings
 from brain.tracking.tracker import MindTracker
-from protocol import EpisodeSpec, RobotMode
+from protocol import EpisodeSpec, Perception, RobotMode
 from sim2d.engine import Engine
 from sim2d.generation import write_house_episode
 from sim2d.scenario import load_scenario
@@ -69,7 +69,7 @@ def main(quick: bool = False, seed: int = 7) -> dict[str, Any]:
         ticks = record(engine, n)
     MindTracker(engine.scene(), ModelSettings(miss=0.2))  # the planner, into its cache
     omniscient = run(engine, ticks, ModelSettings(miss=0.2))
-    embodied = run(engine, ticks, ModelSettings(miss=0.2, perception="embodied"))
+    embodied = run(engine, ticks, ModelSettings(miss=0.2, perception=Perception.EMBODIED))
     for name, row in (("omniscient", omniscient), ("embodied", embodied)):
         print(
             f"households embodied row ({rooms} rooms, {items} items, {people} people, miss 0.2, "

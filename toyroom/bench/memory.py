@@ -28,7 +28,7 @@ SEEDS = (2, 4, 7)
 seeds 1-4 before issue 53's slim history (2.71 and 2.02 GiB then), and seed 7, the heaviest
 of seeds 5-12 after it (0.56 GiB)."""
 SETTINGS = ("miss=0.2", "perception=embodied")
-TASKS = TaskKind.names()
+TASKS = tuple(TaskKind)
 TICKS = 1500
 """The episodes' length: the one the seeds above and the memory budget were measured on
 (longer than an evaluation's :data:`protocol.MAX_TICKS`)."""

@@ -17,7 +17,7 @@ from typing import Any
 from bridge.flags import PROG_ENV, settings_argv
 from bridge.processes import check_brain_settings, node_environment, stop_on_signals, wait_for_stop
 from bridge.session import SessionSettings, settings_from_args
-from protocol import MAX_TICKS, OBSERVING, Policy, RobotMode
+from protocol import MAX_TICKS, OBSERVING, Observer, Policy, RobotMode
 from toyroom.evaluation.conditions import POLICIES, Condition
 
 from .households import days_refusal
@@ -263,7 +263,7 @@ def _run(args: argparse.Namespace) -> int:
         scenario=args.scenario,
         out=args.out,
         seed=args.seed,
-        observer=args.observer,
+        observer=Observer(args.observer),
         world=args.world if args.world != "default" else None,
         timeout=args.timeout,
         log_level=args.log_level or "WARNING",

@@ -83,7 +83,7 @@ class RunConfig:
     scenario: str
     out: Path
     seed: int = 0
-    observer: str = Observer.BTOM.value
+    observer: Observer = Observer.BTOM
     world: str | None = None
     timeout: float = 10.0
     log_level: str = "WARNING"
@@ -176,7 +176,7 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     with scenario_checked(config.scenario):  # both before any node starts
         check_brain_settings(config.settings, config.overrides)
     with StopRequest() as stop:
-        staging = folder.open(lambda out: running_note(os.getpid(), infer_argv(out, config.observer, [])))
+        staging = folder.open(lambda out: running_note(os.getpid(), infer_argv(out, config.observer.value, [])))
         try:
             outcome = Episode(config, settings, world, staging, stop).run()
             return _conclude(config, folder, outcome, stop)
@@ -322,7 +322,7 @@ def _brain_args(config: RunConfig, out: Path) -> list[str]:
     """The brain's command-line options for this run, its outputs in ``out``."""
     return [
         *("--scenario", config.scenario, "--seed", str(config.seed), "--out", str(out)),
-        *("--observer", config.observer, "--timeout", str(config.timeout), "--log-level", config.log_level),
+        *("--observer", config.observer.value, "--timeout", str(config.timeout), "--log-level", config.log_level),
         *(["--robot", config.robot] if config.robot else []),
         *(arg for name in config.shadows for arg in ("--shadow", name)),
         *(("--shadow-out", str(out)) if config.shadows else ()),
@@ -350,12 +350,12 @@ def _conclude(config: RunConfig, folder: RunFolder, outcome: RunOutcome, stop: S
     options = [] if recorded else settings_argv(config.settings, config.overrides)
     reason, inferred = outcome.reason, None
     if outcome.infer and span is not None and stop.signum is None:
-        inferred = infer_from_trace(out, infer_argv(out, config.observer, options), stop.event)
+        inferred = infer_from_trace(out, infer_argv(out, config.observer.value, options), stop.event)
         if inferred is None and stop.signum is not None:
             reason += (
                 f" (and inferring the minds from the trace was interrupted by {signal_name(stop.signum)})"
             )
-    argv = infer_argv(destination, config.observer, options)
+    argv = infer_argv(destination, config.observer.value, options)
     note = failure_note(reason, out, span, argv, inferred, outcome.removed)
     (out / FAILED).write_text(note, encoding="utf-8")
     placed = folder.place_failed(destination)

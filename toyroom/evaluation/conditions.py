@@ -43,7 +43,7 @@ class Condition:
     perception: Perception = Perception.OMNISCIENT
     minds: Minds = Minds.SIMPLE
     kind: EpisodeKind = EpisodeKind.EVERYDAY
-    tasks: tuple[str, ...] = ()
+    tasks: tuple[TaskKind, ...] = ()
     """The task kinds a ``tasks`` condition draws from, in turn by episode seed (empty: all)."""
     autonomy: tuple[str, ...] = ()
     """``NAME=VALUE`` settings of the simulated people's ``[autonomy]`` table, over the ones
@@ -54,9 +54,7 @@ class Condition:
         malformed = [s for s in self.autonomy if not s.partition("=")[0].strip() or "=" not in s]
         if malformed:
             raise ValueError(f"autonomy settings are NAME=VALUE, not {', '.join(map(repr, malformed))}")
-        bad = [task for task in self.tasks if task not in TASK_KINDS]
-        if bad:
-            raise ValueError(f"task kinds are some of {', '.join(TASK_KINDS)}, not {', '.join(bad)}")
+        object.__setattr__(self, "tasks", task_kinds(self.tasks))  # names given as text: their kinds
         for name, value, known in (
             ("perception", self.perception, PERCEPTIONS),
             ("minds", self.minds, MINDS),
@@ -99,11 +97,23 @@ def conditions(
             chosen(Perception, "perception", p),
             chosen(Minds, "minds", m),
             chosen(EpisodeKind, "kind", k),
-            tuple(tasks) if k == EpisodeKind.TASKS else (),
+            task_kinds(tasks) if k == EpisodeKind.TASKS else (),
             tuple(autonomy),
         )
         for p, m, k in itertools.product(perceptions, minds, kinds)
     ]
+
+
+def task_kinds(tasks: Sequence[str]) -> tuple[TaskKind, ...]:
+    """``tasks`` (names of :class:`protocol.TaskKind`) as their kinds, in order.
+
+    Raises:
+        ValueError: ``task kinds are some of moved, ..., not NAME, ...``, naming every bad one.
+    """
+    bad = [task for task in tasks if task not in TASK_KINDS]
+    if bad:
+        raise ValueError(f"task kinds are some of {', '.join(TASK_KINDS)}, not {', '.join(bad)}")
+    return tuple(TaskKind(task) for task in tasks)
 
 
 C = TypeVar("C", bound=Choice)

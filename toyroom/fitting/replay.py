@@ -78,7 +78,7 @@ class RecordingModel:
 
 def replayable(settings: ModelSettings, model: PersonModel) -> bool:
     """Whether :func:`evidence_at_points` can serve this model."""
-    one_branch = settings.perception == Perception.OMNISCIENT.value
+    one_branch = settings.perception == Perception.OMNISCIENT
     if isinstance(model, GradedModel):
         return one_branch and model.lookahead is None
     return one_branch and isinstance(model, ExactModel)
