@@ -1,10 +1,12 @@
-"""The ``toyroom`` application: the command line (:mod:`.cli`, :mod:`.commands`),
-``toyroom run`` (:mod:`.run`) with its live table, and
-``toyroom doctor``."""
+"""The ``toyroom`` application's command line: the parser and ``main()`` (:mod:`.cli`), which
+only register and dispatch the commands, and one module per command (:mod:`.commands`: its
+options, checks and handler; ``toyroom run`` with its live table and its folder, ``toyroom
+eval``, ``toyroom doctor``...), beside what several commands share (:mod:`.options`,
+:mod:`.floors`, :mod:`.recordings`)."""
 
 from .cli import build_parser, main
-from .doctor import run_doctor
-from .run import RunConfig
+from .commands.doctor import run_doctor
+from .commands.run import RunConfig
 
 __all__ = [
     "build_parser",

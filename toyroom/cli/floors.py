@@ -2,11 +2,11 @@
 before anything starts, in one line naming the flag and the value (exit 2). The settings'
 own floors (``decision_seconds``, the robot's timeouts) are the brain's
 (:mod:`brain.robotsettings`), a scenario's ``tick_seconds`` is sim2d's loader's, and
-``--lease-ms`` is :func:`bridge.session.lease_ms`'s; ``docs/usage.md`` lists them all."""
+``--lease-ms`` is :func:`bridge.session.lease_ms`'s; ``docs/usage.md`` lists them all. Each
+command's module (:mod:`toyroom.cli.commands`) checks its own flags with these."""
 
 from __future__ import annotations
 
-import argparse
 import math
 
 MIN_SPEED = 1e-3
@@ -18,7 +18,7 @@ machine or a large house's first step takes up to seconds, and a request that ti
 the run (or fails the check) for no fault of the engine."""
 
 
-def _timeout_problem(timeout: float, none: bool) -> str | None:
+def timeout_problem(timeout: float, none: bool) -> str | None:
     """Why ``--timeout`` ``timeout`` is refused (``none``: 0 means no limit), or ``None``."""
     if (none and timeout == 0) or (math.isfinite(timeout) and timeout >= MIN_REQUEST_TIMEOUT):
         return None
@@ -29,20 +29,14 @@ def _timeout_problem(timeout: float, none: bool) -> str | None:
     )
 
 
-def time_problem(args: argparse.Namespace) -> str | None:
-    """What is wrong with a time flag of ``args`` (below its floor, negative, not finite),
-    in one line, or ``None``."""
-    if args.command == "run":
-        return _timeout_problem(args.timeout, none=True)
-    if args.command == "conform":
-        return _timeout_problem(args.timeout, none=False)
-    if args.command != "replay":
-        return None
-    if not (args.speed == 0 or MIN_SPEED <= args.speed < math.inf):
+def replay_problem(speed: float, wait_subscribers: float) -> str | None:
+    """Why ``toyroom replay --speed`` or ``--wait-subscribers`` is refused (below its floor,
+    negative, not finite), in one line, or ``None``."""
+    if not (speed == 0 or MIN_SPEED <= speed < math.inf):
         return (
-            f"--speed {args.speed}: expected 0 (as fast as possible) or a number of times real time "
+            f"--speed {speed}: expected 0 (as fast as possible) or a number of times real time "
             f"from {MIN_SPEED:g}"
         )
-    if not (math.isfinite(args.wait_subscribers) and args.wait_subscribers >= 0):
-        return f"--wait-subscribers {args.wait_subscribers}: expected a number of seconds >= 0 (0: no wait)"
+    if not (math.isfinite(wait_subscribers) and wait_subscribers >= 0):
+        return f"--wait-subscribers {wait_subscribers}: expected a number of seconds >= 0 (0: no wait)"
     return None

@@ -115,7 +115,7 @@ def _metrics(failed: list[int], episodes: int) -> dict:
 
 
 def test_the_terminal_says_how_many_episodes_failed(capsys: pytest.CaptureFixture[str]) -> None:
-    from toyroom.cli.commands import failed_episodes
+    from toyroom.cli.commands.eval import failed_episodes
 
     assert failed_episodes(_metrics([0, 0], 4), Path("e")) == 0
     assert capsys.readouterr().err == "", "nothing to say when every episode was scored"
@@ -129,7 +129,7 @@ def test_an_evaluation_whose_every_episode_failed_exits_1(
 ) -> None:
     """An unknown brain setting (past the CLI's check, as from a settings file the brain
     refuses) fails every run, so every episode: exit 1, and the terminal says so."""
-    from toyroom.cli.commands import eval_main
+    from toyroom.cli.commands.eval import eval_main
 
     code = eval_main(1, 5, 1, "local", tmp_path / "e", ("--set", "betta=1"), max_ticks=30, batch=1)
     err = capsys.readouterr().err

@@ -15,7 +15,7 @@ from support import toyroom_run
 
 from protocol import Mind, decode
 from protocol.schema import write_schemas
-from toyroom.cli.doctor import run_doctor
+from toyroom.cli.commands.doctor import run_doctor
 
 
 def test_doctor_passes_on_this_install(world: str) -> None:

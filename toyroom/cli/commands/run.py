@@ -7,13 +7,14 @@ The bridge starts the nodes as ``python -m sim2d`` and ``python -m brain`` (it n
 imports them), each the leader of a process group of its own, waits for the brain to finish
 the episode, then stops the engine. Before any of it, the brain checks the settings
 (``python -m brain check-settings``). The outputs go to a fresh folder that takes the place of
-``DIR`` only when the run finished (:mod:`.outfolder`); a run that fails (a node failed: exit
-1) or is stopped (SIGINT, SIGTERM, SIGHUP: :mod:`.stopping`, exit ``128 + N``) stops every
-node, writes what can be written and leaves a ``FAILED`` note (:mod:`.outcome`).
+``DIR`` only when the run finished (:mod:`toyroom.cli.outfolder`); a run that fails (a node failed: exit
+1) or is stopped (SIGINT, SIGTERM, SIGHUP: :mod:`toyroom.cli.stopping`, exit ``128 + N``) stops every
+node, writes what can be written and leaves a ``FAILED`` note (:mod:`toyroom.cli.outcome`).
 """
 
 from __future__ import annotations
 
+import argparse
 import logging
 import os
 import subprocess
@@ -28,7 +29,7 @@ from rich.live import Live
 
 from bridge.bridge import Bridge
 from bridge.errors import BridgeError
-from bridge.flags import settings_argv
+from bridge.flags import add_settings_args, out_file_problem, settings_argv
 from bridge.processes import (
     check_brain_settings,
     engine_command,
@@ -41,13 +42,15 @@ from bridge.processes import (
 from bridge.pubsub import Received
 from bridge.recording.mcap import McapRecorder
 from bridge.recording.trace import TraceRecorder
-from bridge.session import SessionSettings
+from bridge.session import SessionSettings, add_network_args, settings_from_args
 from protocol import EngineInfo, Mind, Observer, RobotMode, State
 from protocol import Error as ProtocolErrorBase
 
-from ..gateway import start_gateway
-from .livetable import mind_table
-from .outcome import (
+from ...gateway import start_gateway
+from ..floors import timeout_problem
+from ..livetable import mind_table
+from ..options import observer_option
+from ..outcome import (
     RunOutcome,
     discard_brain_outputs,
     events_csv,
@@ -59,9 +62,10 @@ from .outcome import (
     running_note,
     trace_span,
 )
-from .outfolder import FAILED, RunFolder
-from .scenariocheck import scenario_checked
-from .stopping import Interrupted, StopRequest, signal_name
+from ..outfolder import FAILED, RunFolder
+from ..scenariocheck import scenario_checked
+from ..stopping import Interrupted, StopRequest, signal_name
+from ..subcommand import Subcommand
 
 log = logging.getLogger("toyroom.run")
 
@@ -154,7 +158,7 @@ class MindView:
 
 def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     """Run one episode into a fresh folder that takes the place of ``config.out`` when done
-    (:mod:`.outfolder`); a run that does not finish leaves its outputs marked ``FAILED``.
+    (:mod:`toyroom.cli.outfolder`); a run that does not finish leaves its outputs marked ``FAILED``.
 
     Returns:
         0 when both nodes did their job, 1 when a node failed, ``128 + N`` when signal N
@@ -170,13 +174,14 @@ def run(config: RunConfig, settings: SessionSettings | None = None) -> int:
     if config.engine not in GATEWAY_ONLY:  # their command is made once the scenario is exported
         engine_command(config.engine, world, settings, gateway="ws://127.0.0.1:0" if config.gateway else None)
     elif config.engine == "godot":
-        from ..gateway import godot
+        from ...gateway import godot
 
         godot.godot()  # installed, and a source checkout to run
     with scenario_checked(config.scenario):  # both before any node starts
         check_brain_settings(config.settings, config.overrides)
     with StopRequest() as stop:
-        staging = folder.open(lambda out: running_note(os.getpid(), infer_argv(out, config.observer.value, [])))
+        observer = config.observer.value
+        staging = folder.open(lambda out: running_note(os.getpid(), infer_argv(out, observer, [])))
         try:
             outcome = Episode(config, settings, world, staging, stop).run()
             return _conclude(config, folder, outcome, stop)
@@ -231,7 +236,7 @@ class Episode:
         args = ["--scenario", config.scenario, "--lockstep", "--log-level", config.log_level, *robot]
         if config.engine not in GATEWAY_ONLY:
             return engine_command(config.engine, self.world, self.settings, *args, gateway=url)
-        from ..gateway import csharp, godot
+        from ...gateway import csharp, godot
 
         csharp.export_scenario(config.scenario, self.out / "scenarios")
         client = godot if config.engine == "godot" else csharp
@@ -322,7 +327,8 @@ def _brain_args(config: RunConfig, out: Path) -> list[str]:
     """The brain's command-line options for this run, its outputs in ``out``."""
     return [
         *("--scenario", config.scenario, "--seed", str(config.seed), "--out", str(out)),
-        *("--observer", config.observer.value, "--timeout", str(config.timeout), "--log-level", config.log_level),
+        *("--observer", config.observer.value, "--timeout", str(config.timeout)),
+        *("--log-level", config.log_level),
         *(["--robot", config.robot] if config.robot else []),
         *(arg for name in config.shadows for arg in ("--shadow", name)),
         *(("--shadow-out", str(out)) if config.shadows else ()),
@@ -378,3 +384,88 @@ def _read(path: Path) -> str | None:
         return path.read_text(encoding="utf-8")
     except OSError:
         return None
+
+
+def options(parser: argparse.ArgumentParser) -> None:
+    """``toyroom run``'s options."""
+    parser.add_argument("--scenario", default="paper-robot", help="bundled scenario name or .toml path")
+    parser.add_argument("--out", type=Path, default=Path("out"), help="results directory")
+    parser.add_argument("--seed", type=int, default=0, help="episode seed (the engine's random draws)")
+    observer_option(parser, "the brain's person model")
+    add_settings_args(parser)
+    parser.add_argument(
+        "--shadow",
+        choices=Observer.names(),
+        action="append",
+        default=[],
+        help="also run this observer on the same ticks, its minds in OUT/minds-NAME.jsonl (repeatable)",
+    )
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, help="seconds per lock-step request (0: none; else >= 1)"
+    )
+    parser.add_argument(
+        "--robot", choices=RobotMode.names(), help="override whether the robot acts (default: the scene's)"
+    )
+    parser.add_argument(
+        "--engine",
+        choices=("sim2d", "grid", "csharp", "godot"),
+        default="sim2d",
+        help="sim2d (pymunk), grid (examples/grid_engine/), csharp (the C# SDK's grid engine under "
+        "Mono, through the gateway; needs mono-devel) or godot (the Godot add-on's sample under "
+        "godot3-server, through the gateway); grid, csharp and godot need a source checkout",
+    )
+    parser.add_argument(
+        "--gateway",
+        action="store_true",
+        help="start `toyroom gateway` and connect the engine through it (a WebSocket instead of Zenoh; grid)",
+    )
+    parser.add_argument("--no-live", action="store_true", help="no live table (only the final one)")
+    parser.add_argument("--record", type=Path, metavar="FILE.mcap", help="also record every message to MCAP")
+    parser.add_argument("--view", action="store_true", help="also open the meshcat live view")
+    parser.add_argument("--memory", type=Path, metavar="FILE", help="the brain's memory, as brain --memory")
+    add_network_args(parser)
+    parser.set_defaults(world=None)
+
+
+def problem(args: argparse.Namespace) -> str | None:
+    """``--record`` names a folder or a file in a missing one, or ``--timeout`` is below its floor
+    (:mod:`toyroom.cli.floors`), in one line; else ``None``."""
+    if args.record is not None:
+        if (found := out_file_problem(args.record, "--record", make_folder=False)) is not None:
+            return found
+    return timeout_problem(args.timeout, none=True)
+
+
+def handle(args: argparse.Namespace) -> int:
+    """``toyroom run``: :func:`run` with the parsed options as a :class:`RunConfig`."""
+    config = RunConfig(
+        scenario=args.scenario,
+        out=args.out,
+        seed=args.seed,
+        observer=Observer(args.observer),
+        world=args.world if args.world != "default" else None,
+        timeout=args.timeout,
+        log_level=args.log_level or "WARNING",
+        robot=RobotMode(args.robot) if args.robot else None,
+        engine=args.engine,
+        gateway=args.gateway,
+        live=False if args.no_live else None,
+        record=args.record,
+        view=args.view,
+        shadows=tuple(args.shadow),
+        settings=args.settings,
+        overrides=tuple(args.overrides),
+        memory=args.memory,
+        **({"lease_ms": args.lease_ms} if args.lease_ms is not None else {}),
+    )
+    return run(config, settings_from_args(args))
+
+
+COMMAND = Subcommand(
+    "run",
+    "run an engine and the brain together, in lock-step, and keep the results",
+    options,
+    handle,
+    problem,
+    out_folder=True,
+)

@@ -86,7 +86,7 @@ def morning_of_run(run: Path) -> tuple[Morning, int, int]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``toyroom morning RUN [--out FILE]`` (also ``python -m toyroom.cli.morning``)."""
+    """``toyroom morning RUN [--out FILE]`` (also ``python -m toyroom.cli.commands.morning``)."""
     parser = command_parser(
         "toyroom morning",
         "write the next morning of a household (JSON, for toyroom generate --day D --morning FILE) "

@@ -10,6 +10,7 @@ subscriber in both encodings, timing each round trip.
 
 from __future__ import annotations
 
+import argparse
 import statistics
 import threading
 import time
@@ -21,10 +22,12 @@ from rich.table import Table
 from bridge.bridge import Bridge
 from bridge.handshake import handshake, serve_info
 from bridge.pubsub import Received
-from bridge.session import SessionSettings, world_endpoint
+from bridge.session import SessionSettings, add_network_args, settings_from_args, world_endpoint
 from protocol import BY_TAG, Encoding, EngineInfo, Message, decode, encode
 from protocol.examples import example_paths
 from protocol.schema import SCHEMA_DIR, stale_schemas
+
+from ..subcommand import Subcommand
 
 
 def _round_trip(sender: Bridge, receiver: Bridge, message: Message, key: str, repeats: int) -> float:
@@ -109,3 +112,18 @@ def run_doctor(
     console.print(table)
     console.print("[green]all checks passed[/]" if not failures else f"[red]{failures} check(s) failed[/]")
     return 0 if not failures else 1
+
+
+def options(doctor: argparse.ArgumentParser) -> None:
+    """``toyroom doctor``'s options."""
+    add_network_args(doctor)
+
+
+def handle(args: argparse.Namespace) -> int:
+    """``toyroom doctor``: :func:`run_doctor` on the parsed world."""
+    return run_doctor(args.world, settings_from_args(args))
+
+
+COMMAND = Subcommand(
+    "doctor", "check the install: schemas, and every message over loopback Zenoh", options, handle
+)
