@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+import numpy.typing as npt
 
 from protocol import Scene
 
@@ -193,26 +194,46 @@ class FactoredBeliefs:
         total = t.sum(axis=1, keepdims=True)  # 0 for a value ruled out with none in reach
         return t / np.where(total > 0, total, 1.0)
 
-    def revise(self, beliefs: FloatArray, p: Percept, *, predict: bool) -> FloatArray:
+    def revise(
+        self, beliefs: FloatArray, p: Percept, *, predict: bool, items: IntArray | None = None
+    ) -> FloatArray:
         """``(K, N, V)`` each item's graded beliefs after percept ``p``, by Bayes on the item
         alone: the paper's change weights (1 to stay, ``r`` for a change of a value in view or
         believed visible), each column first normalised when ``predict``, times the percept's
-        likelihood; a belief the percept rules out entirely is kept."""
-        seen = np.array(p.seen, dtype=np.int64)
+        likelihood; a belief the percept rules out entirely is kept. ``items`` ``(M,)``: the
+        items ``beliefs`` ``(M, N, V)`` hold, when not all of them.
+
+        The change matrix of item ``k`` is a diagonal plus a rank-one part (every value it may
+        leave goes to every other alike), so the ``(N, V) @ (V, V)`` product is two ``(N, V)``
+        passes (:meth:`changed`); only an item redrawn after being carried off
+        (:attr:`Changes.lost`) takes its redraw matrix first."""
+        pick = slice(None) if items is None else items
+        seen = np.array(p.seen, dtype=np.int64)[pick]
         visible = self.model.sees[p.cell][self.place]
         values = np.arange(self.model.n_values)
         blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
         match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)
-        likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok  # (K, V)
+        likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok[pick]  # (M, V)
         ch = changes(self.model, p)
-        g = np.where(self.same[None], 1.0, np.where(ch.allowed(), self.r, 0.0))  # (K, V_i, V_j)
-        if predict:
-            g = g / g.sum(axis=1, keepdims=True)
-        if ch.lost:  # what was carried off is redrawn first
-            g = g @ ch.redraw()
-        new = (beliefs @ g.transpose(0, 2, 1)) * likelihood[:, None, :]  # batched (N, V) @ (V, V)
+        before = beliefs
+        if ch.lost and ch.carried[pick].any():  # the carried off are redrawn first: b @ R^T
+            redraw, before = ch.redraw()[pick], beliefs.copy()
+            for m in np.nonzero(ch.carried[pick].any(axis=1))[0]:
+                before[m] = beliefs[m] @ redraw[m].T
+        new = self.changed(before, ch.anywhere[pick], predict) * likelihood[:, None, :]
         total = new.sum(axis=2, keepdims=True)
         return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
+
+    def changed(self, beliefs: FloatArray, anywhere: npt.NDArray[np.bool_], predict: bool) -> FloatArray:
+        """``(K, N, V)`` ``beliefs`` taken through each item's change weights, ``g[i, j] = 1``
+        for ``i = j``, ``r`` for ``i != j`` where ``anywhere[k, j]`` (``(K, V)``), else 0, each
+        column divided by its sum when ``predict``: ``b @ g^T = b * d + r (b . u)`` with
+        ``u = a / c`` and ``d = (1 - r a) / c`` (``a`` the mask, ``c`` the column sums)."""
+        a = anywhere.astype(np.float64)
+        c = 1.0 + self.r * (a.shape[1] - 1) * a if predict else np.ones_like(a)  # (K, V)
+        u, d = a / c, (1.0 - self.r * a) / c
+        moved = self.r * np.einsum("knv,kv->kn", beliefs, u)  # (K, N): the mass each value may leave
+        return beliefs * d[:, None, :] + moved[:, :, None]
 
     def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
         """``(K, V, V)`` transition of an observer who assumes people know the true world."""

@@ -57,6 +57,7 @@ class ItemWorld:
         self._looks = 0
         """Bumped whenever the robot's view or a person's rows change (the messages' key)."""
         self._messages_kept: dict[str, tuple[tuple[object, ...], FloatArray]] = {}
+        self._weights_kept: dict[str, tuple[tuple[object, ...], FloatArray]] = {}
 
     def count(self, person: str) -> int:
         """How many chains ``person`` keeps (one per row)."""
@@ -101,18 +102,19 @@ class ItemWorld:
         """The item values of each of ``person``'s chains."""
         return self._truths[person]
 
-    def _messages(self) -> dict[str, FloatArray]:
+    def _messages(self, evidence: dict[str, FloatArray] | None = None) -> dict[str, FloatArray]:
         """Person -> ``(K, L)`` their evidence about each item (:meth:`PersonRows.message`;
-        none from one row), kept until their evidence or rows or the robot's view change."""
+        none from one row), kept until their evidence (``evidence``: person -> ``(R,)``, read
+        here when not given) or rows or the robot's view change."""
         out = {}
         for p, rows in self.rows.items():
             if len(rows) < 2:
                 continue
-            evidence = self.evidence(p)
-            key = (self._looks, evidence.tobytes())
+            mine = self.evidence(p) if evidence is None else evidence[p]
+            key = (self._looks, mine.tobytes())
             kept = self._messages_kept.get(p)
             if kept is None or kept[0] != key:
-                kept = (key, rows.message(self.view.origin, evidence))
+                kept = (key, rows.message(self.view.origin, mine))
                 self._messages_kept[p] = kept
             out[p] = kept[1]
         return out
@@ -131,8 +133,17 @@ class ItemWorld:
         return self.cavity("", self._messages())
 
     def weights(self, person: str) -> FloatArray:
-        """``(R,)`` the weights ``person``'s chains are mixed with."""
-        return self.rows[person].weights(self.cavity(person), self.evidence(person))
+        """``(R,)`` the weights ``person``'s chains are mixed with, kept until anyone's
+        evidence or rows or the robot's view change (read many times a tick, by every
+        person's online estimate)."""
+        evidence = {p: self.evidence(p) for p in self.rows}
+        key = (self._looks, b"|".join(e.tobytes() for e in evidence.values()))
+        kept = self._weights_kept.get(person)
+        if kept is None or kept[0] != key:
+            cavity = self.cavity(person, self._messages(evidence))
+            kept = (key, self.rows[person].weights(cavity, evidence[person]))
+            self._weights_kept[person] = kept
+        return kept[1]
 
     def likeliest(self, person: str | None = None) -> int:
         """The index of ``person``'s likeliest chain."""

@@ -21,7 +21,7 @@ from protocol import Activity, AgentKind, Event, EventKind, Observer, Perception
 from ..memory.snapshot import Snapshot
 from ..model.arrays import FloatArray
 from ..model.belief import Percept, carried_off, true_values
-from ..model.estimates import Estimate, reread
+from ..model.estimates import Estimate, reread, slim
 from ..model.inference import switch_probability
 from ..model.nested import NestedBeliefs
 from ..model.person.gradedperson import GradedFilter, GradedModel
@@ -333,6 +333,7 @@ class MindTracker:
         seconds = 0.0 if now is None or track.last_step is None else max(now - track.last_step, 0.0)
         forget = float(1.0 - np.exp(-self.settings.forget_per_s * seconds))
         track.last_step, mass = now if now is not None else track.last_step, self.settings.false_belief_mass
+        pool = self.world is None or self.world.exact
         for chain, percept_, truth in zip(track.chains, seen, truths, strict=True):
             record = StepRecord(
                 tick=tick,
@@ -353,11 +354,11 @@ class MindTracker:
                     chain.filter.memory = self.remembered.get(track.agent)
             chain.filter.step(record)
             chain.steps.append(record)
-            add(chain.estimates, chain.filter.estimate(truth), mass)
+            est = chain.filter.estimate(truth)  # the factored world's rows are only ever read slim
+            add(chain.estimates, est if pool else slim(est, mass), mass)
             chain.percept = percept_
         track.said, weights = None, self._weights(track.agent)
         track.steps.append(track.chains[int(np.argmax(weights))].steps[-1])
-        pool = self.world is None or self.world.exact
         add(track.estimates, mixed([c.estimates[-1] for c in track.chains], weights, mass, pool), mass)
 
     # ----- reading ----------------------------------------------------------------------

@@ -14,20 +14,26 @@ weights, projected back onto per-item ones (assumed-density filtering, as the fa
 model does); it is smoothed in the same product form (:mod:`brain.model.factoredsmoother`).
 Shapes: ``alpha`` ``(D,)``, ``w`` ``(D, K, P)``, ``beta``
 ``(K, P, V)``. The error against the exact graded model is measured by ``toyroom bench``.
+
+Each item's ``(P, V)`` beliefs are an :class:`ItemBelief`, shared by every filter that holds
+the same (the rows of a person's lapses, :mod:`brain.model.person.lapses`, and of the factored
+unseen world, :mod:`brain.tracking.personrows`, differ in a few items only): its revision by a
+percept of the item and its decision likelihoods are worked out once for all of them.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from protocol import Scene
 
 from ...settings import ModelSettings
-from ..arrays import FloatArray
+from ..arrays import FloatArray, IntArray
 from ..belief import Percept
 from ..desires import Desires, favourite_utilities
 from ..estimates import Estimate, reread
@@ -38,6 +44,31 @@ from ..inference import hazard_matrix, log_of
 from ..planner import Move
 from ..world import HELD, RESTING, location_of
 from .personinterface import StepRecord
+
+
+@dataclass(eq=False)
+class ItemBelief:
+    """One item's beliefs under each of the ``P`` hypotheses, ``values`` ``(P, V)``, never
+    changed once made: filters holding the same share it, and what is worked out of it is
+    kept on it for the others (a successor lives as long as some filter holds it or its
+    predecessor, one step)."""
+
+    values: FloatArray
+    successors: dict[tuple[int, int, int, bool], ItemBelief] = field(default_factory=dict)
+    """``(item, cell, seen, lost)`` -> the item's beliefs after that percept of it."""
+    decisions: dict[tuple[int, int, int, int], FloatArray] = field(default_factory=dict)
+    """``(item, cell, held, action)`` -> ``(P,)`` the QMDP probability of that decision for a
+    person who wants the item."""
+
+    @cached_property
+    def own(self) -> FloatArray:
+        """``(P, L)`` each hypothesis's belief about the item's location: resting + held."""
+        return self.values[:, RESTING] + self.values[:, HELD]
+
+
+def stacked(items: Sequence[ItemBelief]) -> FloatArray:
+    """``(K, P, V)`` the items' beliefs."""
+    return np.stack([i.values for i in items])
 
 
 class GradedFactoredModel:
@@ -72,34 +103,67 @@ class GradedFactoredModel:
             owner=self,
             alpha=np.full(D, 1.0 / D),
             weights=np.broadcast_to(self.point_weights, (D, K, P)).copy(),
-            beliefs=np.repeat(self.initial[None], K, axis=0),
+            items=(ItemBelief(self.initial),) * K,  # every item's alike: shared
         )
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
         """The point factored model's ``(D, V)`` likelihood (kept in the record)."""
         return self.policy.action_likelihood(cell, held, action)
 
-    def decision_likelihood(self, beliefs: FloatArray, cell: int, held: int, action: int) -> FloatArray:
+    def decision_likelihood(
+        self, items: Sequence[ItemBelief], cell: int, held: int, action: int
+    ) -> FloatArray:
         """``(D, P)`` the QMDP probability of ``action`` for each preference and hypothesis of
-        its wanted item (``out``: the same for every hypothesis): every item's ``(P, V)`` beliefs
-        times its ``(V, A)`` Q-values in one batched product."""
-        K, D = self.model.n_items, self.model.n_items + 1
-        q = self.policy.q[np.arange(D), cell, self.policy.relative(held)]  # (D, V, A)
-        feasible = np.isfinite(q[:K])
-        stay = q[:K, :, Move.STAY]
-        values = np.where(feasible, q[:K], np.where(np.isfinite(stay), stay, 0.0)[..., None])
-        possible = beliefs @ feasible.astype(np.float64) > 1e-12  # (K, P, A)
-        expected = np.where(possible, beliefs @ values, -np.inf)
-        out = np.empty((D, beliefs.shape[1]))
-        out[:K] = choice_likelihood(expected, action, self.settings.beta, self.settings.epsilon)
-        out[K] = choice_likelihood(q[K, 0], action, self.settings.beta, self.settings.epsilon)
+        its wanted item (``out``: the same for every hypothesis); each item's row is kept on its
+        :class:`ItemBelief`, and the items not yet worked out are in one batched product."""
+        K = self.model.n_items
+        keys = [(k, cell, held, action) for k in range(K)]
+        missing = np.array([k for k in range(K) if keys[k] not in items[k].decisions], dtype=np.int64)
+        if len(missing):
+            rows = self.wanted_likelihood(stacked([items[k] for k in missing]), missing, cell, held, action)
+            for k, row in zip(missing, rows, strict=True):
+                items[k].decisions[keys[k]] = row
+        q = self.policy.q[K, cell, self.policy.relative(held)[K], 0]  # (A,) out's
+        out = np.empty((K + 1, len(items[0].values)))
+        out[:K] = [items[k].decisions[keys[k]] for k in range(K)]
+        out[K] = choice_likelihood(q, action, self.settings.beta, self.settings.epsilon)
         return out
 
-    def revise(self, beliefs: FloatArray, truth: tuple[int, ...], percept: Percept) -> FloatArray:
-        """Every item's hypotheses after the percept (to the true world for ``true_world``)."""
+    def wanted_likelihood(
+        self, beliefs: FloatArray, items: IntArray, cell: int, held: int, action: int
+    ) -> FloatArray:
+        """``(M, P)`` the QMDP probability of ``action`` for a person who wants each of
+        ``items`` ``(M,)``, per hypothesis: the items' ``(M, P, V)`` beliefs times their
+        ``(V, A)`` Q-values in one batched product."""
+        q = self.policy.q[items, cell, self.policy.relative(held)[items]]  # (M, V, A)
+        feasible = np.isfinite(q)
+        stay = q[:, :, Move.STAY]
+        values = np.where(feasible, q, np.where(np.isfinite(stay), stay, 0.0)[..., None])
+        possible = beliefs @ feasible.astype(np.float64) > 1e-12  # (M, P, A)
+        expected = np.where(possible, beliefs @ values, -np.inf)
+        return choice_likelihood(expected, action, self.settings.beta, self.settings.epsilon)
+
+    def revise(
+        self, items: Sequence[ItemBelief], truth: tuple[int, ...], percept: Percept
+    ) -> tuple[ItemBelief, ...]:
+        """Every item's hypotheses after the percept (to the true world for ``true_world``);
+        an item's revision by the same percept of it is kept on its :class:`ItemBelief`."""
         if self.true_world:
-            return np.einsum("kij,knj->kni", self.beliefs.true_world(truth, percept), beliefs)
-        return self.beliefs.revise(beliefs, percept, predict=self.settings.belief_update == "predict")
+            moved = np.einsum("kij,knj->kni", self.beliefs.true_world(truth, percept), stacked(items))
+            return tuple(ItemBelief(b) for b in moved)
+        lost = set(percept.lost)
+        keys = [(k, percept.cell, percept.seen[k], k in lost) for k in range(len(items))]
+        missing = np.array(
+            [k for k, key in enumerate(keys) if key not in items[k].successors], dtype=np.int64
+        )
+        if len(missing):
+            predict = self.settings.belief_update == "predict"
+            new = self.beliefs.revise(
+                stacked([items[k] for k in missing]), percept, predict=predict, items=missing
+            )
+            for k, b in zip(missing, new, strict=True):
+                items[k].successors[keys[k]] = ItemBelief(b)
+        return tuple(items[k].successors[key] for k, key in enumerate(keys))
 
     def smoothed(
         self, records: Sequence[StepRecord], online: Sequence[Estimate], lag: int | None = None
@@ -116,21 +180,21 @@ class GradedFactoredModel:
             return BackwardStep(likelihoods[t], records[t].switch)
 
         smoothed = smooth_products(forward, step_at, lag)
-        beliefs, out = self.new_filter().beliefs, []
+        items, out = self.new_filter().items, []
         for record, posterior, est in zip(records, smoothed, online, strict=True):
-            beliefs = self.revise(beliefs, record.truth, record.percept)
-            read = self.read(posterior.alpha, posterior.weights, beliefs, record.truth)
+            items = self.revise(items, record.truth, record.percept)
+            read = self.read(posterior.alpha, posterior.weights, items, record.truth)
             out.append(dataclasses.replace(read, log_evidence=est.log_evidence))
         return out
 
     def read(
-        self, alpha: FloatArray, weights: FloatArray, beliefs: FloatArray, truth: tuple[int, ...]
+        self, alpha: FloatArray, weights: FloatArray, items: Sequence[ItemBelief], truth: tuple[int, ...]
     ) -> Estimate:
         """The estimate of a posterior ``alpha`` ``(D,)``, ``weights`` ``(D, K, P)`` over the
-        hypotheses whose own beliefs are ``beliefs`` ``(K, P, V)``."""
+        hypotheses whose own beliefs are ``items`` (``K`` of ``(P, V)``)."""
         model = self.model
         K = model.n_items
-        own = beliefs[..., RESTING] + beliefs[..., HELD]  # (K, P, L) each hypothesis's own: resting + held
+        own = np.stack([i.own for i in items])  # (K, P, L) each hypothesis's own: resting + held
         per_item = (weights.transpose(1, 0, 2) @ own).transpose(1, 0, 2)  # (D, K, L), batched over k
         est = Estimate(
             beliefs=np.tensordot(alpha, per_item, axes=1),
@@ -150,7 +214,8 @@ class GradedFactoredFilter:
     owner: GradedFactoredModel
     alpha: FloatArray
     weights: FloatArray
-    beliefs: FloatArray
+    items: tuple[ItemBelief, ...]
+    """Each item's beliefs (shared with other filters: never changed, replaced)."""
     log_evidence: float = 0.0
     started: bool = False
     """Whether a step was taken: the first sets the prior by the world then."""
@@ -158,10 +223,14 @@ class GradedFactoredFilter:
     def __deepcopy__(self, memo: dict[int, object]) -> GradedFactoredFilter:
         """A copy for another row (lapses, :mod:`brain.model.person.lapses`; the factored unseen
         world's, :mod:`brain.tracking.personrows`): arrays of its own, the model shared (a deep
-        copy would copy its Q-values: 6.6 s of 10 on a 20-room house's first 100 ticks)."""
-        return dataclasses.replace(
-            self, alpha=self.alpha.copy(), weights=self.weights.copy(), beliefs=self.beliefs.copy()
-        )
+        copy would copy its Q-values: 6.6 s of 10 on a 20-room house's first 100 ticks); the
+        items' beliefs, never changed, shared."""
+        return dataclasses.replace(self, alpha=self.alpha.copy(), weights=self.weights.copy())
+
+    @property
+    def beliefs(self) -> FloatArray:
+        """``(K, P, V)`` each item's beliefs under each hypothesis."""
+        return stacked(self.items)
 
     def step(self, record: StepRecord) -> None:
         self.advance(record)
@@ -181,7 +250,7 @@ class GradedFactoredFilter:
             self.alpha = mixed / mixed.sum()
         likelihood = None
         if record.decision is not None:
-            likelihood = self.owner.decision_likelihood(self.beliefs, *record.decision)  # (D, P)
+            likelihood = self.owner.decision_likelihood(self.items, *record.decision)  # (D, P)
         if record.said is not None:  # the person's answer: evidence over the preference alone
             said = record.said[:, None]
             likelihood = (
@@ -201,9 +270,9 @@ class GradedFactoredFilter:
                     evidence[:K, None] > 0, evidence[:K, None], 1.0
                 )
                 self.alpha = weighted / weighted.sum()
-        self.beliefs = self.owner.revise(self.beliefs, record.truth, record.percept)
+        self.items = self.owner.revise(self.items, record.truth, record.percept)
         return likelihood
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        est = self.owner.read(self.alpha, self.weights, self.beliefs, truth)
+        est = self.owner.read(self.alpha, self.weights, self.items, truth)
         return dataclasses.replace(est, log_evidence=self.log_evidence)
