@@ -128,7 +128,7 @@ def false_belief_probability(est: Estimate, truth: tuple[int, ...], mass: float)
     location less than ``mass`` times what it gives its likeliest location
     (:func:`protocol.is_false_belief`, the rule the evaluation scores with): a false belief,
     not mere ignorance. With point beliefs this is ``1 - P(believed at the true location)``."""
-    if est.hypotheses is None and est.false_table is not None:
+    if est.false_table is not None:  # (made with the same mass: ModelSettings.false_belief_mass)
         true = location_of(np.array(truth, dtype=np.int64))
         return est.false_table[np.arange(len(true)), true]
     if est.hypotheses is None:
@@ -175,7 +175,8 @@ def slim(est: Estimate, mass: float) -> Estimate:
     world (``mass``: ``ModelSettings.false_belief_mass``)."""
     if est.hypotheses is None:
         return est
-    return dataclasses.replace(est, hypotheses=None, false_table=false_table(est, mass))
+    table = false_table(est, mass) if est.false_table is None else est.false_table
+    return dataclasses.replace(est, hypotheses=None, false_table=table)
 
 
 def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:

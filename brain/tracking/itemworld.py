@@ -55,7 +55,8 @@ class ItemWorld:
         self.holders: dict[str, int | None] = {}
         self._truths: dict[str, list[tuple[int, ...]]] = {}
         self._looks = 0
-        """Bumped whenever the robot's view or a person's rows change (the messages' key)."""
+        """Bumped whenever the robot's view or a person's rows change (the messages' and the
+        weights' key)."""
         self._messages_kept: dict[str, tuple[tuple[object, ...], FloatArray]] = {}
         self._weights_kept: dict[str, tuple[tuple[object, ...], FloatArray]] = {}
 
@@ -67,9 +68,13 @@ class ItemWorld:
         self, state: State, robot_cell: int, events: Sequence[Event], holders: dict[str, int | None]
     ) -> dict[str, IntArray]:
         """Take in one tick; person -> the indices of their chains kept."""
+        origin, sets = self.view.origin.copy(), {p: rows.sets for p, rows in self.rows.items()}
         self.view.observe(state, robot_cell, events)
-        self._looks += 1
         kept = {p: rows.restrict(self.view.origin) for p, rows in self.rows.items()}
+        if not np.array_equal(origin, self.view.origin) or any(
+            not np.array_equal(sets[p], rows.sets) for p, rows in self.rows.items()
+        ):
+            self._looks += 1
         self.settle(holders)
         return kept
 
@@ -90,9 +95,10 @@ class ItemWorld:
         unknown = self.view.known == UNKNOWN
         if not unknown.any():
             return None
-        before = len(rows)
+        before, sets = len(rows), rows.sets
         source = rows.split(self.model.sees[cell], self.cavity(person), unknown, self.evidence(person))
-        self._looks += 1
+        if not np.array_equal(sets, rows.sets):
+            self._looks += 1
         if len(source) == before and bool((source == np.arange(before)).all()):
             return None
         self._truths[person] = self._row_truths(rows)

@@ -30,13 +30,13 @@ from functools import cached_property
 
 import numpy as np
 
-from protocol import Scene
+from protocol import Scene, is_false_belief
 
 from ...settings import ModelSettings
 from ..arrays import FloatArray, IntArray
 from ..belief import Percept
 from ..desires import Desires, favourite_utilities
-from ..estimates import Estimate, reread
+from ..estimates import Estimate
 from ..factored import FactoredBeliefs, FactoredPolicy, cached_factored_policy, factored_intention
 from ..factoredsmoother import BackwardStep, ProductPosterior, smooth_products
 from ..graded import choice_likelihood, informed_weights, initial_points
@@ -59,11 +59,23 @@ class ItemBelief:
     decisions: dict[tuple[int, int, int, int], FloatArray] = field(default_factory=dict)
     """``(item, cell, held, action)`` -> ``(P,)`` the QMDP probability of that decision for a
     person who wants the item."""
+    tables: dict[float, FloatArray] = field(default_factory=dict)
+    """``mass`` -> :meth:`false`."""
 
     @cached_property
     def own(self) -> FloatArray:
         """``(P, L)`` each hypothesis's belief about the item's location: resting + held."""
         return self.values[:, RESTING] + self.values[:, HELD]
+
+    def false(self, mass: float) -> FloatArray:
+        """``(P, L)`` 1 where a hypothesis's belief is false were the item at ``l``
+        (:func:`protocol.is_false_belief`, ``mass``: ``ModelSettings.false_belief_mass``)."""
+        kept = self.tables.get(mass)
+        if kept is None:
+            own = self.own
+            kept = is_false_belief(own, own.max(axis=1, keepdims=True), mass).astype(np.float64)
+            self.tables[mass] = kept
+        return kept
 
 
 def stacked(items: Sequence[ItemBelief]) -> FloatArray:
@@ -192,19 +204,21 @@ class GradedFactoredModel:
     ) -> Estimate:
         """The estimate of a posterior ``alpha`` ``(D,)``, ``weights`` ``(D, K, P)`` over the
         hypotheses whose own beliefs are ``items`` (``K`` of ``(P, V)``)."""
-        model = self.model
-        K = model.n_items
+        mass = self.settings.false_belief_mass
         own = np.stack([i.own for i in items])  # (K, P, L) each hypothesis's own: resting + held
         per_item = (weights.transpose(1, 0, 2) @ own).transpose(1, 0, 2)  # (D, K, L), batched over k
-        est = Estimate(
+        hypotheses = np.tensordot(alpha, weights, axes=1)  # (K, P)
+        table = np.einsum("kp,kpl->kl", hypotheses, np.stack([i.false(mass) for i in items]))
+        true = location_of(np.array(truth, dtype=np.int64))
+        return Estimate(
             beliefs=np.tensordot(alpha, per_item, axes=1),
             preference=alpha.copy(),
             intention=factored_intention(alpha, per_item),
-            false_belief=np.zeros(K),
-            hypotheses=(np.tensordot(alpha, weights, axes=1), own),
+            false_belief=table[np.arange(len(true)), true],
+            hypotheses=(hypotheses, own),
             desire=self.desires.summarise(alpha),
+            false_table=table,
         )
-        return reread(est, truth, self.settings.false_belief_mass)
 
 
 @dataclass
