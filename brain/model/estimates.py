@@ -46,8 +46,9 @@ class Estimate:
             factored model.
         false_table: ``(K, L)`` P(false belief about item ``k`` | it truly rests at ``l``):
             what a :func:`slim` estimate keeps of its hypotheses, so that its false beliefs can
-            still be read against any world (:func:`false_belief_probability`); ``None`` until
-            slimmed.
+            still be read against any world (:func:`false_belief_probability`, which reads it
+            first, made with the same ``mass``); ``None`` until slimmed, but for the graded
+            factored model's estimates, made with their hypotheses.
         mode: ``(M,)`` P(each mode) of :class:`brain.model.modes.Mode` (pursuing the lasting
             desire, on an errand); ``None`` for a model without modes.
     """
@@ -184,9 +185,11 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
     differ in the true world, each estimate read against its own (so ``false_belief`` is the
     exact mixture). Beliefs, preferences, false beliefs and worlds are averaged; the graded
     hypotheses are pooled with their weights scaled (read against one world, as ``mind.csv``
-    reads them against the most probable one); the intention and desire summary are the
-    likeliest branch's; the log-evidence is the mixture's, ``log sum_h w_h exp(e_h)`` with
-    each branch's share of the prior."""
+    reads them against the most probable one), unless every branch has its false-belief table
+    (the graded factored model's, read the same): the tables are averaged, and the mixture is
+    slim (a ``(K, H P, L)`` pool each step is most of a lapse mixture's time); the intention
+    and desire summary are the likeliest branch's; the log-evidence is the mixture's,
+    ``log sum_h w_h exp(e_h)`` with each branch's share of the prior."""
     if len(estimates) == 1:
         return estimates[0]
     w = np.asarray(weights, dtype=np.float64)
@@ -197,7 +200,8 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
 
     worlds = None if any(e.worlds is None for e in estimates) else average([e.worlds for e in estimates])  # type: ignore[misc]
     hypotheses = None
-    if all(e.hypotheses is not None for e in estimates):
+    tables = [e.false_table for e in estimates]
+    if all(e.hypotheses is not None for e in estimates) and any(t is None for t in tables):
         parts = [e.hypotheses for e in estimates if e.hypotheses is not None]
         axis = parts[0][0].ndim - 1  # (G,) weights pool on G; per item (K, P) on P
         hypotheses = (
@@ -206,7 +210,6 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
         )
     evidence = np.array([e.log_evidence for e in estimates])
     top = evidence.max()
-    tables = [e.false_table for e in estimates]
     modes = [e.mode for e in estimates]
     return dataclasses.replace(
         best,

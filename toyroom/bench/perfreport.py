@@ -21,6 +21,13 @@ START, END = "<!-- perf:start -->", "<!-- perf:end -->"
 REVIEW_ENGINE_STEP_US = (154, 430)
 """The engine's tick alone as the review measured it (``../shared/REVIEW.md``, section 6),
 the anchor of the target "halved"."""
+EMBODIED_FIGURES = (
+    ("peak GiB", "peak_gib", ".2f"),
+    ("first look s", "first_look_s", ".2f"),
+    ("tick ms, mean", "tick_ms", ".1f"),
+    ("tick ms, p99", "tick_p99_ms", ".1f"),
+)
+"""The households' embodied row (:mod:`.embodied`): each figure's name, key and format."""
 
 
 def plot(numbers: dict[str, Any], path: Path) -> None:
@@ -215,6 +222,31 @@ def _household_rows(numbers: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _embodied_rows(numbers: dict[str, Any]) -> list[str]:
+    """The households' embodied row (issue 66), embodied beside omniscient (none in a
+    ``bench.json`` from before it)."""
+    row = numbers.get("households_embodied")
+    if row is None:
+        return []
+    lines = [
+        "",
+        f"Households with a robot that sees only what its own cell sees "
+        f"(`toyroom/bench/embodied.py`): {row['rooms']} rooms, {row['items']} items, {row['people']} "
+        f"people, lapses on (`miss` {row['miss']:g}), {row['ticks']} ticks; the same robot seeing "
+        "everything beside it. Peak: the process's resident set; first look: the robot's first "
+        "tick, where every filter is made; the tick: every later one.",
+        "",
+        "| figure | embodied | omniscient | target |",
+        "|---|---|---|---|",
+    ]
+    for name, key, form in EMBODIED_FIGURES:
+        lines.append(
+            f"| {name} | {row['embodied'][key]:{form}} | {row['omniscient'][key]:{form}} "
+            f"| <= {row['targets'][key]:g} |"
+        )
+    return lines
+
+
 def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
     """The section's text."""
     zenoh = numbers["zenoh_rtt_us"]
@@ -268,6 +300,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
             f"| {graded} | {gtv} |"
         )
     lines += _household_rows(numbers)
+    lines += _embodied_rows(numbers)
     paper = numbers["paper_tv_vs_exact"]
     lines += [
         "",

@@ -25,7 +25,11 @@
 - ``scaling``: the brain on a family of generated houses from 4 rooms and 2 items to 10 (12)
   rooms and 6 items, exact or factored as it runs by default, with ``tv_vs_exact`` wherever
   the exact model fits; ``paper_tv_vs_exact`` the same on the paper map's scenarios
-  (:mod:`.scaling`).
+  (:mod:`.scaling`);
+- ``households_embodied``: the family's largest house (20 rooms, 10 items, 8 people), lapses
+  on (``miss`` 0.2), with a robot that sees only what its own cell sees and, beside it, one
+  that sees everything: peak memory, the first look's time, the tick's mean and p99
+  (:mod:`.embodied`, in a process of its own; 200 ticks with ``--quick``).
 
 It prints tables and writes ``DIR/bench.json``, ``DIR/perf.md`` and ``DIR/scaling.png``
 (:mod:`.perfreport`: docs/performance.md).
@@ -51,7 +55,7 @@ from bridge.session import SessionSettings, build_config
 from protocol import State, encode
 from sim2d.engine import Engine
 
-from . import brainstep, engine_ab, gateway, lockstep, perfreport, scaling, summary
+from . import brainstep, embodied, engine_ab, gateway, lockstep, perfreport, scaling, summary
 
 
 def ping_pong(send: Any, wait: threading.Event, payload: Any, rounds: int) -> list[float]:
@@ -216,6 +220,7 @@ def measure(quick: bool) -> dict[str, Any]:
     evaluation = eval_speed(2 if quick else 20)
     brain = brainstep.main(repeats=1 if quick else 5)
     scaled = scaling.main(quick)
+    households_embodied = embodied.apart(quick)
     numbers: dict[str, Any] = {
         "quick": quick,
         "payload_bytes": len(payload),
@@ -249,5 +254,6 @@ def measure(quick: bool) -> dict[str, Any]:
         },
         "scaling": scaled["scaling"],
         "paper_tv_vs_exact": scaled["paper_tv_vs_exact"],
+        "households_embodied": households_embodied,
     }
     return numbers

@@ -8,7 +8,7 @@ from typing import Any
 from rich.console import Console
 from rich.table import Table
 
-from .perfreport import REVIEW_ENGINE_STEP_US
+from .perfreport import EMBODIED_FIGURES, REVIEW_ENGINE_STEP_US
 
 
 def show(numbers: dict[str, Any]) -> None:
@@ -18,7 +18,8 @@ def show(numbers: dict[str, Any]) -> None:
     table.add_column("measure")
     table.add_column("value", justify="right")
     table.add_column("target", justify="right")
-    for row in (*_transport_rows(numbers), *_gateway_rows(numbers["gateway"]), *_brain_rows(numbers)):
+    rows = (*_transport_rows(numbers), *_gateway_rows(numbers["gateway"]), *_brain_rows(numbers))
+    for row in (*rows, *_embodied_rows(numbers.get("households_embodied"))):
         table.add_row(*row)
     Console().print(table)
 
@@ -102,3 +103,16 @@ def _brain_rows(numbers: dict[str, Any]) -> list[tuple[str, str, str]]:
         ),
         ("graded beliefs (the default): planner_cold_s", f"{graded['planner_cold_s']:.3f}", "<= 2"),
     ]
+
+
+def _embodied_rows(row: dict[str, Any] | None) -> list[tuple[str, str, str]]:
+    """The households' embodied row (:mod:`.embodied`), embodied beside omniscient (none in a
+    ``bench.json`` from before it)."""
+    if row is None:
+        return []
+    head = f"households, {row['rooms']} rooms, {row['items']} items, {row['people']} people"
+    out = [(f"{head}, miss {row['miss']:g} ({row['ticks']} ticks): embodied (omniscient)", "", "")]
+    for name, key, form in EMBODIED_FIGURES:
+        value = f"{row['embodied'][key]:{form}} ({row['omniscient'][key]:{form}})"
+        out.append((f"  {name}", value, f"<= {row['targets'][key]:g}"))
+    return out

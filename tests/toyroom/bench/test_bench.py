@@ -31,7 +31,7 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
         [sys.executable, "-m", "toyroom", "bench", "--quick", "--out", str(tmp_path)],
         capture_output=True,
         text=True,
-        timeout=300,
+        timeout=420,  # (the households' embodied row: about 30 s of it on a loaded 2-core machine)
     )
     assert result.returncode == 0, result.stderr
     numbers = json.loads((tmp_path / "bench.json").read_text())
@@ -91,6 +91,14 @@ def test_toyroom_bench_quick_writes_its_numbers(tmp_path: Path) -> None:
     big = [r for r in rows if r["worlds"] > 10**6]
     assert big and not any(r["exact"] for r in big), f"large houses should run factored: {big}"
     assert (tmp_path / "perf.md").exists() and (tmp_path / "scaling.png").stat().st_size > 0
+    row = numbers["households_embodied"]  # issue 66: the largest household, embodied, lapses on
+    assert (row["rooms"], row["items"], row["people"], row["miss"]) == (20, 10, 8, 0.2), row
+    for robot in ("embodied", "omniscient"):
+        for field in ("peak_gib", "first_look_s", "tick_ms", "tick_p99_ms"):
+            assert row[robot][field] > 0, (robot, field, row[robot])
+    assert row["embodied"]["rows"] > 1 == row["omniscient"]["rows"], "only the embodied robot keeps rows"
+    assert "households embodied row" in result.stdout and "embodied (omniscient)" in result.stdout
+    assert "Households with a robot that sees only" in (tmp_path / "perf.md").read_text()
 
 
 def test_the_memory_measurement_reads_a_brains_peak(tmp_path: Path) -> None:
