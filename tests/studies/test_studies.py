@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from support import STUDIES, study
 
 
@@ -26,6 +27,7 @@ def test_compare_models_runs(tmp_path: Path) -> None:
     assert early[0] < early[1], f"graded should flag ignorance less than point does: {early}"
 
 
+@pytest.mark.sweep  # the study end to end: a minute of CPU and more (make test's budget)
 def test_time_view_runs() -> None:
     result = subprocess.run(
         [sys.executable, str(STUDIES / "time_view.py")], capture_output=True, text=True, timeout=300
@@ -34,6 +36,7 @@ def test_time_view_runs() -> None:
     assert "frame, median" in result.stdout
 
 
+@pytest.mark.sweep  # an evaluation run and split by process: a minute of CPU (make test's budget)
 def test_eval_cpu_splits_a_runs_cpu_by_process() -> None:
     rows = study("split_eval_cpu").main(seed=1, episodes=1)
     assert [row["run"] for row in rows] == ["btom-observe", "btom-act-tom"], rows

@@ -33,6 +33,7 @@ def _days(folder: Path) -> list[dict[str, Any]]:
     return records
 
 
+@pytest.mark.sweep  # three days of four chains end to end: a minute on a quiet machine (make test's budget)
 @pytest.mark.timeout(600)
 def test_a_household_of_three_days_is_scored_by_day(tmp_path: Path) -> None:
     out = tmp_path / "eval"
