@@ -284,6 +284,82 @@ def test_fit_on_the_cluster_finds_what_worker_processes_find(
         assert a[model]["held_out_per_action"] == b[model]["held_out_per_action"], (model, a[model], b[model])
 
 
+HOUSEHOLDS = [
+    *("--days", "2", "--episodes", "2", "--seed", str(SEED), "--kind", "tasks"),
+    *("--max-ticks", "120", "--workers", "2", "--policies", "none"),
+]
+"""Two households of two days: four chain days each (observing with memory and without)."""
+OPERATIONAL = ("timing", "command", "failed_runs_retried")
+"""What ``metrics.json`` may say differently of two runs of one evaluation: seconds, the
+``--out`` in the command line, and the retries a loaded machine needed."""
+
+
+def _scores(out: Path) -> dict[str, Any]:
+    """``metrics.json`` but :data:`OPERATIONAL`, flattened to ``{path: value}``."""
+
+    def flat(value: Any, path: str) -> dict[str, Any]:
+        if isinstance(value, dict):
+            kept = [(k, v) for k, v in value.items() if k not in OPERATIONAL]
+            return {p: x for k, v in kept for p, x in flat(v, f"{path}/{k}").items()}
+        if isinstance(value, list):
+            return {p: x for i, v in enumerate(value) for p, x in flat(v, f"{path}[{i}]").items()}
+        return {path: value}
+
+    return flat(json.loads((out / "metrics.json").read_text()), "")
+
+
+@pytest.mark.timeout(900)
+@CLUSTER
+def test_households_stopped_on_the_cluster_resume_there_to_the_local_metrics(
+    cluster: Cluster, tmp_path: Path
+) -> None:
+    """Issue 67: a households evaluation on the two nodes, stopped by Ctrl-C once a chain day
+    is kept and run again on the cluster, gives the uninterrupted local run's metrics."""
+    local, ray = tmp_path / "local", tmp_path / "ray"
+    base = [sys.executable, "-m", "toyroom", "eval", *HOUSEHOLDS]
+    done = subprocess.run(
+        [*base, "--out", str(local)], env=cluster.env, capture_output=True, text=True, timeout=600
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    on_ray = [*base, "--out", str(ray), "--backend", "ray", "--address", cluster.address]
+    part = subprocess.Popen(
+        on_ray, env=cluster.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    try:
+        kept = ray / "episodes.jsonl"
+        deadline = time.monotonic() + 400
+        while part.poll() is None and not _kept(kept) and time.monotonic() < deadline:
+            time.sleep(0.05)  # polling for the event (a chain day appended)
+        assert part.poll() is None, (
+            f"the evaluation ended before a chain day was kept: {part.communicate()[1][-2000:]}"
+        )
+        part.send_signal(signal.SIGINT)
+        _, stopped = part.communicate(timeout=120)
+    finally:
+        if part.poll() is None:
+            part.kill()
+            part.wait()
+    assert part.returncode == 130, f"expected exit 130 on SIGINT, got {part.returncode}:\n{stopped[-2000:]}"
+    again = subprocess.run(on_ray, env=cluster.env, capture_output=True, text=True, timeout=600)
+    assert again.returncode == 0, again.stdout[-2000:] + again.stderr[-3000:]
+    here, there = _scores(local), _scores(ray)
+    differing = [
+        f"{k}: {here.get(k)} != {there.get(k)}"
+        for k in sorted(here.keys() | there.keys())
+        if here.get(k) != there.get(k)
+    ]
+    assert not differing, "expected the local run's metrics, got:\n" + "\n".join(differing[:10])
+    (records,) = _episodes(ray).values()
+    assert {r.get("node") for r in records} <= {n["id"] for n in cluster.nodes} and all(
+        r.get("node") for r in records
+    ), f"expected each household day's node, got {[r.get('node') for r in records]}"
+
+
+def _kept(jsonl: Path) -> bool:
+    """Whether ``jsonl`` holds a finished chain day."""
+    return jsonl.exists() and bool(jsonl.read_text().strip())
+
+
 def test_address_needs_the_ray_backend(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert toyroom(["eval", "--address", "127.0.0.1:6379", "--out", str(tmp_path / "eval")]) == 2
     assert "--address" in capsys.readouterr().err and not (tmp_path / "eval").exists()
