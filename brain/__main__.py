@@ -2,7 +2,9 @@
 
 - ``python -m brain [--world W] [--scenario S] [--seed N] [--out DIR] [--observer O]``:
   the live brain node, in lock-step with the world's engine, until the episode ends
-  (``--episodes S1 S2 ...``: one episode of each scenario in turn, on the same engine).
+  (``--episodes S1 S2 ...``: one episode of each scenario in turn, on the same engine;
+  ``--serve``: one run per line of standard input, each line the run's options, for
+  ``toyroom eval --days``, whose runs are known only as the one before ends).
 - ``python -m brain infer TRACE --out DIR [--observer O]``: the same outputs from a
   recorded ``trace.jsonl``, with no engine.
 - ``python -m brain check-settings [--settings FILE] [--set NAME=VALUE]...``: exit 0 when
@@ -17,9 +19,11 @@
 from __future__ import annotations
 
 import argparse
+import json
+import logging
 import signal
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from contextlib import nullcontext
 from pathlib import Path
 
@@ -56,6 +60,9 @@ from .settings import Settings, load_settings, settings_toml
 from .tracking.tracker import MindTracker
 
 OBSERVERS = Observer.names()
+FINISHED = "brain: finished run"
+"""What ``--serve`` writes on standard output once a run's outputs, run log and memory are
+saved (with the run's number, from 1)."""
 
 
 def run_parser() -> argparse.ArgumentParser:
@@ -121,6 +128,7 @@ def run_parser() -> argparse.ArgumentParser:
         "--record", type=Path, metavar="FILE.mcap", help="record every message of the world to MCAP"
     )
     _memory_args(parser)
+    _serve_arg(parser)
     parser.add_argument(
         "--values-cache",
         type=Path,
@@ -167,8 +175,20 @@ def write_results(tracker: MindTracker, scenario: str, out: Path, settings: Sett
     return path
 
 
+def _serve_arg(parser: argparse.ArgumentParser) -> None:
+    """``--serve`` (:func:`serve`)."""
+    parser.add_argument(
+        "--serve",
+        action="store_true",
+        help="run one run per line of standard input, each line the JSON list of that run's "
+        "options (as on this command line, which gives none of them), with this process's "
+        f"imports and caches; each answered on standard output with '{FINISHED} N' once its "
+        "outputs, run log and memory are saved, until the input ends (toyroom eval --days)",
+    )
+
+
 def _memory_args(parser: argparse.ArgumentParser) -> None:
-    """The run's ``--memory`` and ``--checkpoint-ticks``."""
+    """The run's ``--memory``, ``--checkpoint-ticks`` and ``--keep-days``."""
     parser.add_argument(
         "--memory",
         type=Path,
@@ -242,11 +262,70 @@ def plan_main(scene_path: Path, out: Path, settings: Settings) -> int:
     return 0
 
 
+def run_live(args: argparse.Namespace, settings: Settings, *, store: bool = True) -> bool:
+    """The live node of ``args`` with ``settings`` (its ``--out`` made first, and, with
+    ``store``, its ``--values-cache`` used); whether it was stopped (SIGTERM) before the end."""
+    episodes = episode_folders(args.episodes) if args.episodes else [(args.scenario, None)]
+    if store and args.values_cache is not None:
+        use_store(ValueDirectory(args.values_cache))
+    if args.out is not None:  # first, so a recorder of this run finds them
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
+    return run_node(args, settings, episodes)
+
+
+def serve(parser: argparse.ArgumentParser, lines: Iterable[str]) -> int:
+    """``--serve``: each of ``lines`` (standard input) the JSON list of one run's options, run
+    as :func:`run_live` runs them (one ``--values-cache`` kept while runs name the same), and
+    answered with :data:`FINISHED`; until the lines end, or a run is stopped. The exit status.
+
+    Raises:
+        BrainError: a line is no list of options, or a run failed (its error).
+    """
+    cache: Path | None = None
+    count = 0
+    for line in lines:
+        if not line.strip():
+            continue
+        args = served_args(parser, line)
+        logging.getLogger().setLevel(args.log_level)
+        settings = load_settings(args.settings, args.overrides)
+        if args.values_cache is not None and args.values_cache != cache:
+            use_store(ValueDirectory(args.values_cache))
+            cache = args.values_cache
+        stopped = run_live(args, settings, store=False)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)  # between runs, SIGTERM ends the process
+        if stopped:
+            break
+        count += 1
+        print(f"{FINISHED} {count}", flush=True)
+    return 0
+
+
+def served_args(parser: argparse.ArgumentParser, line: str) -> argparse.Namespace:
+    """A line of ``--serve``'s input as a run's options.
+
+    Raises:
+        BrainError: it is no JSON list of strings, or it asks to serve again.
+    """
+    try:
+        argv = json.loads(line)
+    except ValueError as err:
+        raise BrainError(f"--serve: a line of input is not JSON ({err}): {line.strip()[:200]}") from None
+    if not isinstance(argv, list) or not all(isinstance(a, str) for a in argv):
+        raise BrainError(f"--serve: a line of input is not a JSON list of options: {line.strip()[:200]}")
+    args = parser.parse_args(argv)
+    if args.serve:
+        raise BrainError("--serve: a run's options cannot ask to serve again")
+    return args
+
+
 def run_node(
     args: argparse.Namespace, settings: Settings, episodes: Sequence[tuple[str | None, str | None]]
-) -> None:
+) -> bool:
     """The live node: each of ``episodes`` (a scenario, and its outputs' folder or ``None``:
-    the options' folders themselves) in turn, with one session and one node."""
+    the options' folders themselves) in turn, with one session and one node; whether it was
+    stopped (SIGTERM) before the end."""
     with (
         Bridge(args.world, settings_from_args(args)) as bridge,
         (
@@ -298,6 +377,7 @@ def run_node(
                 break
     if recorder is not None and recorder.error is not None:  # a full disk: the rest is lost
         raise BrainError(f"--record: {recorder.error}")
+    return node.stopped
 
 
 STOPPED_NOTE = (
@@ -364,13 +444,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(RobotTree("robot", (0, 0)).render())
             return 0
         exit_with_parent()  # started by toyroom run or eval: not to outlive it
-        episodes = episode_folders(args.episodes) if args.episodes else [(args.scenario, None)]
-        if args.values_cache is not None:
-            use_store(ValueDirectory(args.values_cache))
-        if args.out is not None:  # first, so a recorder of this run finds them
-            args.out.mkdir(parents=True, exist_ok=True)
-            (args.out / "settings.toml").write_text(settings_toml(settings), encoding="utf-8")
-        run_node(args, settings, episodes)
+        if args.serve:
+            return serve(parser, iter(sys.stdin.readline, ""))
+        run_live(args, settings)
         return 0
     except (BrainError, BridgeError, ProtocolError) as err:
         print(f"brain: {err}", file=sys.stderr)

@@ -209,16 +209,22 @@ def node_environment(child: bool = True) -> dict[str, str]:
     return env
 
 
-def start_node(command: list[str], log_path: Path, *, group: bool = False) -> subprocess.Popen[bytes]:
+def start_node(
+    command: list[str], log_path: Path, *, group: bool = False, piped: bool = False, append: bool = False
+) -> subprocess.Popen[bytes]:
     """Start a node with its output going to ``log_path`` (kept with the results), with
     :func:`node_environment`; with ``group``, as the leader of a process group of its own
     (a terminal's Ctrl-C then reaches only this process, which stops the node with
-    :func:`stop_nodes`, helpers and all)."""
-    with log_path.open("wb") as handle:
+    :func:`stop_nodes`, helpers and all); with ``piped``, its standard input and output are
+    pipes of the caller's (a node it talks to: ``python -m brain --episodes -``), and only its
+    standard error goes to ``log_path``; with ``append``, the log is appended to (one log for
+    the nodes that take turns at the same work)."""
+    with log_path.open("ab" if append else "wb") as handle:
         return subprocess.Popen(
             command,
-            stdout=handle,
-            stderr=subprocess.STDOUT,
+            stdin=subprocess.PIPE if piped else None,
+            stdout=subprocess.PIPE if piped else handle,
+            stderr=handle if piped else subprocess.STDOUT,
             env=node_environment(),
             start_new_session=group,
         )

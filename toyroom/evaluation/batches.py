@@ -22,7 +22,7 @@ import subprocess
 import threading
 import time
 import uuid
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -44,7 +44,7 @@ ENGINE_POLL_S = 0.5
 """How often a batch looks whether its engine is still there while a brain runs."""
 
 
-class _Truths:
+class Truths:
     """Every truth the engine published, by (episode, tick)."""
 
     def __init__(self) -> None:
@@ -88,7 +88,7 @@ def run_batch(episodes: Sequence[Sequence[RunSpec]], logs: Path) -> BatchResult:
         engine_command("sim2d", world, settings, "--scenario", str(scenarios[0]), "--lockstep"), engine_log
     )
     result = BatchResult([[] for _ in episodes], [])
-    truths = _Truths()
+    truths = Truths()
     try:
         with Bridge(world, settings) as bridge:
             if wait_for_engine(bridge, engine) is None:
@@ -154,27 +154,51 @@ def _run_kind(
     return max(0, begun - 1)  # the last one begun is the one it failed on
 
 
-def _scored(spec: RunSpec, directory: Path, truths: _Truths) -> dict[str, RunResult] | None:
-    """A finished run's scores from its log and the truths of its episode, or ``None`` if it
-    cannot be scored (an engine that went away mid-run, a mind missing)."""
-    record = RunRecord()
+def _scored(spec: RunSpec, directory: Path, truths: Truths) -> dict[str, RunResult] | None:
+    """:func:`score_served`, or ``None`` (with a warning) if the run cannot be scored."""
     try:
-        read_log(record, directory, spec.observer)
-        episodes = {s.episode for s in record.states.values()}
-        if record.info is None:
-            raise RuntimeError("its log holds no engine handshake")
-        if len(episodes) != 1:
-            raise RuntimeError(f"its log holds {len(episodes)} episodes (the engine went away mid-run)")
-        (episode,) = episodes
-        final = max(record.states)
-        # the engine publishes a tick's truth before it answers the step: once the last is
-        # here, every earlier one is (one publisher, in order)
-        if (episode, final) not in truths.heard:
-            settle(lambda: 0, done=lambda: (episode, final) in truths.heard, quiet=0.0)
-        if (episode, final) not in truths.heard:
-            raise RuntimeError(f"the truth of its last tick ({final}) never arrived")
-        record.truths = truths.take(episode)
-        return score_run(spec, record.info.scene, record, directory)
+        return score_served(spec, directory, truths)
     except (RuntimeError, OSError, ValueError) as err:
         log.warning("batch run %s cannot be scored: %s", spec.tag, err)
         return None
+
+
+def _missing(truths: Truths, episode: int, ticks: Iterable[int]) -> list[int]:
+    """The ``ticks`` of ``episode`` whose truth has not been heard, in order."""
+    with truths.lock:
+        return sorted(tick for tick in ticks if (episode, tick) not in truths.heard)
+
+
+def score_served(spec: RunSpec, directory: Path, truths: Truths) -> dict[str, RunResult]:
+    """A finished run's scores, from its log in ``directory`` and the truths of its episode
+    (a run of a brain that serves several episodes, :mod:`.dayserver` too): every tick the
+    brain handled must have its truth (one lost, the run is no run: it is run again alone).
+
+    Raises:
+        RuntimeError, OSError, ValueError: it cannot be scored (an engine that went away
+            mid-run, a mind missing).
+    """
+    record = RunRecord()
+    read_log(record, directory, spec.observer)
+    episodes = {s.episode for s in record.states.values()}
+    if record.info is None:
+        raise RuntimeError("its log holds no engine handshake")
+    if len(episodes) != 1:
+        raise RuntimeError(f"its log holds {len(episodes)} episodes (the engine went away mid-run)")
+    (episode,) = episodes
+    final = max(record.states)
+    # the engine publishes a tick's truth before it answers the step: once the last is
+    # here, every earlier one is (one publisher, in order)
+    if (episode, final) not in truths.heard:
+        settle(lambda: 0, done=lambda: (episode, final) in truths.heard, quiet=0.0)
+    if (episode, final) not in truths.heard:
+        raise RuntimeError(f"the truth of its last tick ({final}) never arrived")
+    if _missing(truths, episode, record.states):  # a link lost under load: wait a little
+        settle(lambda: 0, done=lambda: not _missing(truths, episode, record.states), quiet=0.0, limit=5.0)
+    if missing := _missing(truths, episode, record.states):
+        shown = ", ".join(map(str, missing[:5])) + (", ..." if len(missing) > 5 else "")
+        raise RuntimeError(
+            f"the truths of {len(missing)} of its {len(record.states)} ticks never arrived ({shown})"
+        )
+    record.truths = truths.take(episode)
+    return score_run(spec, record.info.scene, record, directory)

@@ -37,13 +37,14 @@ from protocol import MAX_TICKS, Morning, Observer, Policy, RobotMode
 from .chaindays import ChainDay, line_of, prune_work, read_days
 from .conditions import Condition
 from .days import day_metrics, days_report
-from .episodes import BRAIN_OBSERVERS, _recorded, _run_with_retries
+from .dayserver import DayRunner
+from .episodes import BRAIN_OBSERVERS, _recorded
 from .generation import generate_day, map_of
 from .interrupt import NODES, EvaluationStopped
 from .pool import run_chunks
 from .records import FRESH, EpisodeRecord, RunKey, RunScores
 from .resume import EPISODES, Ledger, finished, plan_of, start
-from .runs import RunSpec
+from .runs import RunResult, RunSpec
 from .timing import cpu_seconds
 
 log = logging.getLogger("toyroom.eval")
@@ -98,6 +99,9 @@ class HouseholdJob:
     policies: tuple[Policy, ...] = (Policy.TOM,)
     max_ticks: int = MAX_TICKS
     record: bool = False
+    batch: int | None = None
+    """At most this many runs (chain days) of the household share one engine and one brain
+    (``None``: all of them; 1: a process pair a run; :mod:`.dayserver`)."""
 
 
 class ChainFailed(RuntimeError):
@@ -122,19 +126,16 @@ def run_household(
     started = time.monotonic()
     home = Path(job.workdir) / job.condition.name / f"household-{job.index}"
     lived = _Lived(job, home, dict(kept or {}), keep or (lambda entry: None))
-    for chain in chains(job.policies):
-        try:
-            lived.scenarios[chain.name] = _live(lived, chain)
-        except EvaluationStopped:
-            raise
-        except Exception as err:  # a chain that fails stops there; the others go on
-            NODES.check()  # a run stopped by a signal is no failure of the chain
-            day = 1 + len([d for d in lived.runs if chain.key(BTOM) in lived.runs[d]])
-            reason = str(err) if isinstance(err, ChainFailed) else f"{type(err).__name__}: {err}"
-            lived.errors.setdefault(day, f"{chain.name}, day {day}: {reason}")
-            log.error("household %d: %s", job.index, lived.errors[day])
-            if not isinstance(err, ChainFailed):
-                lived.keep(lived.entry(chain, day, Path(), error=reason))
+    (home / "logs").mkdir(parents=True, exist_ok=True)
+    with DayRunner(home / "logs", job.batch) as runner:
+        for chain in chains(job.policies):
+            try:
+                lived.scenarios[chain.name] = _live(lived, chain, runner)
+            except EvaluationStopped:
+                raise
+            except Exception as err:  # a chain that fails stops there; the others go on
+                NODES.check()  # a run stopped by a signal is no failure of the chain
+                _failed(lived, chain, err)
     took = (time.monotonic() - started) / job.days
     first_error = min(lived.errors, default=job.days + 1)
     observed = lived.scenarios.get(RobotMode.OBSERVE, {})  # the observing chain's days
@@ -153,6 +154,16 @@ def run_household(
         )
         for day in range(1, job.days + 1)
     ]
+
+
+def _failed(lived: _Lived, chain: DayChain, err: Exception) -> None:
+    """``chain`` stopped on its first day not lived, for ``err``: the day's error, kept."""
+    day = 1 + len([d for d in lived.runs if chain.key(BTOM) in lived.runs[d]])
+    reason = str(err) if isinstance(err, ChainFailed) else f"{type(err).__name__}: {err}"
+    lived.errors.setdefault(day, f"{chain.name}, day {day}: {reason}")
+    log.error("household %d: %s", lived.job.index, lived.errors[day])
+    if not isinstance(err, ChainFailed):
+        lived.keep(lived.entry(chain, day, Path(), error=reason))
 
 
 @dataclass
@@ -197,14 +208,21 @@ class _Lived:
         return work / entry.scenario, None if entry.morning is None else work / entry.morning
 
 
-def _live(lived: _Lived, chain: DayChain) -> dict[int, Path]:
+def _live(lived: _Lived, chain: DayChain, runner: DayRunner) -> dict[int, Path]:
     """Run ``chain`` through every day (those finished in an earlier session taken as they
-    are, :mod:`.chaindays`), each told to ``lived.keep``; its scenarios by day."""
+    are, :mod:`.chaindays`) by ``runner`` (:mod:`.dayserver`; a recorded run has a process
+    pair of its own), each told to ``lived.keep``; its scenarios by day."""
     job, home = lived.job, lived.home
     days: dict[int, Path] = {}
     morning: Path | None = None
     memory = home / "memory" / f"{chain.name}.sqlite"
     memory.parent.mkdir(parents=True, exist_ok=True)
+    logs = home / "logs" / chain.name
+    logs.mkdir(parents=True, exist_ok=True)
+
+    def run(spec: RunSpec, failed: list[str]) -> dict[str, RunResult]:
+        return runner.run(spec, logs, failed, alone=job.record)
+
     for day in range(1, job.days + 1):
         if (chain.name, day) in lived.kept:
             days[day], morning = lived.restore(chain, lived.kept[(chain.name, day)])
@@ -213,37 +231,52 @@ def _live(lived: _Lived, chain: DayChain) -> dict[int, Path]:
             scenario = lived.scenarios[chain.follows][day]
         else:
             drawn = job.condition.spec(job.max_ticks)
-            scenario = generate_day(home / "scenarios" / chain.name, job.index, job.seed, drawn, day, morning)
+            place = home / "scenarios" / chain.name
+            scenario = generate_day(place, job.index, job.seed, drawn, day, morning)
         days[day] = scenario
-        spec = _spec(job, chain, scenario, memory)
-        began = time.monotonic()
-        logs = home / "logs" / chain.name
-        logs.mkdir(parents=True, exist_ok=True)
-        failed: list[str] = []
-        try:
-            result = _run_with_retries(spec, logs, failed)
-        finally:
-            lived.failures[day] += failed
-        took = time.monotonic() - began
-        lived.seconds[day][chain.name] = took
-        scores = {chain.key(observer): RunScores.of(scored) for observer, scored in result.items()}
-        lived.runs[day] |= scores
-        live = result[spec.observer].morning
-        if live is None and day < job.days:
-            raise RuntimeError(f"day {day} left no truth to start day {day + 1} from")
-        if live is not None:
-            named = {
-                "household": tomllib.loads(scenario.read_text())["household"]["id"],
-                "map": map_of(job.index),
-            }
-            morning = home / "mornings" / chain.name / f"day{day}.json"
-            morning.parent.mkdir(parents=True, exist_ok=True)
-            morning.write_bytes(msgspec.json.encode(msgspec.structs.replace(live, **named)))
-        next_morning = None if morning is None else morning.relative_to(job.workdir).as_posix()
-        NODES.check()  # a day that came back after a stop signal is not kept
-        done = {"runs": scores, "seconds": took, "failed_runs": failed, "morning": next_morning}
-        lived.keep(lived.entry(chain, day, scenario, **done))
+        morning = _live_day(lived, chain, day, scenario, run, morning)
     return days
+
+
+def _live_day(
+    lived: _Lived,
+    chain: DayChain,
+    day: int,
+    scenario: Path,
+    run: Callable[[RunSpec, list[str]], dict[str, RunResult]],
+    morning: Path | None,
+) -> Path | None:
+    """Live ``chain``'s ``day`` on ``scenario`` by ``run`` (its failed attempts told to the
+    list it is given), keep it (``lived.keep``), and return the next day's morning (``morning``
+    as it was when the day left none)."""
+    job, home = lived.job, lived.home
+    spec = _spec(job, chain, scenario, home / "memory" / f"{chain.name}.sqlite")
+    began = time.monotonic()
+    failed: list[str] = []
+    try:
+        result = run(spec, failed)
+    finally:
+        lived.failures[day] += failed
+    took = time.monotonic() - began
+    lived.seconds[day][chain.name] = took
+    scores = {chain.key(observer): RunScores.of(scored) for observer, scored in result.items()}
+    lived.runs[day] |= scores
+    live = result[spec.observer].morning
+    if live is None and day < job.days:
+        raise RuntimeError(f"day {day} left no truth to start day {day + 1} from")
+    if live is not None:
+        named = {
+            "household": tomllib.loads(scenario.read_text())["household"]["id"],
+            "map": map_of(job.index),
+        }
+        morning = home / "mornings" / chain.name / f"day{day}.json"
+        morning.parent.mkdir(parents=True, exist_ok=True)
+        morning.write_bytes(msgspec.json.encode(msgspec.structs.replace(live, **named)))
+    next_morning = None if morning is None else morning.relative_to(job.workdir).as_posix()
+    NODES.check()  # a day that came back after a stop signal is not kept
+    done = {"runs": scores, "seconds": took, "failed_runs": failed, "morning": next_morning}
+    lived.keep(lived.entry(chain, day, scenario, **done))
+    return morning
 
 
 def _spec(job: HouseholdJob, chain: DayChain, scenario: Path, memory: Path) -> RunSpec:
@@ -290,6 +323,7 @@ def evaluate_households(
     notify: Callable[[str], None] | None = None,
     backend: str = "local",
     address: str | None = None,
+    batch: int | None = None,
 ) -> dict[str, Any]:
     """Live ``households`` households of every condition for ``days`` days each and write
     ``metrics.json`` (per condition: ``by_day`` and ``later``, :mod:`.days`), ``episodes.json``
@@ -299,7 +333,9 @@ def evaluate_households(
     chain's day at a time (a fraction of one). An unfinished evaluation of the same plan in
     ``out`` is resumed from its finished chain days (:mod:`.chaindays`; ``notify`` is told how
     many), unless ``fresh``. ``backend`` ``ray``: each household a Ray task, on the cluster at
-    ``address`` (:mod:`.rayhouseholds`).
+    ``address`` (:mod:`.rayhouseholds`). ``batch``: at most this many runs of a household
+    (its chains' days) share one engine and one brain process (``None``: all of them; 1: each
+    its own pair; :mod:`.dayserver`).
 
     Raises:
         IncompatibleRun: ``out`` holds an unfinished evaluation of another plan.
@@ -321,7 +357,7 @@ def evaluate_households(
         progress(already / per_day)
     ledger = Ledger(out, state, cpu_seconds)
     jobs = [
-        HouseholdJob(i, seed, str(workdir), days, c, brain_args, tuple(policies), max_ticks, record)
+        HouseholdJob(i, seed, str(workdir), days, c, brain_args, tuple(policies), max_ticks, record, batch)
         for c in conditions
         for i in range(households)
     ]

@@ -87,12 +87,14 @@ class NodeRegistry:
         if self.signum is not None:
             raise EvaluationStopped(self.signum)
 
-    def start(self, command: list[str], log_path: Path) -> subprocess.Popen[bytes]:
-        """:func:`bridge.processes.start_node`, kept here until :meth:`stop` (refused once a
-        stop signal came)."""
+    def start(
+        self, command: list[str], log_path: Path, *, piped: bool = False, append: bool = False
+    ) -> subprocess.Popen[bytes]:
+        """:func:`bridge.processes.start_node` (``piped``, ``append``: as it says), kept here
+        until :meth:`stop` (refused once a stop signal came)."""
         with self._lock:
             self.check()
-            process = start_node(command, log_path)
+            process = start_node(command, log_path, piped=piped, append=append)
             self._live.add(process)
             return process
 

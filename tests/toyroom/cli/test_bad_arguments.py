@@ -19,9 +19,8 @@ CASES = [
         "toyroom eval: --max-ticks must be at least 1, got -1",
     ),
     (
-        ("eval", "--days", "2", "--batch", "4", "--out", "{tmp}/e"),
-        "toyroom eval: --batch is not used with --days 2 (each day of a household is its own engine "
-        "and brain): leave it out",
+        ("eval", "--days", "2", "--batch", "0", "--out", "{tmp}/e"),
+        "toyroom eval: --batch must be at least 1, got 0",
     ),
     (
         ("eval", "--days", "100", "--out", "{tmp}/e"),

@@ -99,13 +99,15 @@ def _kill_on_day_three(stop: threading.Event, killed: list[int]) -> None:
 @pytest.mark.sweep  # four days with a kill: a minute and a half, beyond make test's budget
 @pytest.mark.timeout(900)
 def test_a_brain_killed_on_day_three_leaves_day_four_as_it_was(tmp_path: Path) -> None:
-    whole = _eval(tmp_path / "whole", "--days", "4", "--policies", "none")
+    """A process pair a run (``--batch 1``: the brain's command line names its day); a serving
+    brain killed mid-day: test_households_batch.py."""
+    whole = _eval(tmp_path / "whole", "--days", "4", "--policies", "none", "--batch", "1")
     assert whole.returncode == 0, whole.stderr[-3000:]
     stop, killed = threading.Event(), []
     watcher = threading.Thread(target=_kill_on_day_three, args=(stop, killed), daemon=True)
     watcher.start()
     try:
-        broken = _eval(tmp_path / "broken", "--days", "4", "--policies", "none")
+        broken = _eval(tmp_path / "broken", "--days", "4", "--policies", "none", "--batch", "1")
     finally:
         stop.set()
         watcher.join(timeout=10)

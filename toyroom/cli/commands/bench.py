@@ -21,6 +21,12 @@ def options(bench: argparse.ArgumentParser) -> None:
         "and house-b task episodes (about 3 minutes)",
     )
     bench.add_argument(
+        "--households",
+        action="store_true",
+        help="only the CPU per household day of toyroom eval --days, batched (a household's days on one "
+        "engine and one brain) against a process pair a run, on 2 households of 3 days (about 5 minutes)",
+    )
+    bench.add_argument(
         "--out", type=Path, default=Path("out/bench"), help="directory for bench.json and plots"
     )
 
@@ -28,6 +34,7 @@ def options(bench: argparse.ArgumentParser) -> None:
 def handle(args: argparse.Namespace) -> int:
     """``toyroom bench``: replace this process with ``python -m toyroom.bench`` and its flags."""
     flags = (["--quick"] if args.quick else []) + (["--memory"] if args.memory else [])
+    flags += ["--households"] if args.households else []
     os.execv(sys.executable, [sys.executable, "-m", "toyroom.bench", *flags, "--out", str(args.out)])
     return 0  # pragma: no cover - execv does not return
 

@@ -88,14 +88,16 @@ def options(evaluation: argparse.ArgumentParser) -> None:
         help="live each episode as a household over this many days, each starting where the last "
         "ended (overnight changes, favourites that drift: docs/evaluation.md), the brain with a "
         "memory of each person; scored per day against a brain without memory (default: 1, an "
-        f"episode of its own; at most {MAX_DAYS}; above 1: no --batch; resumed a chain's day at a time)",
+        f"episode of its own; at most {MAX_DAYS}; resumed a chain's day at a time)",
     )
     evaluation.add_argument(
         "--batch",
         type=int,
         help="at most this many episodes of a condition share one engine and one brain process "
         "per kind of run (each run still a fresh model and episode; 1: a process pair per run; "
-        f"default: {BATCH}; refused with --days above 1)",
+        f"default: {BATCH}); with --days above 1, at most this many runs of a household (its "
+        "chains' days, each reading and saving its chain's memory as a brain of its own would; "
+        "default: all of them)",
     )
     _outputs(evaluation)
     add_settings_args(evaluation)
@@ -268,6 +270,8 @@ def days_main(
 ) -> int:
     """``toyroom eval --days N``: households over days (:mod:`toyroom.evaluation.households`),
     with a progress bar counting household days (``4/18 household days``); its report printed.
+    ``--batch K``: at most K runs of a household (its chains' days) share one engine and one
+    brain (default: all of them; 1: a process pair a run; :mod:`toyroom.evaluation.dayserver`).
     SIGINT, SIGTERM or SIGHUP stop it (``128 + signal``), keeping the finished days for the same
     command to resume (:mod:`toyroom.evaluation.chaindays`)."""
     from rich.console import Console
@@ -301,6 +305,7 @@ def days_main(
                 fresh=args.fresh,
                 backend=args.backend,
                 address=args.address,
+                batch=args.batch,
                 notify=lambda text: bar.console.print(f"toyroom eval: {text}", markup=False, soft_wrap=True),
             )
     except EvaluationStopped as err:
@@ -318,11 +323,6 @@ def days_refusal(args: argparse.Namespace) -> str | None:
     """Why ``--days`` cannot run with the other options given (``None``: it can)."""
     if args.days > MAX_DAYS:
         return f"--days is a household's days, 1 to {MAX_DAYS}, got {args.days}"
-    if args.days > 1 and args.batch is not None:
-        return (
-            f"--batch is not used with --days {args.days} (each day of a household is its own "
-            "engine and brain): leave it out"
-        )
     return None
 
 
