@@ -188,7 +188,7 @@ def eval_speed(episodes: int) -> dict[str, Any]:
     from toyroom.evaluation.episodes import evaluate
 
     with tempfile.TemporaryDirectory() as folder:
-        timing: dict[str, Any] = evaluate(episodes, 1, Path(folder))["timing"]
+        timing: dict[str, Any] = evaluate(episodes, 1, Path(folder)).timing
     return {**timing, "episodes": episodes}
 
 

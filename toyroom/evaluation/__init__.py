@@ -11,6 +11,7 @@ from .generation import generate, generate_all, map_of
 from .metrics import Counts, EpisodeOutcome, score_tick
 from .outcome import judge
 from .runs import RunRecord, RunResult, RunSpec, run_once
+from .summary import ConditionSummary, Evaluation, HouseholdEvaluation, HouseholdSummary, Interval, Summary
 
 __all__ = [
     "aggregate",
@@ -32,4 +33,10 @@ __all__ = [
     "RunRecord",
     "RunResult",
     "RunSpec",
+    "ConditionSummary",
+    "Evaluation",
+    "HouseholdEvaluation",
+    "HouseholdSummary",
+    "Interval",
+    "Summary",
 ]

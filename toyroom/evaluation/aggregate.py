@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Collection, Mapping, Sequence
-from typing import Any
 
 from protocol import OBSERVING, Observer, Policy
 
@@ -16,27 +15,30 @@ from .intervals import METRICS as INTERVAL_METRICS
 from .intervals import cuts, intervals, pooled_means
 from .metrics import Counts, EpisodeOutcome, majority_counts
 from .records import EpisodeRecord, RunKey, RunScores
+from .summary import (
+    CUTS,
+    HELP,
+    LOSSES,
+    NO_INTERVAL,
+    CauseRecall,
+    HelpMeasures,
+    Interval,
+    ObserverScores,
+    PolicyHelp,
+    Summary,
+    TaskCounts,
+    TickLosses,
+)
 
 BTOM = Observer.BTOM.value
 MAJORITY = "majority"
 """A majority-class baseline scored on the same ticks: always the most common true preference
 (of the episodes scored: it is fitted on them), never a false belief, no belief."""
 NONE = OBSERVING
-HELP = (
-    "ticks_to_goal_fb",
-    "ticks_to_goal_any_fb",
-    "ticks_from_false_belief",
-    "wasted_trips",
-    "interruptions",
-)
 ORACLE = Policy.ORACLE.value
 """The policy that reads the simulated people's true minds: the upper bound of the cuts."""
 POLICY_NAMES = {ORACLE: f"{ORACLE} (reads true minds)"}
 """How the reports' robot tables name a policy (by its key otherwise): the oracle marked as one."""
-CUTS = {"ticks_to_goal_fb": "", "ticks_to_goal_any_fb": "_any_fb"}
-"""The help measures each policy's ``cut`` and ``share_of_oracle`` are read on, and the suffix
-of their keys: ``cut`` = (none's mean - the policy's) / none's, ``share_of_oracle`` = (none's -
-the policy's) / (none's - the oracle's) when the oracle ran and cut (:func:`~.intervals.cuts`)."""
 
 
 def mistaken(episode: EpisodeRecord, keys: Sequence[str]) -> set[str]:
@@ -82,16 +84,12 @@ def policies_of(episode: EpisodeRecord) -> dict[str, str]:
     return {key.label: str(key) for key in acting} | {NONE: BTOM}
 
 
-LOSSES = ("before_false_belief", "before_robot_acted", "after_robot_acted", "robot_acted")
-"""The loss table's columns (:func:`robot_losses`)."""
-
-
-def robot_losses(episodes: Sequence[EpisodeRecord]) -> dict[str, dict[str, float | None]]:
+def robot_losses(episodes: Sequence[EpisodeRecord]) -> dict[str, TickLosses]:
     """Per policy, where the ticks to the goal of the people with a false belief went (means
     over them, ticks from the episode's start): before the false belief, from it to the robot's
     first act for them (to the goal when it never acted), from that act to the goal; and the
     share of them the robot acted for."""
-    table: dict[str, dict[str, float | None]] = {}
+    table: dict[str, TickLosses] = {}
     for policy, key in policies_of(episodes[0]).items():
         parts: list[tuple[float, float, float, float]] = []
         for episode in episodes:
@@ -104,36 +102,39 @@ def robot_losses(episodes: Sequence[EpisodeRecord]) -> dict[str, dict[str, float
                 acted = goal if h.acted_tick is None else min(h.acted_tick, goal)
                 parts.append((onset, acted - onset, goal - acted, float(h.acted_tick is not None)))
         n = len(parts)
-        table[policy] = {name: (sum(p[i] for p in parts) / n if n else None) for i, name in enumerate(LOSSES)}
+        means = {name: (sum(p[i] for p in parts) / n if n else None) for i, name in enumerate(LOSSES)}
+        table[policy] = TickLosses(**means)
     return table
 
 
-def robot_tasks(episodes: Sequence[EpisodeRecord]) -> dict[str, dict[str, float | None]]:
+def robot_tasks(episodes: Sequence[EpisodeRecord]) -> dict[str, TaskCounts]:
     """Per acting policy, the robot tasks of its runs (:mod:`.robottasks`): how many were
     begun, done, dropped and still running at the end, summed over episodes, and the share
     begun and not finished (``None`` when none was begun)."""
-    table: dict[str, dict[str, float | None]] = {}
+    table: dict[str, TaskCounts] = {}
     for policy, key in policies_of(episodes[0]).items():
         if policy == NONE:
             continue
         tallies = [e.runs[key].tasks for e in episodes]
         begun, unfinished = sum(t.begun for t in tallies), sum(t.unfinished for t in tallies)
-        table[policy] = {
-            "begun": begun,
-            "done": sum(t.done for t in tallies),
-            "dropped": sum(t.dropped for t in tallies),
-            "running": sum(t.running for t in tallies),
-            "unfinished_share": unfinished / begun if begun else None,
-        }
+        table[policy] = TaskCounts(
+            begun=begun,
+            done=sum(t.done for t in tallies),
+            dropped=sum(t.dropped for t in tallies),
+            running=sum(t.running for t in tallies),
+            unfinished_share=unfinished / begun if begun else None,
+        )
     return table
 
 
-def robot_metrics(episodes: Sequence[EpisodeRecord], seed: int) -> tuple[dict[str, Any], dict[str, Any]]:
+def robot_metrics(
+    episodes: Sequence[EpisodeRecord], seed: int
+) -> tuple[dict[str, PolicyHelp], dict[str, HelpMeasures]]:
     """``(per policy, the first policy minus each other)``: success rate, each of :data:`HELP`,
-    and the cuts of :data:`CUTS` as ``{mean, lo, hi}`` (the cuts ``None`` for ``none``)."""
+    and the cuts of :data:`CUTS`, each an :class:`Interval` (the cuts ``None`` for ``none``)."""
     policies = policies_of(episodes[0])
-    per_policy: dict[str, Any] = {}
-    differences: dict[str, Any] = {p: {} for p in list(policies)[1:]}
+    per_policy: dict[str, dict[str, Interval | float | None]] = {p: {} for p in policies}
+    differences: dict[str, dict[str, Interval]] = {p: {} for p in list(policies)[1:]}
     people = [mistaken(e, list(policies.values())) for e in episodes]
     sums = {
         policy: [_help_sums(e.runs[key], p) for e, p in zip(episodes, people, strict=True)]
@@ -142,17 +143,15 @@ def robot_metrics(episodes: Sequence[EpisodeRecord], seed: int) -> tuple[dict[st
     for measure in HELP:
         bounds, diffs = pooled_means({p: [s[measure] for s in sums[p]] for p in policies}, seed)
         for policy in policies:
-            per_policy.setdefault(policy, {})[measure] = bounds.get(
-                policy, {"mean": None, "lo": None, "hi": None}
-            )
+            per_policy[policy][measure] = Interval.of(bounds[policy]) if policy in bounds else NO_INTERVAL
         for other, interval in diffs.items():
-            differences[other][measure] = interval
+            differences[other][measure] = Interval.of(interval)
     oracle = ORACLE if ORACLE in policies else None
     for measure, suffix in CUTS.items():
         cut = cuts({p: [s[measure] for s in sums[p]] for p in policies}, seed, NONE, oracle)
         for policy in policies:
             for name in ("cut", "share_of_oracle"):
-                per_policy[policy][name + suffix] = cut[policy][name] if policy in cut else None
+                per_policy[policy][name + suffix] = Interval.of(cut[policy][name]) if policy in cut else None
     for policy, key in policies.items():
         outcome = EpisodeOutcome()
         for episode in episodes:
@@ -160,19 +159,27 @@ def robot_metrics(episodes: Sequence[EpisodeRecord], seed: int) -> tuple[dict[st
                 outcome.people += 1
                 outcome.successes += bool(ok)
         per_policy[policy]["success"] = outcome.rate
-    return per_policy, differences
+    help_of = {policy: PolicyHelp(**values) for policy, values in per_policy.items()}  # type: ignore[arg-type]
+    return help_of, {other: HelpMeasures(**values) for other, values in differences.items()}
 
 
-def _with_intervals(pooled: Mapping[str, float | None], bounds: Mapping[str, Any]) -> dict[str, Any]:
-    """Each metric of :data:`~toyroom.evaluation.intervals.METRICS` as ``{mean, lo, hi}``, the
-    others (precision, recall) as plain numbers."""
+def _with_intervals(pooled: Mapping[str, float | None], bounds: Mapping[str, Interval]) -> ObserverScores:
+    """Each metric of :data:`~toyroom.evaluation.intervals.METRICS` as an :class:`Interval`,
+    the others (precision, recall) as plain numbers."""
     return {
-        m: bounds.get(m, {"mean": v, "lo": None, "hi": None}) if m in INTERVAL_METRICS else v
+        m: bounds.get(m, Interval(mean=v, lo=None, hi=None)) if m in INTERVAL_METRICS else v
         for m, v in pooled.items()
     }
 
 
-def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[str]) -> dict[str, Any]:
+def _bounds(
+    table: Mapping[str, Mapping[str, Mapping[str, float | None]]],
+) -> dict[str, dict[str, Interval]]:
+    """:func:`~.intervals.intervals`' ``{mean, lo, hi}`` mappings as :class:`Interval` values."""
+    return {name: {m: Interval.of(v) for m, v in row.items()} for name, row in table.items()}
+
+
+def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[str]) -> Summary:
     """One condition's numbers from its episodes' results (failed episodes are counted in
     ``episodes_failed`` and left out of the scores)."""
     failed = [e for e in episodes if e.failed]
@@ -188,33 +195,33 @@ def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[
     per_episode[MAJORITY] = [majority_counts(c, goal) for c in per_episode[BTOM]]
     pooled = {observer: totals[observer].metrics() for observer in observers}
     pooled[MAJORITY] = majority_counts(totals[BTOM], goal).metrics()
-    bounds, differences = intervals(per_episode, seed)
+    bounds, differences = (_bounds(table) for table in intervals(per_episode, seed))
     robot, robot_differences = robot_metrics(episodes, seed) if episodes else ({}, {})
     losses = robot_losses(episodes) if episodes and robot else {}
     tasks = robot_tasks(episodes) if episodes and robot else {}
-    return {
-        "episodes": len(episodes),
-        "episodes_failed": len(failed),
-        "failed_runs_retried": sum(len(e.failed_runs or []) for e in episodes),
-        "observers": {name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
-        "paired_differences": differences,
-        "revealed_stretches": totals[BTOM].stretches if BTOM in totals else None,
-        "nested_pairs": totals[BTOM].nested_n if BTOM in totals else None,
-        "want_ticks": totals[BTOM].want_n if BTOM in totals else None,
-        "false_belief_causes": {
-            name: counts.recall_by_cause()
+    return Summary(
+        episodes=len(episodes),
+        episodes_failed=len(failed),
+        failed_runs_retried=sum(len(e.failed_runs or []) for e in episodes),
+        observers={name: _with_intervals(pooled[name], bounds.get(name, {})) for name in pooled},
+        paired_differences=differences,
+        revealed_stretches=totals[BTOM].stretches if BTOM in totals else None,
+        nested_pairs=totals[BTOM].nested_n if BTOM in totals else None,
+        want_ticks=totals[BTOM].want_n if BTOM in totals else None,
+        false_belief_causes={
+            name: {cause: CauseRecall(**v) for cause, v in counts.recall_by_cause().items()}  # type: ignore[arg-type]
             for name, counts in {**totals, MAJORITY: majority_counts(totals[BTOM], goal)}.items()
         },
-        "robot": robot,
-        "robot_differences": robot_differences,
-        "robot_losses": losses,
-        "robot_tasks": tasks,
-    }
+        robot=robot,
+        robot_differences=robot_differences,
+        robot_losses=losses,
+        robot_tasks=tasks,
+    )
 
 
 def by_task(
     condition: Condition, episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[str]
-) -> dict[str, Any]:
+) -> dict[str, Summary]:
     """A ``tasks`` condition's numbers per task kind (episode ``i`` of a sweep has the seed
     ``1000 seed + i``, which picks its kind: :meth:`Condition.task_of`)."""
     kinds: dict[str, list[EpisodeRecord]] = {}

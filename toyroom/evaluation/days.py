@@ -18,10 +18,14 @@ from .conditions import Condition
 from .episodes import OBSERVERS
 from .metrics import Counts
 from .records import FRESH, EpisodeRecord, RunScores
+from .summary import HelpMeasures, HouseholdEvaluation, HouseholdSummary, Interval
 
 LATER = 3
 """Days from this one on are pooled: by then the brain has met its people on earlier days."""
 HELP_METRIC = "ticks_to_goal_any_fb"
+"""The help measure the days are compared on (:func:`_help` reads it)."""
+DETECTION = "revealed_detection"
+"""The metric of each observer's column: its share of revealed false beliefs flagged in time."""
 
 
 def merged(days: Sequence[EpisodeRecord]) -> EpisodeRecord:
@@ -47,13 +51,14 @@ def merged(days: Sequence[EpisodeRecord]) -> EpisodeRecord:
 
 
 def by_day(
-    records: Sequence[EpisodeRecord], days: int, seed: int, observers: Sequence[str]
-) -> dict[str, Any]:
-    """``{"by_day": {day: aggregate}, "later": aggregate of days LATER.. by household}``."""
-    out: dict[str, Any] = {"by_day": {}}
+    condition: Condition, records: Sequence[EpisodeRecord], days: int, seed: int, observers: Sequence[str]
+) -> HouseholdSummary:
+    """``condition``'s numbers per day (every household's record of that day) and over days
+    :data:`LATER` on, each household's later days merged into one record (:func:`merged`)."""
+    numbers = {}
     for day in range(1, days + 1):
         chunk = [r for r in records if r.day == day]
-        out["by_day"][str(day)] = aggregate(chunk, seed, observers)
+        numbers[str(day)] = aggregate(chunk, seed, observers)
     households: dict[int, list[EpisodeRecord]] = {}
     for record in records:
         if record.day is not None and record.day >= LATER:
@@ -63,74 +68,78 @@ def by_day(
         for days_of in households.values()
         if not any(r.failed for r in days_of)
     ]
-    if whole:
-        out["later"] = aggregate(whole, seed, observers)
-    return out
+    later = aggregate(whole, seed, observers) if whole else None
+    return HouseholdSummary(condition=condition, by_day=numbers, later=later)
 
 
-def _interval(entry: Mapping[str, Any] | None) -> str:
-    if not entry or entry.get("mean") is None:
+def _help(policy: HelpMeasures) -> Interval:
+    """The help measure the days are compared on (:data:`HELP_METRIC`)."""
+    return policy.ticks_to_goal_any_fb
+
+
+def _interval(entry: Interval | None) -> str:
+    if entry is None or entry.mean is None:
         return "-"
-    lo, hi = entry.get("lo"), entry.get("hi")
+    lo, hi = entry.lo, entry.hi
     bounds = f" [{lo:.1f}, {hi:.1f}]" if lo is not None and hi is not None else ""
-    return f"{entry['mean']:.1f}{bounds}"
+    return f"{entry.mean:.1f}{bounds}"
 
 
-def table(summary: Mapping[str, Any], observers: Sequence[str]) -> list[str]:
+def table(summary: HouseholdSummary, observers: Sequence[str]) -> list[str]:
     """The report's table by day: ticks to the goal of the people with a false belief (any run)
     per policy, the first policy's paired differences, and revealed detection per observer."""
-    rows = list(summary["by_day"].items())
-    if "later" in summary:
-        rows.append((f"{LATER}+", summary["later"]))
+    rows = list(summary.by_day.items())
+    if summary.later is not None:
+        rows.append((f"{LATER}+", summary.later))
     if not rows:
         return []
-    policies = list(rows[0][1]["robot"])
-    differences = list(rows[0][1]["robot_differences"])
+    policies = list(rows[0][1].robot)
+    differences = list(rows[0][1].robot_differences)
     head = ["day", *(f"{POLICY_NAMES.get(p, p)}: {HELP_METRIC}" for p in policies)]
     head += [f"{policies[0]} - {POLICY_NAMES.get(d, d)}" for d in differences]
     head += [f"detection {o}" for o in observers]
     lines = ["| " + " | ".join(head) + " |", "|" + " --- |" * len(head)]
     for day, numbers in rows:
-        cells = [day, *(_interval(numbers["robot"][p].get(HELP_METRIC)) for p in policies)]
-        cells += [_interval(numbers["robot_differences"][d].get(HELP_METRIC)) for d in differences]
+        cells = [day, *(_interval(_help(numbers.robot[p])) for p in policies)]
+        cells += [_interval(_help(numbers.robot_differences[d])) for d in differences]
         for observer in observers:
-            detection = numbers["observers"].get(observer, {}).get("revealed_detection")
+            detection = numbers.observers.get(observer, {}).get(DETECTION)
             cells.append(_interval(_scaled(detection)))
         lines.append("| " + " | ".join(cells) + " |")
     return lines
 
 
-def _scaled(entry: Any) -> dict[str, Any] | None:
+def _scaled(entry: Interval | float | None) -> Interval | None:
     """A share as a percentage interval (one decimal then reads well)."""
-    if not isinstance(entry, Mapping) or entry.get("mean") is None:
+    if not isinstance(entry, Interval) or entry.mean is None:
         return None
-    return {k: (None if v is None else 100 * v) for k, v in entry.items()}
+    return Interval(
+        mean=100 * entry.mean,
+        lo=None if entry.lo is None else 100 * entry.lo,
+        hi=None if entry.hi is None else 100 * entry.hi,
+    )
 
 
-def plot(summary: Mapping[str, Any], path: Path) -> Path:
+def plot(summary: HouseholdSummary, path: Path) -> Path:
     """Help by day, one line per policy (mean and its interval), as ``path`` (PNG)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    days = sorted(summary["by_day"], key=int)
+    days = sorted(summary.by_day, key=int)
     figure, axes = plt.subplots(figsize=(6.5, 4))
-    policies = list(summary["by_day"][days[0]]["robot"])
+    policies = list(summary.by_day[days[0]].robot)
     for policy in policies:
-        means, lows, highs = [], [], []
-        for day in days:
-            entry = summary["by_day"][day]["robot"][policy].get(HELP_METRIC) or {}
-            means.append(entry.get("mean"))
-            lows.append(entry.get("lo"))
-            highs.append(entry.get("hi"))
+        entries = [_help(summary.by_day[day].robot[policy]) for day in days]
+        means = [entry.mean for entry in entries]
         xs = [int(d) for d, m in zip(days, means, strict=True) if m is not None]
         ys = [m for m in means if m is not None]
         axes.plot(xs, ys, marker="o", label=POLICY_NAMES.get(policy, policy))
         band = [
-            (int(d), lo, hi)
-            for d, lo, hi in zip(days, lows, highs, strict=True)
-            if lo is not None and hi is not None
+            (int(d), entry.lo, entry.hi)
+            for d, entry in zip(days, entries, strict=True)
+            if entry.lo is not None and entry.hi is not None
         ]
         if band:
             axes.fill_between([b[0] for b in band], [b[1] for b in band], [b[2] for b in band], alpha=0.12)
@@ -147,15 +156,14 @@ def plot(summary: Mapping[str, Any], path: Path) -> Path:
     return path
 
 
-def days_report(metrics: Mapping[str, Any], out: Path) -> str:
+def days_report(metrics: HouseholdEvaluation, out: Path) -> str:
     """``report.md`` of a households evaluation, each condition's plot drawn into ``out``."""
     lines = [
-        f"# Households: {metrics['households']} per condition, {metrics['days']} days each, "
-        f"seed {metrics['seed']}",
+        f"# Households: {metrics.households} per condition, {metrics.days} days each, seed {metrics.seed}",
         "",
     ]
-    if metrics.get("command"):
-        lines += ["```", metrics["command"], "```", ""]
+    if metrics.command:
+        lines += ["```", metrics.command, "```", ""]
     lines += [
         f"Per day: `{HELP_METRIC}` (ticks from the day's start to the goal of the people with a false "
         "belief about what they wanted in any run of the day; lower is better) per robot policy "
@@ -165,9 +173,9 @@ def days_report(metrics: Mapping[str, Any], out: Path) -> str:
         f"bootstrap 95% intervals. `{LATER}+`: days {LATER} on, households resampled as wholes.",
         "",
     ]
-    for condition in metrics["conditions"]:
-        picture = plot(condition, out / f"days-{condition['name']}.png")
-        lines += [f"## {condition['name']}", "", *table(condition, metrics["observers"]), ""]
+    for condition in metrics.conditions:
+        picture = plot(condition, out / f"days-{condition.name}.png")
+        lines += [f"## {condition.name}", "", *table(condition, metrics.observers), ""]
         lines += [f"![help by day]({picture.name})", ""]
     return "\n".join(lines)
 
@@ -181,25 +189,23 @@ def day_metrics(
     brain_args: tuple[str, ...],
     command: str,
     policies: Sequence[Policy],
-) -> dict[str, Any]:
-    """``metrics.json`` of the households' records ``found``, with every day's record under
-    ``episodes`` (by condition, for ``episodes.json``)."""
+) -> tuple[HouseholdEvaluation, dict[str, list[dict[str, Any]]]]:
+    """The numbers of the households' records ``found`` (``metrics.json``), and every day's
+    record by condition (``episodes.json``)."""
     observers = (*OBSERVERS, f"{Observer.BTOM.value}-{FRESH}")
     summaries, kept = [], {}
     for condition in conditions:
         records = [r for i in range(households) for r in found[(condition.name, i)]]
         kept[condition.name] = [r.to_builtins() for r in records]
-        summary = {**dataclasses.asdict(condition), "name": condition.name}
-        summary |= by_day(records, days, seed, observers)
-        summaries.append(summary)
-    return {
-        "households": households,
-        "days": days,
-        "seed": seed,
-        "brain_args": list(brain_args),
-        "policies": [*policies, OBSERVING],
-        "command": command,
-        "observers": list(observers),
-        "conditions": summaries,
-        "episodes": kept,
-    }
+        summaries.append(by_day(condition, records, days, seed, observers))
+    evaluation = HouseholdEvaluation(
+        households=households,
+        days=days,
+        seed=seed,
+        brain_args=list(brain_args),
+        policies=[*policies, OBSERVING],
+        command=command,
+        observers=list(observers),
+        conditions=summaries,
+    )
+    return evaluation, kept

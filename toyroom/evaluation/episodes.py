@@ -23,7 +23,6 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from bridge.recording.atomic import OutputError, write_text
 from protocol import MAX_TICKS, OBSERVING, EpisodeKind, Minds, Observer, Perception, Policy, RobotMode
@@ -41,6 +40,7 @@ from .records import EpisodeRecord, RunKey, RunScores
 from .report import report
 from .resume import EPISODES, Ledger, begin, finished, plan_of
 from .runs import MOTION, RunResult, RunSpec, run_once
+from .summary import ConditionSummary, Evaluation
 from .timing import cpu_seconds, timing
 
 log = logging.getLogger("toyroom.eval")
@@ -231,7 +231,7 @@ def evaluate(
     address: str | None = None,
     fresh: bool = False,
     notify: Callable[[str], None] | None = None,
-) -> dict[str, Any]:
+) -> Evaluation:
     """Run every episode of every condition and write ``metrics.json``, ``episodes.json``
     and ``report.md`` into ``out`` (``brain_args``: more options for every brain, e.g.
     ``--set belief_model=point``; ``command``: the command line, for the report;
@@ -275,15 +275,15 @@ def evaluate(
         _run_jobs(jobs, workers, backend, done, batch, address)
         chunks = [[entries[(c.name, i)] for i in range(episodes)] for c in conditions]
         used = None if backend == "ray" else ledger.cpu()
-        metrics = {
-            "episodes": episodes,
-            "seed": seed,
-            "brain_args": list(brain_args),
-            "policies": [*policies, OBSERVING],
-            "command": command,
-            "timing": timing([r for chunk in chunks for r in chunk], ledger.seconds(), workers, used),
-            "conditions": [_summary(c, chunk, seed) for c, chunk in zip(conditions, chunks, strict=True)],
-        }
+        metrics = Evaluation(
+            episodes=episodes,
+            seed=seed,
+            brain_args=list(brain_args),
+            policies=[*policies, OBSERVING],
+            command=command,
+            timing=timing([r for chunk in chunks for r in chunk], ledger.seconds(), workers, used),
+            conditions=[_summary(c, chunk, seed) for c, chunk in zip(conditions, chunks, strict=True)],
+        )
         _write(out, metrics, {c.name: chunk for c, chunk in zip(conditions, chunks, strict=True)}, workdir)
     except EvaluationStopped as err:
         ledger.save()
@@ -295,28 +295,28 @@ def evaluate(
     return metrics
 
 
-def _write(
-    out: Path, metrics: dict[str, Any], episodes: dict[str, list[EpisodeRecord]], workdir: str
-) -> None:
+def _write(out: Path, metrics: Evaluation, episodes: dict[str, list[EpisodeRecord]], workdir: str) -> None:
     """``metrics.json``, ``episodes.json`` (each condition's episodes) and ``report.md``;
     then the evaluation is no longer an unfinished one (:mod:`.resume`), and its scratch
     folder ``workdir`` keeps only its logs and scenarios (:mod:`.folder`)."""
     kept = {name: [entry.to_builtins() for entry in chunk] for name, chunk in episodes.items()}
     write_text(out / "episodes.json", json.dumps(kept, indent=1) + "\n")
     write_text(out / "report.md", report(metrics, out))
-    write_text(out / "metrics.json", json.dumps(metrics, indent=2) + "\n")  # last: it marks it done
+    write_text(
+        out / "metrics.json", json.dumps(metrics.to_builtins(), indent=2) + "\n"
+    )  # last: it marks it done
     finished(out)
     prune_scratch(Path(workdir))
 
 
-def _summary(condition: Condition, chunk: list[EpisodeRecord], seed: int) -> dict[str, Any]:
-    """One condition's entry of ``metrics.json``, from its episodes (in order of index)."""
-    summary = {**dataclasses.asdict(condition), "name": condition.name}
-    summary |= aggregate(chunk, seed, OBSERVERS)
-    summary["by_map"] = {m: aggregate([r for r in chunk if r.map == m], seed, OBSERVERS) for m in MAPS}
-    if condition.kind == EpisodeKind.TASKS:
-        summary["by_task"] = by_task(condition, chunk, seed, OBSERVERS)
-    return summary
+def _summary(condition: Condition, chunk: list[EpisodeRecord], seed: int) -> ConditionSummary:
+    """One condition's numbers, from its episodes (in order of index)."""
+    return ConditionSummary(
+        condition=condition,
+        numbers=aggregate(chunk, seed, OBSERVERS),
+        by_map={m: aggregate([r for r in chunk if r.map == m], seed, OBSERVERS) for m in MAPS},
+        by_task=by_task(condition, chunk, seed, OBSERVERS) if condition.kind == EpisodeKind.TASKS else None,
+    )
 
 
 def batches(jobs: Sequence[EpisodeJob], workers: int, size: int) -> list[list[EpisodeJob]]:

@@ -45,6 +45,7 @@ from .pool import run_chunks
 from .records import FRESH, EpisodeRecord, RunKey, RunScores
 from .resume import EPISODES, Ledger, finished, plan_of, start
 from .runs import RunResult, RunSpec
+from .summary import HouseholdEvaluation
 from .timing import cpu_seconds
 
 log = logging.getLogger("toyroom.eval")
@@ -324,7 +325,7 @@ def evaluate_households(
     backend: str = "local",
     address: str | None = None,
     batch: int | None = None,
-) -> dict[str, Any]:
+) -> HouseholdEvaluation:
     """Live ``households`` households of every condition for ``days`` days each and write
     ``metrics.json`` (per condition: ``by_day`` and ``later``, :mod:`.days`), ``episodes.json``
     (every day's record), ``report.md`` (the table by day) and ``days-<condition>.png``
@@ -379,8 +380,8 @@ def evaluate_households(
         raise EvaluationStopped(err.signum, kept_now, total, out / EPISODES, "chain day") from None
     finally:
         shutil.rmtree(workdir / "values", ignore_errors=True)
-    metrics = day_metrics(households, days, seed, conditions, found, brain_args, command, policies)
-    _write(out, metrics, workdir)
+    metrics, kept_days = day_metrics(households, days, seed, conditions, found, brain_args, command, policies)
+    _write(out, metrics, kept_days, workdir)
     return metrics
 
 
@@ -405,11 +406,14 @@ def _live_all(
     run_chunks([[job] for job in jobs], lambda chunk: [live(chunk[0])], workers, done)
 
 
-def _write(out: Path, metrics: dict[str, Any], workdir: Path) -> None:
-    """``episodes.json`` (``metrics``' ``episodes``, taken out), ``report.md`` and
-    ``metrics.json``; then the evaluation is finished and its scratch folder pruned."""
-    write_text(out / "episodes.json", json.dumps(metrics.pop("episodes"), indent=1) + "\n")
+def _write(
+    out: Path, metrics: HouseholdEvaluation, episodes: Mapping[str, list[dict[str, Any]]], workdir: Path
+) -> None:
+    """``episodes.json`` (every day's record by condition), ``report.md`` and ``metrics.json``;
+    then the evaluation is finished and its scratch folder pruned."""
+    write_text(out / "episodes.json", json.dumps(episodes, indent=1) + "\n")
     write_text(out / "report.md", days_report(metrics, out))
-    write_text(out / "metrics.json", json.dumps(metrics, indent=2) + "\n")  # last: it marks it done
+    document = metrics.to_builtins()  # the one place the typed summary becomes JSON
+    write_text(out / "metrics.json", json.dumps(document, indent=2) + "\n")  # last: it marks it done
     finished(out)
     prune_work(workdir)

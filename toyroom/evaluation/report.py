@@ -8,12 +8,25 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+import msgspec
+
 from bridge.recording.atomic import replacing
 from protocol import PREFERENCE_THRESHOLD, Minds, Perception
 
-from .aggregate import CUTS, POLICY_NAMES
-from .aggregate import HELP as HELP_MEASURES
+from .aggregate import POLICY_NAMES
 from .scores import MetricGroup, metric_names
+from .summary import (
+    CUTS,
+    LOSSES,
+    CauseRecall,
+    ConditionSummary,
+    Evaluation,
+    Interval,
+    Summary,
+    TaskCounts,
+    TickLosses,
+)
+from .summary import HELP as HELP_MEASURES
 
 METRICS = metric_names(MetricGroup.BELIEFS)
 BEHAVIOUR = metric_names(MetricGroup.BEHAVIOUR)
@@ -64,26 +77,31 @@ ORACLE = (
 )
 
 
-def figure_name(condition: Mapping[str, Any]) -> str:
+def figure_name(condition: ConditionSummary) -> str:
     """The file name of a condition's metrics figure."""
-    return f"metrics-{condition['name']}.png"
+    return f"metrics-{condition.name}.png"
 
 
 def _cell(value: object) -> str:
-    if isinstance(value, Mapping):
+    if isinstance(value, Interval):
         return _with_interval(value)
     return "-" if value is None else f"{value:.3f}"
 
 
-def _with_interval(interval: Mapping[str, Any]) -> str:
-    mean = "-" if interval.get("mean") is None else f"{interval['mean']:.3f}"
-    if interval.get("lo") is None:
+def _with_interval(interval: Interval) -> str:
+    mean = "-" if interval.mean is None else f"{interval.mean:.3f}"
+    if interval.lo is None:
         return mean
-    return f"{mean} [{interval['lo']:.3f}, {interval['hi']:.3f}]"
+    return f"{mean} [{interval.lo:.3f}, {interval.hi:.3f}]"
+
+
+def _value(row: Mapping[str, object] | msgspec.Struct, column: str) -> object:
+    """A table row's value in ``column``: a metric of a mapping by name, or a record's field."""
+    return row.get(column) if isinstance(row, Mapping) else getattr(row, column, None)
 
 
 def _rows(
-    table: Mapping[str, Mapping[str, Any]],
+    table: Mapping[str, Mapping[str, Any]] | Mapping[str, msgspec.Struct],
     columns: tuple[str, ...] | list[str],
     first: str,
     names: Mapping[str, str] | None = None,
@@ -92,13 +110,13 @@ def _rows(
     lines = [f"| {first} | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
     for name, values in table.items():
         shown = (names or {}).get(name, name)
-        lines.append(f"| {shown} | " + " | ".join(_cell(values.get(c)) for c in columns) + " |")
+        lines.append(f"| {shown} | " + " | ".join(_cell(_value(values, c)) for c in columns) + " |")
     return lines
 
 
-def _tables(metrics: Mapping[str, Any]) -> list[str]:
-    lines = _rows(metrics["observers"], METRICS, "observer")
-    differences = metrics.get("paired_differences")
+def _tables(metrics: Summary) -> list[str]:
+    lines = _rows(metrics.observers, METRICS, "observer")
+    differences = metrics.paired_differences
     if differences:
         names = [m for m in next(iter(differences.values())) if m not in (*BEHAVIOUR, *NESTED, *WANT)]
         lines += [
@@ -107,17 +125,17 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             "",
             *_rows(differences, names, "observer"),
         ]
-    stretches = metrics.get("revealed_stretches")
+    stretches = metrics.revealed_stretches
     count = f" ({stretches} revealed stretches)" if stretches is not None else ""
-    lines += ["", BEHAVIOUR_NOTE + count, "", *_rows(metrics["observers"], BEHAVIOUR, "observer")]
+    lines += ["", BEHAVIOUR_NOTE + count, "", *_rows(metrics.observers, BEHAVIOUR, "observer")]
     lines += _paired(differences, BEHAVIOUR)
     lines += _want(metrics, differences)
-    nested = metrics.get("nested_pairs")
+    nested = metrics.nested_pairs
     if nested:
         lines += ["", f"{NESTED_NOTE} ({nested} person-pair-item-ticks)", ""]
-        lines += _rows(metrics["observers"], NESTED, "observer")
-    lines += _causes(metrics.get("false_belief_causes"))
-    if metrics.get("robot"):
+        lines += _rows(metrics.observers, NESTED, "observer")
+    lines += _causes(metrics.false_belief_causes)
+    if metrics.robot:
         lines += [
             "",
             "Robot policies (`ticks_to_goal_fb`: mean ticks until a person who had a false belief "
@@ -128,26 +146,26 @@ def _tables(metrics: Mapping[str, Any]) -> list[str]:
             "`ticks_from_false_belief`: the same as the first counted from the false belief's first tick; "
             "trips and interruptions per person). " + CUT_NOTE,
             "",
-            *_rows(metrics["robot"], (*HELP, *CUT_COLUMNS), "policy", POLICY_NAMES),
+            *_rows(metrics.robot, (*HELP, *CUT_COLUMNS), "policy", POLICY_NAMES),
         ]
-        if metrics.get("robot_differences"):
+        if metrics.robot_differences:
             lines += ["", "tom minus each other policy, paired by episode:", ""]
-            lines += _rows(metrics["robot_differences"], list(HELP[1:]), "policy", POLICY_NAMES)
-        lines += _losses(metrics.get("robot_losses"))
-        lines += _tasks(metrics.get("robot_tasks"))
+            lines += _rows(metrics.robot_differences, list(HELP[1:]), "policy", POLICY_NAMES)
+        lines += _losses(metrics.robot_losses)
+        lines += _tasks(metrics.robot_tasks)
     return lines
 
 
-def _want(metrics: Mapping[str, Any], differences: Mapping[str, Any] | None) -> list[str]:
+def _want(metrics: Summary, differences: Mapping[str, Mapping[str, Interval]]) -> list[str]:
     """The table of the want read over false-belief stretches (none when there were none)."""
-    ticks = metrics.get("want_ticks")
+    ticks = metrics.want_ticks
     if not ticks:
         return []
-    lines = ["", f"{WANT_NOTE} ({ticks} person-ticks)", "", *_rows(metrics["observers"], WANT, "observer")]
+    lines = ["", f"{WANT_NOTE} ({ticks} person-ticks)", "", *_rows(metrics.observers, WANT, "observer")]
     return lines + _paired(differences, WANT)
 
 
-def _paired(differences: Mapping[str, Any] | None, group: tuple[str, ...]) -> list[str]:
+def _paired(differences: Mapping[str, Mapping[str, Interval]], group: tuple[str, ...]) -> list[str]:
     """btom minus each other observer on the metrics of ``group`` (none without differences)."""
     if not differences:
         return []
@@ -168,16 +186,17 @@ LOSS_NOTE = (
 )
 
 
-def _losses(losses: Mapping[str, Mapping[str, float | None]] | None) -> list[str]:
+def _losses(losses: Mapping[str, TickLosses]) -> list[str]:
     """The loss table (none when there is no robot)."""
     if not losses:
         return []
     names = ("before false belief", "before the robot acted", "after it acted", "acted for")
     lines = ["", LOSS_NOTE, "", "| policy | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
     for policy, row in losses.items():
+        values = {name: getattr(row, name) for name in LOSSES}
         cells = [
             "-" if v is None else f"{v:.2f}" if name == "robot_acted" else f"{v:.1f}"
-            for name, v in row.items()
+            for name, v in values.items()
         ]
         lines.append(f"| {POLICY_NAMES.get(policy, policy)} | " + " | ".join(cells) + " |")
     return lines
@@ -191,15 +210,15 @@ TASK_NOTE = (
 )
 
 
-def _tasks(tasks: Mapping[str, Mapping[str, float | None]] | None) -> list[str]:
+def _tasks(tasks: Mapping[str, TaskCounts]) -> list[str]:
     """The robot's begun and unfinished tasks per acting policy (none when there is no robot)."""
     if not tasks:
         return []
-    names = ("begun", "done", "dropped", "running", "unfinished_share")
+    names = TaskCounts.__struct_fields__
     lines = ["", TASK_NOTE, "", "| policy | begun | done | dropped | running at the end | unfinished |"]
     lines.append("|---" * (len(names) + 1) + "|")
     for policy, row in tasks.items():
-        cells = [str(v) if isinstance(v := row.get(name), int) else _cell(v) for name in names]
+        cells = [str(v) if isinstance(v := getattr(row, name), int) else _cell(v) for name in names]
         lines.append(f"| {POLICY_NAMES.get(policy, policy)} | " + " | ".join(cells) + " |")
     return lines
 
@@ -212,19 +231,19 @@ CAUSE_NOTE = (
 )
 
 
-def _causes(causes: Mapping[str, Mapping[str, Any]] | None) -> list[str]:
+def _causes(causes: Mapping[str, Mapping[str, CauseRecall]]) -> list[str]:
     """The table of false beliefs by cause (none when there were none)."""
-    if not causes or not any(v["ticks"] for v in next(iter(causes.values())).values()):
+    if not causes or not any(v.ticks for v in next(iter(causes.values())).values()):
         return []
     first = next(iter(causes.values()))
-    names = [f"{cause} ({_cell(v['share'])} of {v['ticks']})" for cause, v in first.items()]
+    names = [f"{cause} ({_cell(v.share)} of {v.ticks})" for cause, v in first.items()]
     lines = ["", CAUSE_NOTE, "", "| observer | " + " | ".join(names) + " |", "|---" * (len(names) + 1) + "|"]
     for observer, by_cause in causes.items():
-        lines.append(f"| {observer} | " + " | ".join(_cell(v["recall"]) for v in by_cause.values()) + " |")
+        lines.append(f"| {observer} | " + " | ".join(_cell(v.recall) for v in by_cause.values()) + " |")
     return lines
 
 
-def plot(condition: Mapping[str, Any], path: Path) -> None:
+def plot(condition: ConditionSummary, path: Path) -> None:
     """Bars (with 95% intervals) of the observers' metrics, and the policies' ticks to goal."""
     import matplotlib
 
@@ -232,27 +251,26 @@ def plot(condition: Mapping[str, Any], path: Path) -> None:
     import matplotlib.pyplot as plt
 
     shown = metric_names(MetricGroup.BELIEFS, interval=True)
-    observers = list(condition["observers"])
+    numbers = condition.numbers
+    observers = list(numbers.observers)
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 3.6), gridspec_kw={"width_ratios": [3, 1]})
     width = 0.8 / len(observers)
     for i, observer in enumerate(observers):
-        values = [condition["observers"][observer][m] for m in shown]
-        means = [v["mean"] or 0.0 for v in values]
+        values = [_interval_of(numbers.observers[observer][m]) for m in shown]
+        means = [v.mean or 0.0 for v in values]
         errors = [
-            [m - (v["lo"] if v["lo"] is not None else m) for m, v in zip(means, values, strict=True)],
-            [(v["hi"] if v["hi"] is not None else m) - m for m, v in zip(means, values, strict=True)],
+            [m - (v.lo if v.lo is not None else m) for m, v in zip(means, values, strict=True)],
+            [(v.hi if v.hi is not None else m) - m for m, v in zip(means, values, strict=True)],
         ]
         xs = [j + (i - (len(observers) - 1) / 2) * width for j in range(len(shown))]
         left.bar(xs, means, width, yerr=errors, capsize=2, label=observer)
     left.set_xticks(range(len(shown)), list(shown), fontsize=8)
     left.set_ylim(0, 1)
     left.legend(fontsize=8)
-    left.set_title(
-        f"{condition['name']}: {condition['episodes']} episodes (belief_tv: lower is better)", fontsize=9
-    )
-    robot = condition.get("robot", {})
+    left.set_title(f"{condition.name}: {numbers.episodes} episodes (belief_tv: lower is better)", fontsize=9)
+    robot = numbers.robot
     policies = list(robot)
-    means = [robot[p]["ticks_to_goal_fb"]["mean"] or 0.0 for p in policies]
+    means = [robot[p].ticks_to_goal_fb.mean or 0.0 for p in policies]
     right.bar(policies, means, color="#55A868")
     right.set_title("ticks to goal after a false belief", fontsize=9)
     fig.tight_layout()
@@ -263,16 +281,22 @@ def plot(condition: Mapping[str, Any], path: Path) -> None:
         plt.close(fig)
 
 
-def _condition(condition: Mapping[str, Any], out: Path | None) -> list[str]:
+def _interval_of(value: Interval | float | None) -> Interval:
+    """A metric shown with an interval (one without, as its mean alone)."""
+    return value if isinstance(value, Interval) else Interval(mean=value, lo=None, hi=None)
+
+
+def _condition(summary: ConditionSummary, out: Path | None) -> list[str]:
+    condition, numbers = summary.condition, summary.numbers
     lines = [
-        f"## {condition['name']}: perception {condition['perception']}, minds {condition['minds']}, "
-        f"episodes {condition['kind']} ({condition['episodes']} scored)",
+        f"## {summary.name}: perception {condition.perception}, minds {condition.minds}, "
+        f"episodes {condition.kind} ({numbers.episodes} scored)",
         "",
     ]
-    if condition["perception"] == Perception.OMNISCIENT.value and condition["minds"] == Minds.SIMPLE.value:
+    if condition.perception == Perception.OMNISCIENT and condition.minds == Minds.SIMPLE:
         lines += [ORACLE, ""]
-    lines += [*_tables(condition), ""]
-    failed, retried = condition.get("episodes_failed", 0), condition.get("failed_runs_retried", 0)
+    lines += [*_tables(numbers), ""]
+    failed, retried = numbers.episodes_failed, numbers.failed_runs_retried
     if failed:
         lines += [
             f"**{failed} episode(s) failed** even after retries and are left out (`episodes.json`: `error`).",
@@ -280,15 +304,15 @@ def _condition(condition: Mapping[str, Any], out: Path | None) -> list[str]:
         ]
     if retried:
         lines += [f"{retried} run(s) crashed and were run again (logs kept as `*.failed<N>.log`).", ""]
-    if out is not None and condition["episodes"]:
-        plot(condition, out / figure_name(condition))
-        lines += [f"![{condition['name']}]({figure_name(condition)})", ""]
-    for name, part in condition.get("by_map", {}).items():
-        if part["episodes"]:
-            lines += [f"### Map `{name}`: {part['episodes']} episodes", "", *_tables(part), ""]
-    for name, part in condition.get("by_task", {}).items():
-        if part["episodes"]:
-            lines += [f"### Task `{name}`: {part['episodes']} episodes", "", *_tables(part), ""]
+    if out is not None and numbers.episodes:
+        plot(summary, out / figure_name(summary))
+        lines += [f"![{summary.name}]({figure_name(summary)})", ""]
+    for name, part in summary.by_map.items():
+        if part.episodes:
+            lines += [f"### Map `{name}`: {part.episodes} episodes", "", *_tables(part), ""]
+    for name, part in (summary.by_task or {}).items():
+        if part.episodes:
+            lines += [f"### Task `{name}`: {part.episodes} episodes", "", *_tables(part), ""]
     return lines
 
 
@@ -315,16 +339,16 @@ def _cpu(cpu: Mapping[str, float] | None) -> str:
     )
 
 
-def report(metrics: Mapping[str, Any], out: Path | None = None) -> str:
+def report(metrics: Evaluation, out: Path | None = None) -> str:
     """``report.md``'s text; with ``out``, also draws each condition's figure there."""
     lines = [
-        f"# Evaluation: {metrics['episodes']} episodes per condition, seed {metrics['seed']}",
+        f"# Evaluation: {metrics.episodes} episodes per condition, seed {metrics.seed}",
         "",
     ]
-    if metrics.get("command"):
-        lines += ["```", metrics["command"], "```", ""]
-    if metrics.get("timing"):
-        lines += [_timing(metrics["timing"]), ""]
+    if metrics.command:
+        lines += ["```", metrics.command, "```", ""]
+    if metrics.timing:
+        lines += [_timing(metrics.timing), ""]
     lines += [
         "Online estimates against the simulated people's true minds (lower `belief_tv` is better; "
         "a false belief: the person's true belief gives the item's true location less than 0.1). "
@@ -332,6 +356,6 @@ def report(metrics: Mapping[str, Any], out: Path | None = None) -> str:
         "true preference of these episodes (so fitted on them), never a false belief.",
         "",
     ]
-    for condition in metrics["conditions"]:
+    for condition in metrics.conditions:
         lines += _condition(condition, out)
     return "\n".join(lines)

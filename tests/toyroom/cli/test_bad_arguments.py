@@ -9,6 +9,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from msgspec.structs import replace
+
+from toyroom.evaluation import Condition, aggregate
+from toyroom.evaluation.summary import ConditionSummary, Evaluation
 
 CASES = [
     (("eval", "--episodes", "0", "--out", "{tmp}/e"), "toyroom eval: --episodes must be at least 1, got 0"),
@@ -109,8 +113,16 @@ def test_a_replay_to_a_tick_before_the_first_is_refused(tmp_path: Path, tick: st
     )
 
 
-def _metrics(failed: list[int], episodes: int) -> dict:
-    return {"episodes": episodes, "conditions": [{"episodes_failed": n} for n in failed]}
+def _metrics(failed: list[int], episodes: int) -> Evaluation:
+    """An evaluation of ``episodes`` per condition, ``failed`` of them failed in each."""
+    nothing = aggregate([], 1, ("btom",))
+    conditions = [
+        ConditionSummary(condition=Condition(), numbers=replace(nothing, episodes_failed=n), by_map={})
+        for n in failed
+    ]
+    return Evaluation(
+        episodes=episodes, seed=1, brain_args=[], policies=[], command="", timing={}, conditions=conditions
+    )
 
 
 def test_the_terminal_says_how_many_episodes_failed(capsys: pytest.CaptureFixture[str]) -> None:

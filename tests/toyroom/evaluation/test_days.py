@@ -3,6 +3,7 @@ each household one cluster, its people told apart by day."""
 
 from __future__ import annotations
 
+from toyroom.evaluation.conditions import Condition
 from toyroom.evaluation.days import LATER, by_day, merged, table
 from toyroom.evaluation.helpfulness import PersonHelp
 from toyroom.evaluation.metrics import Counts
@@ -43,11 +44,13 @@ def test_a_households_later_days_are_one_record_with_their_people_apart() -> Non
 def test_numbers_by_day_and_pooled_over_later_days() -> None:
     records = [_day(i, d, 200 + 10 * i, 1) for i in range(3) for d in range(1, 5)]
     observers = ("btom", "truebelief", "perceptonly", "motion", "btom-fresh")
-    summary = by_day(records, 4, 1, observers)
-    assert sorted(summary["by_day"]) == ["1", "2", "3", "4"] and summary["later"]["episodes"] == 3, (
+    summary = by_day(Condition(), records, 4, 1, observers)
+    assert summary.later is not None, "every household has days 3 and 4"
+    assert sorted(summary.by_day) == ["1", "2", "3", "4"] and summary.later.episodes == 3, (
         "days 3 and 4 of each household pool into one record each"
     )
-    tom = summary["later"]["robot"]["tom"]["ticks_to_goal_any_fb"]["mean"]
+    tom = summary.later.robot["tom"].ticks_to_goal_any_fb.mean
+    assert tom is not None
     assert abs(tom - 160.0) < 1e-9, f"expected (150 + 160 + 170) / 3 over households, got {tom}"
     lines = table(summary, observers)
     assert lines[0].startswith("| day | tom: ticks_to_goal_any_fb") and lines[-1].startswith(f"| {LATER}+ |")

@@ -16,12 +16,13 @@ from toyroom.evaluation.conditions import Condition
 from toyroom.evaluation.episodes import evaluate
 from toyroom.evaluation.generation import check_autonomy, generate, generate_all, map_of
 from toyroom.evaluation.scores import metric_names
+from toyroom.evaluation.summary import Evaluation, Interval
 
 EPISODES, SEED = 2, 5
 
 
 @pytest.fixture(scope="module")
-def local(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, list[int], Path]:
+def local(tmp_path_factory: pytest.TempPathFactory) -> tuple[Evaluation, list[int], Path]:
     """The local backend's metrics, every progress call, and its output folder."""
     out = tmp_path_factory.mktemp("eval-local")
     calls: list[int] = []
@@ -29,7 +30,7 @@ def local(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, list[int], Pa
     return metrics, calls, out
 
 
-def test_eval_record_keeps_every_run(local: tuple[dict, list[int], Path], tmp_path: Path) -> None:
+def test_eval_record_keeps_every_run(local: tuple[Evaluation, list[int], Path], tmp_path: Path) -> None:
     """``--record``: each run's MCAP in ``recordings/<condition>/``, readable as a trace."""
     from bridge.recording.mcap import mcap_to_trace
     from bridge.recording.trace import read_trace
@@ -47,10 +48,11 @@ def test_eval_record_keeps_every_run(local: tuple[dict, list[int], Path], tmp_pa
     assert len(read_trace(tmp_path / "trace.jsonl").ticks) > 100
 
 
-def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> None:
+def test_local_eval_writes_every_metric(local: tuple[Evaluation, list[int], Path]) -> None:
     metrics, _, out = local
-    assert metrics["episodes"] == EPISODES and metrics["seed"] == SEED
-    (condition,) = metrics["conditions"]
+    assert metrics.episodes == EPISODES and metrics.seed == SEED
+    assert json.loads((out / "metrics.json").read_text()) == json.loads(json.dumps(metrics.to_builtins()))
+    (condition,) = json.loads((out / "metrics.json").read_text())["conditions"]
     assert (condition["perception"], condition["minds"], condition["kind"]) == (
         "omniscient",
         "simple",
@@ -104,14 +106,14 @@ def test_local_eval_writes_every_metric(local: tuple[dict, list[int], Path]) -> 
     assert f"CPU per episode: {sum(cpu.values()):.1f} s" in report, "report.md gives the CPU per episode"
 
 
-def test_local_eval_progress_advances_per_episode(local: tuple[dict, list[int], Path]) -> None:
+def test_local_eval_progress_advances_per_episode(local: tuple[Evaluation, list[int], Path]) -> None:
     _, calls, _ = local
     assert calls == [1] * EPISODES, f"expected one progress(1) per episode, got {calls}"
 
 
 @pytest.mark.sweep  # Ray starts its own cluster: a minute or more, beyond make test's budget
 @pytest.mark.timeout(600)  # minutes on a loaded two-core machine
-def test_ray_backend_agrees_with_local(local: tuple[dict, list[int], Path], tmp_path: Path) -> None:
+def test_ray_backend_agrees_with_local(local: tuple[Evaluation, list[int], Path], tmp_path: Path) -> None:
     pytest.importorskip("ray")
     result = subprocess.run(
         [
@@ -139,11 +141,12 @@ def test_brain_settings_reach_every_run(tmp_path: Path) -> None:
     """``toyroom eval --set ...`` hands the setting to each run's brain: the point model
     runs an episode; an unknown setting makes the brain refuse, so the episode fails."""
     point = evaluate(1, SEED, tmp_path / "point", brain_args=("--set", "belief_model=point"))
-    (condition,) = point["conditions"]
-    assert condition["episodes_failed"] == 0 and point["brain_args"] == ["--set", "belief_model=point"]
-    assert condition["observers"]["btom"]["belief_tv"]["mean"] is not None
+    (condition,) = point.conditions
+    assert condition.numbers.episodes_failed == 0 and point.brain_args == ["--set", "belief_model=point"]
+    belief_tv = condition.numbers.observers["btom"]["belief_tv"]
+    assert isinstance(belief_tv, Interval) and belief_tv.mean is not None, belief_tv
     bad = evaluate(1, SEED, tmp_path / "bad", brain_args=("--set", "betta=1"))
-    assert bad["conditions"][0]["episodes_failed"] == 1, (
+    assert bad.conditions[0].numbers.episodes_failed == 1, (
         f"an unknown brain setting should fail the episode: {bad}"
     )
     logs = "".join(p.read_text() for p in (tmp_path / "bad").rglob("*.brain*.log"))

@@ -18,11 +18,12 @@ from protocol import (
     Truth,
 )
 from tests.scenes import tiny_scene, tiny_state
-from toyroom.evaluation.aggregate import robot_losses, robot_metrics
+from toyroom.evaluation.aggregate import aggregate, robot_losses, robot_metrics
 from toyroom.evaluation.helpfulness import helpfulness
 from toyroom.evaluation.intervals import cuts, pooled_means
 from toyroom.evaluation.records import EpisodeRecord
 from toyroom.evaluation.report import _tables
+from toyroom.evaluation.summary import TickLosses
 
 
 def truth(tick: int, believes_b: float, ball_at: str = "A") -> Truth:
@@ -117,14 +118,11 @@ def test_robot_metrics_count_only_people_with_false_beliefs_for_ticks_to_goal() 
         _episode({"robot-tom": run(False, 10, 1), "btom": run(False, 10, 1)}),
     ]
     policies, differences = robot_metrics(episodes, seed=1)
-    assert (
-        policies["tom"]["ticks_to_goal_fb"]["mean"] == 40
-        and policies["none"]["ticks_to_goal_fb"]["mean"] == 100
-    )
-    assert policies["tom"]["wasted_trips"]["mean"] == 0.5 and policies["none"]["wasted_trips"]["mean"] == 1.5
-    assert policies["tom"]["success"] == 1.0 and policies["none"]["success"] == 0.5
-    assert differences["none"]["ticks_to_goal_fb"]["mean"] == -60
-    since = {p: policies[p]["ticks_from_false_belief"]["mean"] for p in ("tom", "none")}
+    assert policies["tom"].ticks_to_goal_fb.mean == 40 and policies["none"].ticks_to_goal_fb.mean == 100
+    assert policies["tom"].wasted_trips.mean == 0.5 and policies["none"].wasted_trips.mean == 1.5
+    assert policies["tom"].success == 1.0 and policies["none"].success == 0.5
+    assert differences["none"].ticks_to_goal_fb.mean == -60
+    since = {p: policies[p].ticks_from_false_belief.mean for p in ("tom", "none")}
     assert since == {"tom": 30, "none": 90}, f"expected ticks from the false belief's tick 10, got {since}"
 
 
@@ -154,11 +152,11 @@ def test_ticks_to_goal_any_fb_scores_the_same_people_under_every_policy() -> Non
         }
     )
     policies, differences = robot_metrics([episode], seed=1)
-    own = {p: policies[p]["ticks_to_goal_fb"]["mean"] for p in ("tom", "tidy", "none")}
+    own = {p: policies[p].ticks_to_goal_fb.mean for p in ("tom", "tidy", "none")}
     assert own == {"tom": None, "tidy": 90, "none": 80}, f"each run's own people: {own}"
-    every = {p: policies[p]["ticks_to_goal_any_fb"]["mean"] for p in ("tom", "tidy", "none")}
+    every = {p: policies[p].ticks_to_goal_any_fb.mean for p in ("tom", "tidy", "none")}
     assert every == {"tom": 40, "tidy": 90, "none": 65}, f"A1 and A2 in every run (never: 100): {every}"
-    assert differences["none"]["ticks_to_goal_any_fb"]["mean"] == -25, differences["none"]
+    assert differences["none"].ticks_to_goal_any_fb.mean == -25, differences["none"]
 
 
 def test_the_loss_table_splits_the_ticks_to_the_goal() -> None:
@@ -167,18 +165,12 @@ def test_the_loss_table_splits_the_ticks_to_the_goal() -> None:
         return {"episode_ticks": 100, "help": {"A1": person, "A2": {"false_belief": False}}}
 
     losses = robot_losses([_episode({"robot-tom": run(25), "btom": run(None)})])
-    assert losses["tom"] == {
-        "before_false_belief": 10,
-        "before_robot_acted": 15,
-        "after_robot_acted": 15,
-        "robot_acted": 1.0,
-    }, losses["tom"]
-    assert losses["none"] == {
-        "before_false_belief": 10,
-        "before_robot_acted": 30,
-        "after_robot_acted": 0,
-        "robot_acted": 0.0,
-    }, f"a robot that never acted: the whole wait is before it acted, got {losses['none']}"
+    assert losses["tom"] == TickLosses(
+        before_false_belief=10, before_robot_acted=15, after_robot_acted=15, robot_acted=1.0
+    ), losses["tom"]
+    assert losses["none"] == TickLosses(
+        before_false_belief=10, before_robot_acted=30, after_robot_acted=0, robot_acted=0.0
+    ), f"a robot that never acted: the whole wait is before it acted, got {losses['none']}"
 
 
 def test_cuts_and_shares_of_the_oracle_by_hand() -> None:
@@ -217,13 +209,12 @@ def test_the_robot_table_gives_cuts_and_marks_the_oracle() -> None:
     policies, _ = robot_metrics([episode], seed=1)
     assert list(policies) == ["tom", "oracle", "none"], list(policies)
     for key in ("cut", "cut_any_fb"):
-        assert policies["tom"][key]["mean"] == pytest.approx(0.3), (key, policies["tom"])
-        assert policies["oracle"][key]["mean"] == pytest.approx(0.6), (key, policies["oracle"])
+        assert getattr(policies["tom"], key).mean == pytest.approx(0.3), (key, policies["tom"])
+        assert getattr(policies["oracle"], key).mean == pytest.approx(0.6), (key, policies["oracle"])
     for key in ("share_of_oracle", "share_of_oracle_any_fb"):
-        assert policies["tom"][key]["mean"] == pytest.approx(0.5), (key, policies["tom"])
-    assert policies["none"]["cut"] is None and policies["none"]["share_of_oracle"] is None
-    metrics = {"observers": {}, "robot": policies}
-    table = "\n".join(_tables(metrics))
+        assert getattr(policies["tom"], key).mean == pytest.approx(0.5), (key, policies["tom"])
+    assert policies["none"].cut is None and policies["none"].share_of_oracle is None
+    table = "\n".join(_tables(msgspec.structs.replace(aggregate([], 1, ("btom",)), robot=policies)))
     row = next(line for line in table.splitlines() if line.startswith("| oracle (reads true minds) |"))
     cells = [cell.split(" [")[0] for cell in row.strip("| ").split(" | ")]
     assert cells[-4:] == ["0.600", "1.000", "0.600", "1.000"], f"cut, share, on both measures: {row}"

@@ -9,7 +9,7 @@ import shlex
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from bridge.flags import add_settings_args, settings_argv
 from bridge.processes import check_brain_settings
@@ -18,6 +18,9 @@ from toyroom.evaluation.conditions import POLICIES, Condition
 
 from ..choicehelp import KIND_NOTES, MINDS_NOTES, PERCEPTION_NOTES, POLICY_NOTES, described
 from ..subcommand import Subcommand
+
+if TYPE_CHECKING:
+    from toyroom.evaluation.summary import Evaluation
 
 BATCH = 10
 """``toyroom eval --batch``'s default: episodes of a condition that share one process pair."""
@@ -239,11 +242,11 @@ def eval_main(
     return failed_episodes(metrics, out)
 
 
-def failed_episodes(metrics: dict[str, Any], out: Path) -> int:
+def failed_episodes(metrics: Evaluation, out: Path) -> int:
     """Say how many episodes failed, if any (on stderr); 1 when all did (there are no
     scores), else 0 (the metrics are over the others and say how many failed)."""
-    failed = sum(c["episodes_failed"] for c in metrics["conditions"])
-    total = metrics["episodes"] * len(metrics["conditions"])
+    failed = sum(c.numbers.episodes_failed for c in metrics.conditions)
+    total = metrics.episodes * len(metrics.conditions)
     if not failed:
         return 0
     where = f"their errors are in {out / 'episodes.json'}, their nodes' logs under {out}"
@@ -313,9 +316,7 @@ def days_main(
         return 128 + err.signum
     Console().print(Markdown(days_report(metrics, args.out)))
     print(f"wrote {args.out / 'metrics.json'} and {args.out / 'report.md'}")
-    failed = sum(
-        bool(day.get("episodes_failed")) for c in metrics["conditions"] for day in c["by_day"].values()
-    )
+    failed = sum(bool(day.episodes_failed) for c in metrics.conditions for day in c.by_day.values())
     return 1 if failed == args.days * len(chosen) else 0
 
 
