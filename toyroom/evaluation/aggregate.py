@@ -20,7 +20,6 @@ from .summary import (
     HELP,
     LOSSES,
     NO_INTERVAL,
-    CauseRecall,
     HelpMeasures,
     Interval,
     ObserverScores,
@@ -209,7 +208,7 @@ def aggregate(episodes: Sequence[EpisodeRecord], seed: int, observers: Sequence[
         nested_pairs=totals[BTOM].nested_n if BTOM in totals else None,
         want_ticks=totals[BTOM].want_n if BTOM in totals else None,
         false_belief_causes={
-            name: {cause: CauseRecall(**v) for cause, v in counts.recall_by_cause().items()}  # type: ignore[arg-type]
+            name: counts.recall_by_cause()
             for name, counts in {**totals, MAJORITY: majority_counts(totals[BTOM], goal)}.items()
         },
         robot=robot,

@@ -49,6 +49,7 @@ from protocol import Mind, Truth, believes_falsely
 
 from .scoredminds import ScoredMind
 from .scores import Scores
+from .summary import CauseRecall
 from .wantread import WantScore
 
 EPS = 1e-3
@@ -161,18 +162,18 @@ class Counts:
         self.leads = [*self.leads, *other.leads]
         self.leads_any = [*self.leads_any, *other.leads_any]
 
-    def recall_by_cause(self) -> dict[str, dict[str, float | int | None]]:
+    def recall_by_cause(self) -> dict[str, CauseRecall]:
         """Per cause of :data:`CAUSES`: its false-belief ticks, their share of all, and the
         observer's recall on them."""
         total = sum(self.cause_fb.values())
-        out: dict[str, dict[str, float | int | None]] = {}
+        out: dict[str, CauseRecall] = {}
         for cause in CAUSES:
             ticks, caught = self.cause_fb.get(cause, 0), self.cause_tp.get(cause, 0)
-            out[cause] = {
-                "ticks": ticks,
-                "share": ticks / total if total else None,
-                "recall": caught / ticks if ticks else None,
-            }
+            out[cause] = CauseRecall(
+                ticks=ticks,
+                share=ticks / total if total else None,
+                recall=caught / ticks if ticks else None,
+            )
         return out
 
     def majority(self) -> Counts:

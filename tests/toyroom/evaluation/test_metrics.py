@@ -7,6 +7,7 @@ import pytest
 
 from protocol import AgentMind, ItemBelief, ItemPlace, Mind, Prob, TrueMind, Truth
 from toyroom.evaluation.metrics import SUMS, Counts, false_belief_causes, score_tick
+from toyroom.evaluation.summary import CauseRecall
 
 
 def mind(tick: int, basket: float, flagged: bool, prefers: str) -> Mind:
@@ -159,10 +160,10 @@ def test_false_beliefs_by_how_they_arose() -> None:
         flagged = tick in (3, 6)
         total.add(score_tick(mind(tick, 0.5, flagged, "marble"), t, where, set(), causes[tick]))
     by_cause = total.recall_by_cause()
-    assert by_cause["start"] == {"ticks": 1, "share": 0.25, "recall": 0.0}, by_cause
-    assert by_cause["moved"] == {"ticks": 2, "share": 0.5, "recall": 0.5}, by_cause
-    assert by_cause["unmoved"] == {"ticks": 1, "share": 0.25, "recall": 1.0}, by_cause
-    assert total.majority().recall_by_cause()["moved"]["recall"] == 0.0
+    assert by_cause["start"] == CauseRecall(ticks=1, share=0.25, recall=0.0), by_cause
+    assert by_cause["moved"] == CauseRecall(ticks=2, share=0.5, recall=0.5), by_cause
+    assert by_cause["unmoved"] == CauseRecall(ticks=1, share=0.25, recall=1.0), by_cause
+    assert total.majority().recall_by_cause()["moved"].recall == 0.0
 
 
 def test_sums_are_the_number_fields_of_counts_as_the_hand_list_had_them() -> None:
