@@ -96,7 +96,7 @@ def test_local_eval_writes_every_metric(local: tuple[Evaluation, list[int], Path
     assert [e["map"] for e in episodes] == ["paper", "house-a"], episodes
     assert [e["scenario"] for e in episodes] == ["gen-paper-s5000", "gen-house-a-s5001"]
     assert set(episodes[0]["robot-tom"]["help"]) == {"A1", "A2"}
-    timing = metrics["timing"]
+    timing = metrics.timing
     assert timing["workers"] == 2 and timing["seconds"] > 0
     assert timing["seconds_per_episode"] == pytest.approx(timing["seconds"] / EPISODES)
     assert set(timing["run_seconds_mean"]) == {"btom-observe", "btom-act-tom"}, timing
