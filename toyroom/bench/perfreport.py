@@ -247,6 +247,25 @@ def _embodied_rows(numbers: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _scaling_rows(numbers: dict[str, Any]) -> list[str]:
+    """The scaling table's rows, a generated house each."""
+    lines: list[str] = []
+    for r in numbers["scaling"]:
+        exact = "-" if r["exact_step_us"] is None else f"{r['exact_planner_s']:.2f}, {r['exact_step_us']:.0f}"
+        tv = "-" if r["tv_vs_exact"] is None else f"{r['tv_vs_exact']:.4f}"
+        ptv = "-" if r["preference_tv_vs_exact"] is None else f"{r['preference_tv_vs_exact']:.4f}"
+        graded = (
+            f"{r['graded_step_us']:.0f} ({r['graded_step_p99_us']:.0f})" if "graded_step_us" in r else "-"
+        )
+        gtv = "-" if r.get("graded_tv_vs_exact") is None else f"{r['graded_tv_vs_exact']:.4f}"
+        lines.append(
+            f"| {r['rooms']} | {r['items']} | {r['worlds']:.3g} | {'exact' if r['exact'] else 'factored'} "
+            f"| {r['planner_s']:.2f} | {r['step_us']:.0f} ({r['step_p99_us']:.0f}) | {exact} | {tv} | {ptv} "
+            f"| {graded} | {gtv} |"
+        )
+    return lines
+
+
 def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
     """The section's text."""
     zenoh = numbers["zenoh_rtt_us"]
@@ -286,19 +305,7 @@ def markdown(numbers: dict[str, Any], figure: str, command: str) -> str:
         "| tv vs exact | preference tv | graded step us (p99) | graded tv vs exact |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in numbers["scaling"]:
-        exact = "-" if r["exact_step_us"] is None else f"{r['exact_planner_s']:.2f}, {r['exact_step_us']:.0f}"
-        tv = "-" if r["tv_vs_exact"] is None else f"{r['tv_vs_exact']:.4f}"
-        ptv = "-" if r["preference_tv_vs_exact"] is None else f"{r['preference_tv_vs_exact']:.4f}"
-        graded = (
-            f"{r['graded_step_us']:.0f} ({r['graded_step_p99_us']:.0f})" if "graded_step_us" in r else "-"
-        )
-        gtv = "-" if r.get("graded_tv_vs_exact") is None else f"{r['graded_tv_vs_exact']:.4f}"
-        lines.append(
-            f"| {r['rooms']} | {r['items']} | {r['worlds']:.3g} | {'exact' if r['exact'] else 'factored'} "
-            f"| {r['planner_s']:.2f} | {r['step_us']:.0f} ({r['step_p99_us']:.0f}) | {exact} | {tv} | {ptv} "
-            f"| {graded} | {gtv} |"
-        )
+    lines += _scaling_rows(numbers)
     lines += _household_rows(numbers)
     lines += _embodied_rows(numbers)
     paper = numbers["paper_tv_vs_exact"]

@@ -15,7 +15,7 @@ model does); it is smoothed in the same product form (:mod:`brain.model.factored
 Shapes: ``alpha`` ``(D,)``, ``w`` ``(D, K, P)``, ``beta``
 ``(K, P, V)``. The error against the exact graded model is measured by ``toyroom bench``.
 
-Each item's ``(P, V)`` beliefs are an :class:`ItemBelief`, shared by every filter that holds
+Each item's ``(P, V)`` beliefs are an :class:`SharedItemBelief`, shared by every filter that holds
 the same (the rows of a person's lapses, :mod:`brain.model.person.lapses`, and of the factored
 unseen world, :mod:`brain.tracking.personrows`, differ in a few items only): its revision by a
 percept of the item and its decision likelihoods are worked out once for all of them.
@@ -47,14 +47,14 @@ from .personinterface import StepRecord
 
 
 @dataclass(eq=False)
-class ItemBelief:
+class SharedItemBelief:
     """One item's beliefs under each of the ``P`` hypotheses, ``values`` ``(P, V)``, never
     changed once made: filters holding the same share it, and what is worked out of it is
     kept on it for the others (a successor lives as long as some filter holds it or its
     predecessor, one step)."""
 
     values: FloatArray
-    successors: dict[tuple[int, int, int, bool], ItemBelief] = field(default_factory=dict)
+    successors: dict[tuple[int, int, int, bool], SharedItemBelief] = field(default_factory=dict)
     """``(item, cell, seen, lost)`` -> the item's beliefs after that percept of it."""
     decisions: dict[tuple[int, int, int, int], FloatArray] = field(default_factory=dict)
     """``(item, cell, held, action)`` -> ``(P,)`` the QMDP probability of that decision for a
@@ -78,7 +78,7 @@ class ItemBelief:
         return kept
 
 
-def stacked(items: Sequence[ItemBelief]) -> FloatArray:
+def stacked(items: Sequence[SharedItemBelief]) -> FloatArray:
     """``(K, P, V)`` the items' beliefs."""
     return np.stack([i.values for i in items])
 
@@ -115,7 +115,7 @@ class GradedFactoredModel:
             owner=self,
             alpha=np.full(D, 1.0 / D),
             weights=np.broadcast_to(self.point_weights, (D, K, P)).copy(),
-            items=(ItemBelief(self.initial),) * K,  # every item's alike: shared
+            items=(SharedItemBelief(self.initial),) * K,  # every item's alike: shared
         )
 
     def likelihood(self, cell: int, held: int, action: int) -> FloatArray:
@@ -123,11 +123,11 @@ class GradedFactoredModel:
         return self.policy.action_likelihood(cell, held, action)
 
     def decision_likelihood(
-        self, items: Sequence[ItemBelief], cell: int, held: int, action: int
+        self, items: Sequence[SharedItemBelief], cell: int, held: int, action: int
     ) -> FloatArray:
         """``(D, P)`` the QMDP probability of ``action`` for each preference and hypothesis of
         its wanted item (``out``: the same for every hypothesis); each item's row is kept on its
-        :class:`ItemBelief`, and the items not yet worked out are in one batched product."""
+        :class:`SharedItemBelief`, and the items not yet worked out are in one batched product."""
         K = self.model.n_items
         keys = [(k, cell, held, action) for k in range(K)]
         missing = np.array([k for k in range(K) if keys[k] not in items[k].decisions], dtype=np.int64)
@@ -156,13 +156,13 @@ class GradedFactoredModel:
         return choice_likelihood(expected, action, self.settings.beta, self.settings.epsilon)
 
     def revise(
-        self, items: Sequence[ItemBelief], truth: tuple[int, ...], percept: Percept
-    ) -> tuple[ItemBelief, ...]:
+        self, items: Sequence[SharedItemBelief], truth: tuple[int, ...], percept: Percept
+    ) -> tuple[SharedItemBelief, ...]:
         """Every item's hypotheses after the percept (to the true world for ``true_world``);
-        an item's revision by the same percept of it is kept on its :class:`ItemBelief`."""
+        an item's revision by the same percept of it is kept on its :class:`SharedItemBelief`."""
         if self.true_world:
             moved = np.einsum("kij,knj->kni", self.beliefs.true_world(truth, percept), stacked(items))
-            return tuple(ItemBelief(b) for b in moved)
+            return tuple(SharedItemBelief(b) for b in moved)
         lost = set(percept.lost)
         keys = [(k, percept.cell, percept.seen[k], k in lost) for k in range(len(items))]
         missing = np.array(
@@ -174,7 +174,7 @@ class GradedFactoredModel:
                 stacked([items[k] for k in missing]), percept, predict=predict, items=missing
             )
             for k, b in zip(missing, new, strict=True):
-                items[k].successors[keys[k]] = ItemBelief(b)
+                items[k].successors[keys[k]] = SharedItemBelief(b)
         return tuple(items[k].successors[key] for k, key in enumerate(keys))
 
     def smoothed(
@@ -200,7 +200,11 @@ class GradedFactoredModel:
         return out
 
     def read(
-        self, alpha: FloatArray, weights: FloatArray, items: Sequence[ItemBelief], truth: tuple[int, ...]
+        self,
+        alpha: FloatArray,
+        weights: FloatArray,
+        items: Sequence[SharedItemBelief],
+        truth: tuple[int, ...],
     ) -> Estimate:
         """The estimate of a posterior ``alpha`` ``(D,)``, ``weights`` ``(D, K, P)`` over the
         hypotheses whose own beliefs are ``items`` (``K`` of ``(P, V)``)."""
@@ -228,7 +232,7 @@ class GradedFactoredFilter:
     owner: GradedFactoredModel
     alpha: FloatArray
     weights: FloatArray
-    items: tuple[ItemBelief, ...]
+    items: tuple[SharedItemBelief, ...]
     """Each item's beliefs (shared with other filters: never changed, replaced)."""
     log_evidence: float = 0.0
     started: bool = False
