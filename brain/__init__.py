@@ -4,7 +4,7 @@ it writes (:mod:`brain.outputs`), and the node that runs it all on the wire (:mo
 
 from protocol import Observer
 
-from .errors import BrainError
+from .errors import BrainError, EngineLost
 from .node import BRAIN_NAME, BrainNode
 from .outputs import ShadowMinds, write_outputs
 from .robot import RobotBrain, RobotTree
@@ -16,6 +16,7 @@ __all__ = [
     "write_outputs",
     "BrainError",
     "BrainNode",
+    "EngineLost",
     "MindTracker",
     "ModelSettings",
     "Observer",

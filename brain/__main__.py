@@ -99,6 +99,14 @@ def run_parser() -> argparse.ArgumentParser:
         "--handshake-timeout", type=float, default=30.0, help="seconds to wait for the engine"
     )
     parser.add_argument(
+        "--lost-timeout",
+        type=float,
+        default=0.0,
+        help="seconds a lost engine may stay gone before the run fails (exit 1, so that an "
+        "evaluation runs it again); 0, the default: wait for it to come back however long "
+        "(an engine paused at an editor's breakpoint)",
+    )
+    parser.add_argument(
         "--max-ticks", type=int, help="stop after this many ticks even if the episode goes on"
     )
     parser.add_argument(
@@ -349,6 +357,7 @@ def run_node(
             observer=Observer(args.observer),
             timeout=args.timeout or None,
             handshake_timeout=args.handshake_timeout or None,
+            lost_timeout=args.lost_timeout or None,
             robot=RobotMode(args.robot) if args.robot else None,
             shadows=[Observer(o) for o in args.shadow],
             shadow_dir=args.shadow_out,

@@ -52,3 +52,7 @@ class MemoryRequestError(BrainError, ValueError):
 class MemoryInUseError(MemoryFileError):
     """A memory file another process holds (a running brain holds its file for as long as it
     runs): ``toyroom memory forget`` then asks that brain to forget (:mod:`brain.memory.requests`)."""
+
+
+class EngineLost(BrainError):
+    """The engine went away and did not come back within the brain's ``--lost-timeout``."""

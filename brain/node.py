@@ -36,7 +36,7 @@ from protocol import (
     State,
 )
 
-from .errors import StateError
+from .errors import EngineLost, StateError
 from .link import Closable, Link, Stopped
 from .memory import MemoryKeeper
 from .model.revisions import SharedRevisions
@@ -64,6 +64,8 @@ class BrainNode:
         observer: which person model to use.
         timeout: seconds each lock-step request may take (``None``: no limit).
         handshake_timeout: seconds to wait for an engine to answer.
+        lost_timeout: seconds a lost engine may stay gone before the run fails
+            (:class:`EngineLost`; ``None``: wait however long, as at an editor's breakpoint).
         shadows: other observers run on the same ticks, each writing its minds to
             ``shadow_dir`` (:mod:`brain.outputs.shadows`).
         run_log: a directory to write every state and event handled, and every ``mind``
@@ -85,6 +87,7 @@ class BrainNode:
         observer: Observer = Observer.BTOM,
         timeout: float | None = 10.0,
         handshake_timeout: float | None = 30.0,
+        lost_timeout: float | None = None,
         robot: RobotMode | None = None,
         robot_settings: RobotSettings | None = None,
         shadows: Sequence[Observer] = (),
@@ -118,6 +121,7 @@ class BrainNode:
         self.observer = observer
         self.timeout = timeout
         self.handshake_timeout = handshake_timeout
+        self.lost_timeout = lost_timeout
         self._mind = bridge.publisher(bridge.keys.mind)
         bridge.token("brain", BRAIN_NAME)
 
@@ -374,9 +378,16 @@ class BrainNode:
         another scene gets a new model and a new robot."""
         info, robot = link.info, link.robot
         log.warning("engine '%s' lost: keeping the estimates, waiting for it to come back", info.engine)
+        since = time.monotonic()
         while lost.is_set():
             if self.stopping.is_set():
                 raise Stopped
+            if self.lost_timeout is not None and time.monotonic() - since > self.lost_timeout:
+                raise EngineLost(
+                    f"engine '{info.engine}' lost for {self.lost_timeout:g} s and not back (--lost-timeout): "
+                    "a link that does not come back while both live (a peer's link dropped under "
+                    "load, with a third session holding the world port) fails the run, to be run again"
+                )
             time.sleep(0.1)
         again = handshake(self.bridge, client=BRAIN_NAME, role="brain", timeout=self.handshake_timeout)
         if again.scene != info.scene:

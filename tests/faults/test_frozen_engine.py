@@ -116,3 +116,25 @@ def test_an_engine_paused_past_its_lease_is_carried_on_where_it_was_left(world: 
         f"the {len(want)} states and events of the run without a pause were expected; got {len(got)}, "
         f"the first difference at #{first}: {got[first : first + 1]} instead of {want[first : first + 1]}"
     )
+
+
+def test_an_engine_lost_past_the_lost_timeout_fails_the_run_in_one_line(world: str, tmp_path: Path) -> None:
+    """``--lost-timeout``: an engine gone (paused past its 800 ms lease) for longer than the
+    brain's lost timeout fails the run with one line naming it, instead of a wait with no end
+    (an evaluation then runs it again); without it the brain waits, as the test above does."""
+    scenario = long_paper_2(tmp_path, 200, "long")
+    with EngineProcess(world, "--lease-ms", "800") as engine, Bridge(world) as watcher:
+        reached = threading.Event()
+        watcher.subscribe(
+            watcher.keys.state, lambda s, _: reached.set() if s.tick >= PAUSED_AT else None, expected=State
+        )
+        with BrainProcess(world, "--scenario", str(scenario), "--lost-timeout", "2") as brain:
+            assert reached.wait(60), f"no tick {PAUSED_AT} within 60 s:\n{brain.output()}"
+            engine.process.send_signal(signal.SIGSTOP)
+            try:
+                status = brain.finish(90)
+            finally:
+                engine.process.send_signal(signal.SIGCONT)
+            output = brain.output()
+    assert status == 2, f"expected exit 2, the engine lost past 2 s; got {status}:\n{output[-2000:]}"
+    assert "lost for 2 s and not back" in output, f"expected the lost engine named, got:\n{output[-2000:]}"

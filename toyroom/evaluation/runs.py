@@ -47,6 +47,11 @@ from .truths import subscribe_truths
 from .wantread import score_want, want_stretches
 
 MOTION = "motion"
+LOST_TIMEOUT_S = 60.0
+"""How long a run's brain waits for a lost engine to come back (``python -m brain
+--lost-timeout``) before the run fails and is run again: a peer link that dropped under load
+while a third session (the evaluator's) held the world port was seen never to come back, both
+nodes alive and idle, the brain waiting for good (2026-12-07, seed 202, load 13)."""
 """The motion-heuristic observer's name (:mod:`toyroom.evaluation.heuristic`)."""
 
 
@@ -173,7 +178,7 @@ def brain_command(
         settings,
         *chosen,
         *("--observer", spec.observer, "--robot", spec.robot),
-        *("--timeout", str(spec.timeout), "--log-level", "WARNING"),
+        *("--timeout", str(spec.timeout), "--lost-timeout", str(LOST_TIMEOUT_S), "--log-level", "WARNING"),
         *shadows,
         *spec.brain_args,
         *(("--set", f"policy={spec.policy}") if spec.robot == RobotMode.ACT else ()),
