@@ -98,14 +98,9 @@ def run_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--handshake-timeout", type=float, default=30.0, help="seconds to wait for the engine"
     )
-    parser.add_argument(
-        "--lost-timeout",
-        type=float,
-        default=0.0,
-        help="seconds a lost engine may stay gone before the run fails (exit 1, so that an "
-        "evaluation runs it again); 0, the default: wait for it to come back however long "
-        "(an engine paused at an editor's breakpoint)",
-    )
+    lost = "seconds a lost engine may stay gone before the run fails (exit 2; an evaluation runs it"
+    lost += " again); 0, the default: wait however long (an engine at an editor's breakpoint)"
+    parser.add_argument("--lost-timeout", type=float, default=0.0, help=lost)
     parser.add_argument(
         "--max-ticks", type=int, help="stop after this many ticks even if the episode goes on"
     )

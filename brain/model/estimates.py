@@ -180,6 +180,12 @@ def slim(est: Estimate, mass: float) -> Estimate:
     return dataclasses.replace(est, hypotheses=None, false_table=table)
 
 
+def average(weights: FloatArray, values: FloatArray) -> FloatArray:
+    """``values`` ``(H, ...)`` averaged with ``weights`` ``(H,)``: ``np.tensordot(weights,
+    values, axes=1)``, the same product without its bookkeeping (read many times a tick)."""
+    return np.dot(weights.reshape(1, -1), values.reshape(len(weights), -1)).reshape(values.shape[1:])
+
+
 def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
     """The estimate of a mixture: ``weights`` ``(H,)`` (summing to one) over branches that
     differ in the true world, each estimate read against its own (so ``false_belief`` is the
@@ -195,10 +201,10 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
     w = np.asarray(weights, dtype=np.float64)
     best = estimates[first_max(w)]
 
-    def average(values: Sequence[FloatArray]) -> FloatArray:
-        return np.tensordot(w, np.stack(values), axes=1)
+    def average_of(values: Sequence[FloatArray]) -> FloatArray:
+        return average(w, np.stack(values))
 
-    worlds = None if any(e.worlds is None for e in estimates) else average([e.worlds for e in estimates])  # type: ignore[misc]
+    worlds = None if any(e.worlds is None for e in estimates) else average_of([e.worlds for e in estimates])  # type: ignore[misc]
     hypotheses = None
     tables = [e.false_table for e in estimates]
     if all(e.hypotheses is not None for e in estimates) and any(t is None for t in tables):
@@ -213,11 +219,11 @@ def mix(estimates: Sequence[Estimate], weights: FloatArray) -> Estimate:
     modes = [e.mode for e in estimates]
     return dataclasses.replace(
         best,
-        mode=None if any(m is None for m in modes) else average(modes),  # type: ignore[arg-type]
-        false_table=None if any(t is None for t in tables) else average(tables),  # type: ignore[arg-type]
-        beliefs=average([e.beliefs for e in estimates]),
-        preference=average([e.preference for e in estimates]),
-        false_belief=average([e.false_belief for e in estimates]),
+        mode=None if any(m is None for m in modes) else average_of(modes),  # type: ignore[arg-type]
+        false_table=None if any(t is None for t in tables) else average_of(tables),  # type: ignore[arg-type]
+        beliefs=average_of([e.beliefs for e in estimates]),
+        preference=average_of([e.preference for e in estimates]),
+        false_belief=average_of([e.false_belief for e in estimates]),
         worlds=worlds,
         hypotheses=hypotheses,
         log_evidence=float(top + np.log(np.exp(evidence - top).mean())) if np.isfinite(top) else float(top),

@@ -33,7 +33,7 @@ from protocol import Scene
 
 from ..settings import ModelSettings
 from .arrays import FloatArray, IntArray
-from .belief import UNNOTICED, Percept, changes
+from .belief import NOT_IN_VIEW, UNNOTICED, Changes, Percept, changes
 from .estimates import Estimate, point_false_belief
 from .inference import hazard_matrix
 from .planner import (
@@ -207,22 +207,48 @@ class FactoredBeliefs:
         leave goes to every other alike), so the ``(N, V) @ (V, V)`` product is two ``(N, V)``
         passes (:meth:`changed`); only an item redrawn after being carried off
         (:attr:`Changes.lost`) takes its redraw matrix first."""
-        pick = slice(None) if items is None else items
-        seen = np.array(p.seen, dtype=np.int64)[pick]
-        visible = self.model.sees[p.cell][self.place]
+        K = self.model.n_items
+        picked = np.arange(K) if items is None else items
+        seen = np.array(p.seen, dtype=np.int64)[picked]
+        lost = np.isin(picked, p.lost)
+        return self.revise_items(beliefs, p.cell, seen, lost, picked, predict=predict)
+
+    def revise_items(
+        self,
+        beliefs: FloatArray,
+        cell: int,
+        seen: IntArray,
+        lost: npt.NDArray[np.bool_],
+        items: IntArray,
+        *,
+        predict: bool,
+    ) -> FloatArray:
+        """:meth:`revise` of ``M`` item beliefs ``(M, N, V)`` of a person on ``cell``, each by
+        its own part of a percept: item ``items[m]`` seen as ``seen[m]`` and lost sight of
+        in someone's hands (``lost[m]``) or not. An item's revision depends on that part
+        alone, so the beliefs of several percepts (a person's lapse rows, each overlooking
+        other items) are revised in one pass, the same item more than once."""
+        visible = self.model.sees[cell][self.place]
         values = np.arange(self.model.n_values)
         blind = (seen[:, None] == UNNOTICED) | ~visible[None, :]
         match = np.where(seen[:, None] >= 0, values[None, :] == seen[:, None], blind)
-        likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok[pick]  # (M, V)
-        ch = changes(self.model, p)
+        likelihood = np.where(match, 1.0 - self.delta, self.delta) * self.model.value_ok[items]  # (M, V)
+        anywhere = (seen[:, None] >= 0) | (visible[None, :] & (seen[:, None] != UNNOTICED))
+        carried = lost[:, None] & (seen[:, None] == NOT_IN_VIEW) & is_held(values)[None, :]
+        ch = Changes(anywhere, carried, ~visible)
         before = beliefs
-        if ch.lost and ch.carried[pick].any():  # the carried off are redrawn first: b @ R^T
-            redraw, before = ch.redraw()[pick], beliefs.copy()
-            for m in np.nonzero(ch.carried[pick].any(axis=1))[0]:
+        if ch.lost:  # the carried off are redrawn first: b @ R^T
+            redraw, before = ch.redraw(), beliefs.copy()
+            for m in np.nonzero(carried.any(axis=1))[0]:
                 before[m] = beliefs[m] @ redraw[m].T
-        new = self.changed(before, ch.anywhere[pick], predict) * likelihood[:, None, :]
+        new = self.changed(before, anywhere, predict)  # a new array: revised in place
+        new *= likelihood[:, None, :]
         total = new.sum(axis=2, keepdims=True)
-        return np.where(total > 0, new / np.where(total > 0, total, 1.0), beliefs)
+        ruled_out = total <= 0  # a belief the percept rules out entirely is kept
+        new /= np.where(ruled_out, 1.0, total)
+        if ruled_out.any():
+            np.copyto(new, beliefs, where=ruled_out)
+        return new
 
     def changed(self, beliefs: FloatArray, anywhere: npt.NDArray[np.bool_], predict: bool) -> FloatArray:
         """``(K, N, V)`` ``beliefs`` taken through each item's change weights, ``g[i, j] = 1``
@@ -233,7 +259,9 @@ class FactoredBeliefs:
         c = 1.0 + self.r * (a.shape[1] - 1) * a if predict else np.ones_like(a)  # (K, V)
         u, d = a / c, (1.0 - self.r * a) / c
         moved = self.r * np.einsum("knv,kv->kn", beliefs, u)  # (K, N): the mass each value may leave
-        return beliefs * d[:, None, :] + moved[:, :, None]
+        out = beliefs * d[:, None, :]
+        out += moved[:, :, None]
+        return out
 
     def true_world(self, truth: tuple[int, ...], p: Percept) -> FloatArray:
         """``(K, V, V)`` transition of an observer who assumes people know the true world."""

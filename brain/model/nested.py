@@ -110,11 +110,37 @@ class NestedBeliefs:
         self.time = time
         transitions = {b: self._transition(p) for b, p in percepts.items()}
         blend = 1.0 - np.exp(-self.peek * elapsed)
+        seen: dict[str, list[int]] = {}  # B -> the pairs whose A sees B
+        unseen: list[int] = []
         for n, (a, b) in enumerate(self.pairs):
             if self.sees(cells.get(a), cells.get(b)) and b in transitions:
-                self.values[n] = np.einsum("kij,kj->ki", transitions[b], self.values[n])
-            elif blend > 0.0 and (own := belief_of(a)) is not None:
-                self.values[n] = (1.0 - blend) * self.values[n] + blend * self._resting(own)
+                seen.setdefault(b, []).append(n)
+            elif blend > 0.0:
+                unseen.append(n)
+        for b, pairs in seen.items():  # B's percept moves every A's model of B at once
+            self.values[pairs] = np.einsum("kij,nkj->nki", transitions[b], self.values[pairs])
+        if unseen:
+            self._drift(unseen, blend, belief_of)
+
+    def _drift(
+        self, pairs: Sequence[int], blend: float, belief_of: Callable[[str], FloatArray | None]
+    ) -> None:
+        """Move each of ``pairs``' (indices of ``self.pairs``: A does not see B) model of B
+        the share ``blend`` toward A's own belief (``belief_of``, read once a person; a pair
+        whose A has none keeps it)."""
+        assert self.values is not None
+        own: dict[str, FloatArray | None] = {}
+        moved, toward = [], []
+        for n in pairs:
+            a = self.pairs[n][0]
+            if a not in own:
+                belief = belief_of(a)
+                own[a] = None if belief is None else self._resting(belief)
+            if (resting := own[a]) is not None:
+                moved.append(n)
+                toward.append(resting)
+        if moved:
+            self.values[moved] = (1.0 - blend) * self.values[moved] + blend * np.stack(toward)
 
     def _transition(self, p: Percept) -> FloatArray:
         """:func:`item_transitions` of ``p``, remembered (a percept repeats tick after tick)."""

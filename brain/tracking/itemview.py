@@ -118,6 +118,14 @@ class ItemView:
                 out.append(value_of(int(origins[k])))
         return tuple(out)
 
+    def values_of_rows(self, origins: IntArray, holders: dict[str, int | None]) -> list[tuple[int, ...]]:
+        """:meth:`values` of ``R`` worlds at once, ``origins`` ``(R, K)``."""
+        fixed = np.array(self.values(np.zeros(len(self.known), dtype=np.int64), holders), dtype=np.int64)
+        carried = np.array([holders.get(item) is not None for item in self.model.items], dtype=bool)
+        unseen = (self.known < 0) & ~carried  # (K,) read at each world's origin
+        out = np.where(unseen[None, :], value_of(origins.astype(np.int64)), fixed[None, :])
+        return [tuple(row) for row in out.tolist()]
+
     def resting(self, posterior: FloatArray) -> FloatArray:
         """``(K, L)`` P(each item rests at each location) now, given ``posterior`` ``(K, L)``
         over the unseen items' origins: a known item at its place, a carried one nowhere."""

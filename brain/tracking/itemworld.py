@@ -86,7 +86,7 @@ class ItemWorld:
     def _row_truths(self, rows: PersonRows) -> list[tuple[int, ...]]:
         """Each row's item values: its set's likeliest origin under what the robot saw."""
         origins = np.argmax(rows.sets * self.view.origin[None], axis=2)  # (R, K)
-        return [self.view.values(o, self.holders) for o in origins]
+        return self.view.values_of_rows(origins, self.holders)
 
     def split(self, person: str, cell: int) -> IntArray | None:
         """Split ``person``'s rows on what ``cell`` sees (:meth:`PersonRows.split`); the
@@ -95,6 +95,9 @@ class ItemWorld:
         unknown = self.view.known == UNKNOWN
         if not unknown.any():
             return None
+        seen = self.model.sees[cell]
+        if not (rows.sets[:, unknown] & (seen & (self.view.origin > 0))[unknown][None]).any():
+            return None  # no row holds a spot in view that the robot gives mass: nothing splits
         before, sets = len(rows), rows.sets
         source = rows.split(self.model.sees[cell], self.cavity(person), unknown, self.evidence(person))
         if not np.array_equal(sets, rows.sets):

@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, field
+from typing import cast
 
 from ..model.arrays import FloatArray, IntArray
 from ..model.belief import Percept
 from ..model.estimates import Estimate, mix, reread, slim
+from ..model.person.lapses import LapseFilter, step_lapses
 from ..model.person.personinterface import PersonFilter, PersonModel, StepRecord
 
 
@@ -62,6 +64,16 @@ def add(estimates: list[Estimate], est: Estimate, mass: float) -> None:
     if estimates:
         estimates[-1] = slim(estimates[-1], mass)
     estimates.append(est)
+
+
+def stepped(filters: list[PersonFilter], records: list[StepRecord]) -> None:
+    """One step of a person's filter in each branch of the world, each by its record: lapse
+    mixtures all together (:func:`~brain.model.person.lapses.step_lapses`), others one by one."""
+    if len(filters) > 1 and all(isinstance(f, LapseFilter) for f in filters):
+        step_lapses(cast(list[LapseFilter], filters), records)
+        return
+    for f, record in zip(filters, records, strict=True):
+        f.step(record)
 
 
 def forked(chains: list[Chain], source: IntArray, keep: object) -> list[Chain]:

@@ -13,6 +13,7 @@ the percept alone. Between steps the estimate is carried forward.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import cast
 
 import numpy as np
 
@@ -25,7 +26,7 @@ from ..model.estimates import Estimate, reread, slim
 from ..model.inference import switch_probability
 from ..model.nested import NestedBeliefs
 from ..model.person.gradedperson import GradedFilter, GradedModel
-from ..model.person.personinterface import StepRecord
+from ..model.person.personinterface import PersonFilter, StepRecord
 from ..model.person.personmodel import person_model
 from ..model.person.remembered import Remembered
 from ..model.planner import Move, play_action
@@ -38,7 +39,7 @@ from .jointworld import JointWorld
 from .percepts import person_percept
 from .remembering import remembered_people, robot_items, start_view
 from .statecheck import check_items
-from .track import Chain, PersonTrack, add, forked, mixed, read_now, smoothed_chains
+from .track import Chain, PersonTrack, add, forked, mixed, read_now, smoothed_chains, stepped
 from .unseen import Unseen, believed_state, checked, unseen_world
 from .waits import stays_due
 from .worldview import WorldView
@@ -76,6 +77,9 @@ class MindTracker:
         self.exact = self.person_model.exact
         """Whether the exact joint model is used (else the factored one: see ``exact_max_worlds``)."""
         self.people = [a.id for a in scene.agents if a.kind is AgentKind.PERSON]
+        self._changes = 0
+        """Bumped whenever a person steps or their chains change (:meth:`_evidence`'s key)."""
+        self._evidence_kept: dict[str, tuple[int, FloatArray]] = {}
         self.world: Unseen | None = None
         """The robot's own knowledge of where items rest (``None``: it sees everything): the
         joint branches or the factored world (:mod:`brain.tracking.unseen`)."""
@@ -119,9 +123,17 @@ class MindTracker:
         return self.world.view if isinstance(self.world, JointWorld) else None
 
     def _evidence(self, person: str) -> FloatArray:
-        """``(R,)`` the log-likelihood of ``person``'s decisions in each of their chains."""
+        """``(R,)`` the log-likelihood of ``person``'s decisions in each of their chains (read
+        many times a tick by the factored world: kept until anyone steps or their chains
+        change, :attr:`_changes`; read-only)."""
+        kept = self._evidence_kept.get(person)
+        if kept is not None and kept[0] == self._changes:
+            return kept[1]
         chains = self.tracks[person].chains
-        return np.array([c.estimates[-1].log_evidence if c.estimates else 0.0 for c in chains])
+        evidence = np.array([c.estimates[-1].log_evidence if c.estimates else 0.0 for c in chains])
+        evidence.flags.writeable = False
+        self._evidence_kept[person] = (self._changes, evidence)
+        return evidence
 
     def _truths(self, person: str) -> list[tuple[int, ...]]:
         """The item values of each of ``person``'s chains (the truth, seeing everything)."""
@@ -200,9 +212,11 @@ class MindTracker:
                 kept = world.observe(state, robot_cell, events, holders)
             for person, track in self.tracks.items():
                 track.chains = [Chain() for _ in range(world.count(person))]
+            self._changes += 1
             return
         for person, track in self.tracks.items():
             track.chains = [track.chains[int(h)] for h in kept[person]]
+        self._changes += 1
 
     def branch_weights(self) -> FloatArray:
         """``(H,)`` the posterior of each joint branch of the unseen world: its prior share
@@ -230,6 +244,7 @@ class MindTracker:
         source = None if self.world is None else self.world.split(track.agent, cell)
         if source is not None:
             track.chains = forked(track.chains, source, self.person_model)
+            self._changes += 1
         truths = self._truths(track.agent)
         held = 0 if holding is None else model.items.index(holding) + 1
         seen = [person_percept(model, track.agent, cell, held, t, events, self.carriers) for t in truths]
@@ -334,8 +349,8 @@ class MindTracker:
         forget = float(1.0 - np.exp(-self.settings.forget_per_s * seconds))
         track.last_step, mass = now if now is not None else track.last_step, self.settings.false_belief_mass
         pool = self.world is None or self.world.exact
-        for chain, percept_, truth in zip(track.chains, seen, truths, strict=True):
-            record = StepRecord(
+        records = [
+            StepRecord(
                 tick=tick,
                 percept=percept_,
                 truth=truth,
@@ -348,15 +363,20 @@ class MindTracker:
                 away=decision is not None and bool(self.model.outside[decision[0]]),  # from outside
                 said=track.said,
             )
+            for percept_, truth in zip(seen, truths, strict=True)
+        ]
+        for chain in track.chains:
             if chain.filter is None:
                 chain.filter = self.person_model.new_filter()
                 if isinstance(chain.filter, GradedFilter):
                     chain.filter.memory = self.remembered.get(track.agent)
-            chain.filter.step(record)
+        stepped([cast(PersonFilter, c.filter) for c in track.chains], records)  # every branch at once
+        for chain, record in zip(track.chains, records, strict=True):
             chain.steps.append(record)
-            est = chain.filter.estimate(truth)  # the factored world's rows are only ever read slim
+            est = cast(PersonFilter, chain.filter).estimate(record.truth)  # the factored world's: slim
             add(chain.estimates, est if pool else slim(est, mass), mass)
-            chain.percept = percept_
+            chain.percept = record.percept
+        self._changes += 1
         track.said, weights = None, self._weights(track.agent)
         track.steps.append(track.chains[int(np.argmax(weights))].steps[-1])
         add(track.estimates, mixed([c.estimates[-1] for c in track.chains], weights, mass, pool), mass)

@@ -61,6 +61,8 @@ class SharedItemBelief:
     person who wants the item."""
     tables: dict[float, FloatArray] = field(default_factory=dict)
     """``mass`` -> :meth:`false`."""
+    readouts: dict[float, FloatArray] = field(default_factory=dict)
+    """``mass`` -> :meth:`readout`."""
 
     @cached_property
     def own(self) -> FloatArray:
@@ -77,10 +79,58 @@ class SharedItemBelief:
             self.tables[mass] = kept
         return kept
 
+    def readout(self, mass: float) -> FloatArray:
+        """``(P, 2 L)`` :attr:`own` beside :meth:`false`: what a hypotheses' weighting of the
+        item is read through (its believed locations, its false-belief table), in one product."""
+        kept = self.readouts.get(mass)
+        if kept is None:
+            kept = self.readouts[mass] = np.concatenate([self.own, self.false(mass)], axis=1)
+        return kept
+
+
+def read_out(beliefs: Sequence[SharedItemBelief], mass: float) -> None:
+    """Work out, in one pass, :meth:`SharedItemBelief.readout` of each of ``beliefs`` that lacks
+    it (the same numbers, element by element)."""
+    todo = [b for b in beliefs if mass not in b.readouts]
+    if not todo:
+        return
+    values = stacked(todo)  # (M, P, V)
+    own = values[:, :, RESTING] + values[:, :, HELD]  # (M, P, L)
+    false = is_false_belief(own, own.max(axis=2, keepdims=True), mass).astype(np.float64)
+    for b, table in zip(todo, np.concatenate([own, false], axis=2), strict=True):
+        b.readouts[mass] = table
+
 
 def stacked(items: Sequence[SharedItemBelief]) -> FloatArray:
     """``(K, P, V)`` the items' beliefs."""
     return np.stack([i.values for i in items])
+
+
+Holders = list[list[tuple[SharedItemBelief, "IntArray | slice"]]]
+"""Per item ``k``, its distinct beliefs among some rows, each with the rows holding it
+(:func:`holders`)."""
+
+
+def holders(items: Sequence[Sequence[SharedItemBelief]]) -> Holders:
+    """Per item, its distinct beliefs among rows' ``items`` (each row's ``K``), each with the
+    ``(n,)`` indices of the rows holding it (in the order first held; ``slice(None)`` when
+    every row holds it)."""
+    found: list[dict[int, tuple[SharedItemBelief, list[int]]]] = [{} for _ in items[0]]
+    for r, row in enumerate(items):
+        for per_item, belief in zip(found, row, strict=True):
+            entry = per_item.get(id(belief))
+            if entry is None:
+                per_item[id(belief)] = (belief, [r])
+            else:
+                entry[1].append(r)
+    R = len(items)
+    return [
+        [
+            (b, slice(None) if len(rows) == R else np.array(rows, dtype=np.int64))
+            for b, rows in per_item.values()
+        ]
+        for per_item in found
+    ]
 
 
 class GradedFactoredModel:
@@ -126,19 +176,30 @@ class GradedFactoredModel:
         self, items: Sequence[SharedItemBelief], cell: int, held: int, action: int
     ) -> FloatArray:
         """``(D, P)`` the QMDP probability of ``action`` for each preference and hypothesis of
-        its wanted item (``out``: the same for every hypothesis); each item's row is kept on its
-        :class:`SharedItemBelief`, and the items not yet worked out are in one batched product."""
+        its wanted item (``out``: the same for every hypothesis): :meth:`decision_rows` of one row."""
+        return self.decision_rows([items], cell, held, action)[0]
+
+    def decision_rows(
+        self, items: Sequence[Sequence[SharedItemBelief]], cell: int, held: int, action: int
+    ) -> FloatArray:
+        """``(R, D, P)`` :meth:`decision_likelihood` for each of ``R`` rows' items: each
+        distinct item belief's row is kept on its :class:`SharedItemBelief`, those not yet worked out
+        in one batched product (:meth:`wanted_likelihood`)."""
         K = self.model.n_items
-        keys = [(k, cell, held, action) for k in range(K)]
-        missing = np.array([k for k in range(K) if keys[k] not in items[k].decisions], dtype=np.int64)
-        if len(missing):
-            rows = self.wanted_likelihood(stacked([items[k] for k in missing]), missing, cell, held, action)
-            for k, row in zip(missing, rows, strict=True):
-                items[k].decisions[keys[k]] = row
+        found = holders(items)
+        key = (cell, held, action)
+        missing = [(k, b) for k in range(K) for b, _ in found[k] if (k, *key) not in b.decisions]
+        if missing:
+            ks = np.array([k for k, _ in missing], dtype=np.int64)
+            rows = self.wanted_likelihood(np.stack([b.values for _, b in missing]), ks, cell, held, action)
+            for (k, b), row in zip(missing, rows, strict=True):
+                b.decisions[(k, cell, held, action)] = row
+        out = np.empty((len(items), K + 1, len(items[0][0].values)))
+        for k in range(K):
+            for b, held_by in found[k]:
+                out[held_by, k] = b.decisions[(k, cell, held, action)]
         q = self.policy.q[K, cell, self.policy.relative(held)[K], 0]  # (A,) out's
-        out = np.empty((K + 1, len(items[0].values)))
-        out[:K] = [items[k].decisions[keys[k]] for k in range(K)]
-        out[K] = choice_likelihood(q, action, self.settings.beta, self.settings.epsilon)
+        out[:, K] = choice_likelihood(q, action, self.settings.beta, self.settings.epsilon)
         return out
 
     def wanted_likelihood(
@@ -158,24 +219,55 @@ class GradedFactoredModel:
     def revise(
         self, items: Sequence[SharedItemBelief], truth: tuple[int, ...], percept: Percept
     ) -> tuple[SharedItemBelief, ...]:
-        """Every item's hypotheses after the percept (to the true world for ``true_world``);
-        an item's revision by the same percept of it is kept on its :class:`SharedItemBelief`."""
+        """Every item's hypotheses after the percept (to the true world for ``true_world``):
+        :meth:`revise_rows` of one row."""
+        return self.revise_rows([items], [truth], [percept])[0]
+
+    def revise_rows(
+        self,
+        items: Sequence[Sequence[SharedItemBelief]],
+        truths: Sequence[tuple[int, ...]],
+        percepts: Sequence[Percept],
+    ) -> list[tuple[SharedItemBelief, ...]]:
+        """Each of ``R`` rows' items after its own percept (its truth for ``true_world``): an
+        item's revision by the same percept of it is kept on its :class:`SharedItemBelief`, and those
+        not yet worked out, whatever row holds them, are revised in one pass per cell
+        (:meth:`FactoredBeliefs.revise_items`)."""
         if self.true_world:
-            moved = np.einsum("kij,knj->kni", self.beliefs.true_world(truth, percept), stacked(items))
-            return tuple(SharedItemBelief(b) for b in moved)
-        lost = set(percept.lost)
-        keys = [(k, percept.cell, percept.seen[k], k in lost) for k in range(len(items))]
-        missing = np.array(
-            [k for k, key in enumerate(keys) if key not in items[k].successors], dtype=np.int64
-        )
-        if len(missing):
-            predict = self.settings.belief_update == "predict"
-            new = self.beliefs.revise(
-                stacked([items[k] for k in missing]), percept, predict=predict, items=missing
+            return [
+                tuple(
+                    SharedItemBelief(b)
+                    for b in np.einsum("kij,knj->kni", self.beliefs.true_world(t, p), stacked(row))
+                )
+                for row, t, p in zip(items, truths, percepts, strict=True)
+            ]
+        K = self.model.n_items
+        by_percept: dict[Percept, list[tuple[int, int, int, bool]]] = {}
+        for p in percepts:  # (the rows of one branch mostly perceive alike)
+            if p not in by_percept:
+                by_percept[p] = [(k, p.cell, p.seen[k], k in p.lost) for k in range(K)]
+        keys = [by_percept[p] for p in percepts]
+        missing: dict[tuple[int, tuple[int, int, int, bool]], SharedItemBelief] = {}
+        for row, row_keys in zip(items, keys, strict=True):
+            for belief, key in zip(row, row_keys, strict=True):
+                if key not in belief.successors:
+                    missing[(id(belief), key)] = belief
+        for cell in {key[1] for _, key in missing}:
+            todo = [(belief, key) for (_, key), belief in missing.items() if key[1] == cell]
+            new = self.beliefs.revise_items(
+                stacked([belief for belief, _ in todo]),
+                cell,
+                np.array([key[2] for _, key in todo], dtype=np.int64),
+                np.array([key[3] for _, key in todo], dtype=bool),
+                np.array([key[0] for _, key in todo], dtype=np.int64),
+                predict=self.settings.belief_update == "predict",
             )
-            for k, b in zip(missing, new, strict=True):
-                items[k].successors[keys[k]] = SharedItemBelief(b)
-        return tuple(items[k].successors[key] for k, key in enumerate(keys))
+            for (belief, key), values in zip(todo, new, strict=True):
+                belief.successors[key] = SharedItemBelief(values)
+        return [
+            tuple(belief.successors[key] for belief, key in zip(row, row_keys, strict=True))
+            for row, row_keys in zip(items, keys, strict=True)
+        ]
 
     def smoothed(
         self, records: Sequence[StepRecord], online: Sequence[Estimate], lag: int | None = None
@@ -198,6 +290,14 @@ class GradedFactoredModel:
             read = self.read(posterior.alpha, posterior.weights, items, record.truth)
             out.append(dataclasses.replace(read, log_evidence=est.log_evidence))
         return out
+
+    def intention(
+        self, alpha: FloatArray, weights: FloatArray, items: Sequence[SharedItemBelief]
+    ) -> tuple[int | None, int | None, float]:
+        """The likeliest (wanted item, where the person believes it is, probability) of a
+        posterior ``alpha`` ``(D,)``, ``weights`` ``(D, K, P)`` (:func:`factored_intention`)."""
+        own = np.stack([i.own for i in items])  # (K, P, L)
+        return factored_intention(alpha, (weights.transpose(1, 0, 2) @ own).transpose(1, 0, 2))
 
     def read(
         self,

@@ -21,7 +21,8 @@ besides them up to ``UNTESTED_ROWS`` lighter ones that behaviour has not yet sho
 lapse's row is light from birth, and only the person's acting on the belief it left can lift
 it). The estimate is the rows' mixture; the log-evidence is the mixture's (the log of the
 summed weights, which start at one). Smoothing returns the online estimates (the rows do not
-have a backward pass).
+have a backward pass). Rows whose filters are all graded factored are stepped as one array
+and their mixture is read only when asked (:mod:`brain.model.person.gradedrows`).
 """
 
 from __future__ import annotations
@@ -30,13 +31,16 @@ import copy
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
-from ..arrays import TIE, first_max
+from ..arrays import TIE, FloatArray, first_max
 from ..belief import UNNOTICED, Percept
 from ..estimates import Estimate, mix
 from ..world import WorldModel, is_held, location_of
+from .gradedfactored import GradedFactoredFilter
+from .gradedrows import graded_owner, read_rows, step_rows
 from .personinterface import PersonFilter, PersonModel, StepRecord
 
 LAPSE_ROWS = 8
@@ -60,7 +64,11 @@ class Row:
     beliefs: np.ndarray | None = None
     """``(K, L)`` the row's believed locations after its last step."""
     estimate: Estimate | None = None
-    """The row's estimate after its last step, read against that step's truth."""
+    """The row's estimate after its last step, read against that step's truth (``None`` for
+    rows stepped together: :mod:`brain.model.person.gradedrows`)."""
+    table: FloatArray | None = None
+    """``(K, L)`` a graded factored row's false-belief table after its last step (read with
+    the other rows', :func:`~brain.model.person.gradedrows.read_rows`)."""
     told: tuple[int, int] | None = None
     """``(item, value)`` the row's person is told at this step (hearsay), then ``None``."""
     prior: float = 0.0
@@ -81,9 +89,19 @@ class LapseFilter:
     miss: float
     rows: list[Row]
     last: Percept | None = None
-    read: tuple[tuple[int, ...], list[Estimate]] | None = None
-    """The truth the rows' estimates were last read against, and those estimates (the
-    tracker reads the estimate right after each step, against the step's truth)."""
+    stepped: tuple[int, ...] | None = None
+    """The truth of the last step (the rows' estimates kept then were read against it)."""
+    read: tuple[tuple[int, ...], Estimate] | None = None
+    """The truth the mixture's estimate was last read against since the last step, and that
+    estimate (the tracker reads it right after each step, against the step's truth)."""
+
+    def __deepcopy__(self, memo: dict[int, object]) -> LapseFilter:
+        """A copy for another branch of the unseen world (:func:`brain.tracking.track.forked`):
+        each row's filter copied (with ``memo``), what is never changed in place shared (the
+        model, the rows' beliefs, tables and estimates, the percepts; a deep copy of the
+        estimates was most of a fork's time)."""
+        rows = [dataclasses.replace(r, filter=copy.deepcopy(r.filter, memo)) for r in self.rows]
+        return dataclasses.replace(self, rows=rows)
 
     @property
     def log_evidence(self) -> float:
@@ -92,6 +110,27 @@ class LapseFilter:
         return float(top + np.log(np.exp(weights - top).sum()))
 
     def step(self, record: StepRecord) -> None:
+        step_lapses([self], [record])
+
+    def _step_each(self, rows: list[Row], record: StepRecord) -> None:
+        """Step ``rows`` (:meth:`_split`'s) one by one, each estimate read against the step's
+        truth (filters that cannot be stepped together, :mod:`~brain.model.person.gradedrows`)."""
+        for row in rows:
+            before = row.filter.log_evidence
+            row.filter.step(dataclasses.replace(record, percept=self._as_seen(row, record.percept)))
+            row.log_weight += row.filter.log_evidence - before
+            row.estimate = row.filter.estimate(record.truth)
+            row.beliefs = row.estimate.beliefs
+
+    def _settle(self, rows: list[Row], record: StepRecord) -> None:
+        """Keep ``rows`` after their step, merged and pruned (:func:`_merged`)."""
+        self.rows = _merged(rows)
+        self.last = record.percept
+        self.stepped, self.read = record.truth, None
+
+    def _split(self, record: StepRecord) -> list[Row]:
+        """The rows before the step: each row, the "missed" row it splits off for the items
+        it may overlook (:meth:`_surprises`), and its "told" rows (:meth:`_told`)."""
         rows: list[Row] = []
         for row in self.rows:
             if row.beliefs is None:  # the person's prior, before their first percept
@@ -115,15 +154,7 @@ class LapseFilter:
             row.missed = missed
             rows.append(row)
             rows.extend(self._told(row, record))
-        for row in rows:
-            before = row.filter.log_evidence
-            row.filter.step(dataclasses.replace(record, percept=self._as_seen(row, record.percept)))
-            row.log_weight += row.filter.log_evidence - before
-            row.estimate = row.filter.estimate(record.truth)
-            row.beliefs = row.estimate.beliefs
-        self.rows = _merged(rows)
-        self.last = record.percept
-        self.read = (record.truth, [r.estimate for r in self.rows if r.estimate is not None])
+        return rows
 
     def _surprises(self, row: Row, p: Percept) -> list[int]:
         """Items just come into view (or moved in view), resting at a spot the row's person
@@ -175,15 +206,67 @@ class LapseFilter:
         return Percept(cell=p.cell, seen=tuple(seen), lost=p.lost)
 
     def estimate(self, truth: tuple[int, ...]) -> Estimate:
-        weights = np.array([r.log_weight for r in self.rows])
+        if self.read is not None and self.read[0] == truth:
+            return self.read[1]
+        est = dataclasses.replace(self._mixture(truth), log_evidence=self.log_evidence)
+        self.read = (truth, est)
+        return est
+
+    def _mixture(self, truth: tuple[int, ...]) -> Estimate:
+        """The rows' mixture read against ``truth``: the rows' graded factored posteriors read
+        together (:func:`~brain.model.person.gradedrows.read_rows`), or each row's estimate
+        (kept from the step when read against its truth) mixed."""
+        rows = self.rows
+        kept = [r.estimate if r.estimate is not None and self.stepped == truth else None for r in rows]
+        if len(rows) == 1:
+            return kept[0] or rows[0].filter.estimate(truth)
+        weights = np.array([r.log_weight for r in rows])
         weights = np.exp(weights - weights.max())
         weights /= weights.sum()
-        if self.read is not None and self.read[0] == truth and len(self.read[1]) == len(self.rows):
-            estimates = self.read[1]
-        else:
-            estimates = [r.filter.estimate(truth) for r in self.rows]
-        est = mix(estimates, weights)
-        return dataclasses.replace(est, log_evidence=self.log_evidence)
+        owner = graded_owner([r.filter for r in rows])
+        if owner is not None and all(r.table is not None and r.beliefs is not None for r in rows):
+            tables = np.stack([cast(FloatArray, r.table) for r in rows])
+            beliefs = np.stack([cast(FloatArray, r.beliefs) for r in rows])
+            filters = [cast(GradedFactoredFilter, r.filter) for r in rows]
+            return read_rows(owner, filters, beliefs, tables, weights, truth)
+        return mix([e or r.filter.estimate(truth) for e, r in zip(kept, rows, strict=True)], weights)
+
+
+def step_lapses(filters: Sequence[LapseFilter], records: Sequence[StepRecord]) -> None:
+    """One step of each lapse mixture of ``filters`` by its record of ``records`` (a person's
+    mixtures in the branches of the unseen world: one decision, each branch its own percept
+    and truth). Where every row of them all is graded factored and the records share their
+    decision, pause and answer, the rows are stepped as one (:func:`~brain.model.person.
+    gradedrows.step_rows`) and their estimates read only when asked; else row by row."""
+    parts = [f._split(record) for f, record in zip(filters, records, strict=True)]
+    rows = [row for part in parts for row in part]
+    owner = graded_owner([row.filter for row in rows])
+    first = records[0]
+    shared = all(
+        r.decision == first.decision
+        and r.switch == first.switch
+        and (
+            r.said is first.said
+            or (r.said is not None and first.said is not None and np.array_equal(r.said, first.said))
+        )
+        for r in records
+    )
+    if owner is None or not shared:
+        for f, part, record in zip(filters, parts, records, strict=True):
+            f._step_each(part, record)
+    else:
+        evidence = [row.filter.log_evidence for row in rows]
+        percepts, truths = [], []
+        for f, part, record in zip(filters, parts, records, strict=True):
+            percepts += [f._as_seen(row, record.percept) for row in part]
+            truths += [record.truth] * len(part)
+        graded = [cast(GradedFactoredFilter, row.filter) for row in rows]
+        beliefs, tables = step_rows(owner, graded, first, percepts, truths)
+        for r, row in enumerate(rows):
+            row.log_weight += row.filter.log_evidence - evidence[r]
+            row.beliefs, row.table, row.estimate = beliefs[r], tables[r], None
+    for f, part, record in zip(filters, parts, records, strict=True):
+        f._settle(part, record)
 
 
 def _merged(rows: list[Row]) -> list[Row]:
