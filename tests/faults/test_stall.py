@@ -178,6 +178,7 @@ def check_outcome(stall: Stall, run: Run, status: int, baseline: Path) -> str:
     return last
 
 
+@pytest.mark.sweep  # stalls at random ticks, a fault sweep: a minute of CPU (make test's budget)
 @pytest.mark.timeout(60 + 60 * STALLS)
 def test_a_stalled_engine_or_brain_never_merges_two_episodes(
     baseline: Path, tmp_path_factory: pytest.TempPathFactory

@@ -38,6 +38,7 @@ def _scores(entry: EpisodeRecord) -> dict[str, Any]:
     return {k: v for k, v in entry.to_builtins().items() if k not in TIMING}
 
 
+@pytest.mark.sweep  # an evaluation batched and one a process pair a run: a minute (make test's budget)
 def test_batched_episodes_score_as_each_alone(tmp_path: Path) -> None:
     jobs = _jobs(tmp_path, 3)
     together = run_episodes(jobs)

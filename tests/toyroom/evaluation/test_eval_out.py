@@ -13,6 +13,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from toyroom.evaluation.folder import check_out, clear, finished_evaluation, prune_scratch
 from toyroom.evaluation.resume import IncompatibleRun
 
@@ -39,6 +41,7 @@ def _eval(out: Path, episodes: int, *extra: str) -> subprocess.CompletedProcess[
     )
 
 
+@pytest.mark.sweep  # three evaluations end to end: most of a minute (make test's budget)
 def test_a_finished_evaluation_is_refused_and_fresh_replaces_it(tmp_path: Path) -> None:
     out = tmp_path / "e"
     first = _eval(out, 2)
