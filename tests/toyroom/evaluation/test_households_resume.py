@@ -12,9 +12,10 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-from typing import Any
 
 import pytest
+
+from toyroom.bench.households import scores
 
 DAYS = [
     *("--days", "3", "--episodes", "2", "--seed", "3", "--kind", "tasks"),
@@ -31,28 +32,9 @@ def _lines(path: Path) -> int:
     return len(path.read_text().splitlines()) if path.exists() else 0
 
 
-OPERATIONAL = ("timing", "command", "failed_runs_retried")
-"""What may differ between two runs of the same evaluation: the seconds, the ``--out`` in the
-command line, and how many runs a loaded machine had to try again (each retry scores the same)."""
-
-
-def _scores(out: Path) -> dict[str, Any]:
-    """``metrics.json`` but :data:`OPERATIONAL`, flattened to ``{path: value}``."""
-
-    def flat(value: Any, path: str) -> dict[str, Any]:
-        if isinstance(value, dict):
-            items = [(k, v) for k, v in value.items() if k not in OPERATIONAL]
-            return {p: x for k, v in items for p, x in flat(v, f"{path}/{k}").items()}
-        if isinstance(value, list):
-            return {p: x for i, v in enumerate(value) for p, x in flat(v, f"{path}[{i}]").items()}
-        return {path: value}
-
-    return flat(json.loads((out / "metrics.json").read_text()), "")
-
-
 def _differences(a: Path, b: Path) -> list[str]:
     """The paths of ``metrics.json`` whose values differ, ``path: A != B`` (the first ten)."""
-    one, two = _scores(a), _scores(b)
+    one, two = scores(a), scores(b)
     return [
         f"{k}: {one.get(k)} != {two.get(k)}"
         for k in sorted(one.keys() | two.keys())

@@ -37,6 +37,7 @@ from typing import Any
 import pytest
 from support import toyroom_fit
 
+from toyroom.bench.households import scores
 from toyroom.cli.cli import main as toyroom
 from toyroom.evaluation.raybackend import LOCAL_ONLY, cluster_address, on_loopback
 
@@ -289,23 +290,6 @@ HOUSEHOLDS = [
     *("--max-ticks", "120", "--workers", "2", "--policies", "none"),
 ]
 """Two households of two days: four chain days each (observing with memory and without)."""
-OPERATIONAL = ("timing", "command", "failed_runs_retried")
-"""What ``metrics.json`` may say differently of two runs of one evaluation: seconds, the
-``--out`` in the command line, and the retries a loaded machine needed."""
-
-
-def _scores(out: Path) -> dict[str, Any]:
-    """``metrics.json`` but :data:`OPERATIONAL`, flattened to ``{path: value}``."""
-
-    def flat(value: Any, path: str) -> dict[str, Any]:
-        if isinstance(value, dict):
-            kept = [(k, v) for k, v in value.items() if k not in OPERATIONAL]
-            return {p: x for k, v in kept for p, x in flat(v, f"{path}/{k}").items()}
-        if isinstance(value, list):
-            return {p: x for i, v in enumerate(value) for p, x in flat(v, f"{path}[{i}]").items()}
-        return {path: value}
-
-    return flat(json.loads((out / "metrics.json").read_text()), "")
 
 
 @pytest.mark.timeout(900)
@@ -342,7 +326,7 @@ def test_households_stopped_on_the_cluster_resume_there_to_the_local_metrics(
     assert part.returncode == 130, f"expected exit 130 on SIGINT, got {part.returncode}:\n{stopped[-2000:]}"
     again = subprocess.run(on_ray, env=cluster.env, capture_output=True, text=True, timeout=600)
     assert again.returncode == 0, again.stdout[-2000:] + again.stderr[-3000:]
-    here, there = _scores(local), _scores(ray)
+    here, there = scores(local), scores(ray)
     differing = [
         f"{k}: {here.get(k)} != {there.get(k)}"
         for k in sorted(here.keys() | there.keys())
