@@ -100,7 +100,7 @@ def run_parser() -> argparse.ArgumentParser:
     )
     lost = "seconds a lost engine may stay gone before the run fails (exit 2; an evaluation runs it"
     lost += " again); 0, the default: wait however long (an engine at an editor's breakpoint)"
-    parser.add_argument("--lost-timeout", type=float, default=0.0, help=lost)
+    parser.add_argument("--lost-timeout", type=non_negative_float, default=0.0, help=lost)
     parser.add_argument(
         "--max-ticks", type=int, help="stop after this many ticks even if the episode goes on"
     )
@@ -219,13 +219,13 @@ def _memory_args(parser: argparse.ArgumentParser) -> None:
 
 
 def non_negative_float(text: str) -> float:
-    """``--keep-days``'s type: a number >= 0."""
+    """A finite number >= 0 (``--keep-days``, ``--lost-timeout``; argparse names the option)."""
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of days >= 0, not {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, not {text!r}") from None
     if not value >= 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"expected a number of days >= 0, not {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, not {text!r}")
     return value
 
 

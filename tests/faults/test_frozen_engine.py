@@ -138,3 +138,15 @@ def test_an_engine_lost_past_the_lost_timeout_fails_the_run_in_one_line(world: s
             output = brain.output()
     assert status == 2, f"expected exit 2, the engine lost past 2 s; got {status}:\n{output[-2000:]}"
     assert "lost for 2 s and not back" in output, f"expected the lost engine named, got:\n{output[-2000:]}"
+
+
+@pytest.mark.parametrize("bad", ["-1", "nan", "inf", "soon"])
+def test_a_bad_lost_timeout_is_refused_naming_it(bad: str, capsys: pytest.CaptureFixture[str]) -> None:
+    from brain.__main__ import run_parser
+
+    with pytest.raises(SystemExit) as exited:
+        run_parser().parse_args(["--lost-timeout", bad])
+    said = capsys.readouterr().err
+    assert exited.value.code == 2, f"expected exit 2 for --lost-timeout {bad}, got {exited.value.code}"
+    assert "--lost-timeout" in said and "number >= 0" in said, f"expected option and bound: {said!r}"
+    assert run_parser().parse_args(["--lost-timeout", "60"]).lost_timeout == 60.0
